@@ -1,0 +1,5 @@
+"""``python -m pare`` runs the command line."""
+
+from pare.cli import run
+
+run()

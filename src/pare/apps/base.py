@@ -1,0 +1,165 @@
+"""The app base class and the context an app runs in."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from datetime import UTC, datetime
+from typing import Any, ClassVar
+
+from pydantic import BaseModel, ValidationError
+
+from pare.apps.screens import BACK, STAY, Screen
+from pare.apps.tools import ToolSpec, collect_tools
+from pare.errors import SimulationBug, UserInputError
+from pare.sim.clock import SimClock
+from pare.sim.notifications import NotificationCenter, Recipient
+from pare.sim.rng import EpisodeRandom
+
+
+class AppContext:
+    """What an app may use from the simulation: the clock, notifications, randomness, its sibling apps."""
+
+    def __init__(
+        self,
+        clock: SimClock,
+        notifications: NotificationCenter,
+        rng: EpisodeRandom,
+        apps: Mapping[str, App] | None = None,
+    ) -> None:
+        self.clock = clock
+        self.notifications = notifications
+        self.rng = rng
+        self.apps: Mapping[str, App] = apps if apps is not None else {}
+
+    @classmethod
+    def standalone(cls, start: datetime | None = None, seed: int = 0) -> AppContext:
+        """A context for using an app on its own (tests, notebooks)."""
+        return cls(
+            SimClock(start or datetime(2025, 1, 6, 9, 0, tzinfo=UTC)),
+            NotificationCenter(),
+            EpisodeRandom(seed),
+        )
+
+    def now(self) -> datetime:
+        """The current simulated time."""
+        return self.clock.now
+
+    def notify(
+        self,
+        app: str,
+        kind: str,
+        headline: str,
+        *,
+        subject: str = "",
+        body: str = "",
+        data: dict[str, Any] | None = None,
+        recipients: Iterable[Recipient] = ("user", "assistant"),
+        always_full: bool = False,
+    ) -> None:
+        """Post a notification at the current time."""
+        self.notifications.post(
+            time=self.clock.now,
+            app=app,
+            kind=kind,
+            headline=headline,
+            subject=subject,
+            body=body,
+            data=data,
+            recipients=recipients,
+            always_full=always_full,
+        )
+
+
+class App:
+    """An app: typed backend data (``State``), flat API methods (tools) and screens.
+
+    Subclasses set ``name``, ``title``, ``description``, ``State`` (a pydantic model of all their data)
+    and ``screens`` (screen classes, the first being the root), and decorate backend methods with
+    :func:`pare.apps.tools.tool`. Everything is collected and checked when the class is defined.
+    """
+
+    name: ClassVar[str]
+    title: ClassVar[str]
+    description: ClassVar[str] = ""
+    State: ClassVar[type[BaseModel]]
+    screens: ClassVar[tuple[type[Screen], ...]] = ()
+    tools: ClassVar[dict[str, ToolSpec]] = {}
+
+    state: Any
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        if "name" in cls.__dict__:
+            cls.tools = collect_tools(cls, app=cls.name, skip=1)
+
+    @classmethod
+    def set_screens(cls, *screens: type[Screen]) -> None:
+        """Declare the app's screens, the first being the one it opens on.
+
+        Called once at the bottom of the app's module, after the screen classes (whose actions take the
+        app as an argument) are defined. Collects every screen's actions and checks that each declared
+        target is a screen of this app.
+        """
+        names = [screen.screen_name() for screen in screens]
+        if len(set(names)) != len(names):
+            raise SimulationBug(f"{cls.__name__}: two screens share a name: {names}")
+        for screen in screens:
+            screen.actions = collect_tools(screen, app=cls.name, skip=2)
+            for spec in screen.actions.values():
+                unknown = [t for t in spec.leads_to if t not in names and t not in (STAY, BACK)]
+                if unknown:
+                    raise SimulationBug(
+                        f"{cls.__name__}: action {screen.screen_name()}.{spec.name} leads to unknown "
+                        f"screen(s) {unknown}; screens are {names}"
+                    )
+        cls.screens = tuple(screens)
+
+    def __init__(self, ctx: AppContext | None = None) -> None:
+        self.ctx = ctx or AppContext.standalone()
+        self.state = self.State()
+        self.write_count = 0
+        """Backend writes so far; how a user action is known to have changed data."""
+
+    @classmethod
+    def root_screen(cls) -> Screen:
+        """The screen the app opens on."""
+        if not cls.screens:
+            raise SimulationBug(f"app '{cls.name}' has no screens")
+        return cls.screens[0]()
+
+    @classmethod
+    def screen_class(cls, name: str) -> type[Screen]:
+        """The screen class called ``name``."""
+        for screen in cls.screens:
+            if screen.screen_name() == name:
+                return screen
+        raise KeyError(name)
+
+    def snapshot(self) -> dict[str, Any]:
+        """All of the app's data as JSON-ready values."""
+        data: dict[str, Any] = self.state.model_dump(mode="json")
+        return data
+
+    def load(self, data: Mapping[str, Any], *, where: str = "") -> None:
+        """Replace the app's data with ``data`` (seed data), validating it fully."""
+        try:
+            self.state = self.State.model_validate(dict(data))
+        except ValidationError as error:
+            place = where or f"seed data of app '{self.name}'"
+            problems = "; ".join(
+                f"{'.'.join(str(p) for p in item['loc']) or '(top)'}: {item['msg']}"
+                for item in error.errors()
+            )
+            raise UserInputError(f"{place}: {problems}") from None
+
+    def notify(self, kind: str, headline: str, **kwargs: Any) -> None:
+        """Post a notification from this app."""
+        self.ctx.notify(self.title, kind, headline, **kwargs)
+
+    def new_id(self, prefix: str, taken: Iterable[str]) -> str:
+        """A fresh id ``prefix-N`` not in ``taken``; deterministic for a given history."""
+        existing = set(taken)
+        number = len(existing) + 1
+        while f"{prefix}-{number}" in existing:
+            number += 1
+        return f"{prefix}-{number}"

@@ -1,0 +1,216 @@
+"""Tools: typed, documented methods that actors call, with schemas taken from their signatures.
+
+A tool is a method decorated with :func:`tool` (agent API and environment methods on an app's backend) or
+:func:`pare.apps.screens.action` (a user action on a screen). Its arguments are validated against a
+pydantic model built from the type hints, and its description and argument descriptions come from its
+Google-style docstring, which is what the models read.
+"""
+
+from __future__ import annotations
+
+import functools
+import inspect
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any, TypeVar, get_type_hints
+
+import docstring_parser
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model
+
+from pare.errors import SimulationBug, ToolError
+from pare.sim.log import Actor, ToolKind
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+TOOL_MARKER = "__pare_tool__"
+
+
+@dataclass(frozen=True, slots=True)
+class ToolMeta:
+    """What the decorator records on the function; turned into a :class:`ToolSpec` by the owner class."""
+
+    kind: ToolKind
+    actors: frozenset[Actor]
+    leads_to: tuple[str, ...] = ()
+    available: Callable[[Any], bool] | None = None
+
+
+def tool(
+    kind: ToolKind,
+    *,
+    actors: Sequence[Actor] = ("assistant",),
+    available: Callable[[Any], bool] | None = None,
+) -> Callable[[F], F]:
+    """Declare an app method as a tool.
+
+    Args:
+        kind: ``read``, ``write`` or ``env`` for app backends; ``ui`` or ``control`` for the shell.
+        actors: who may call it besides the world (``env``) and the oracle, who may call anything.
+            App backend methods are the assistant's flat API; shell tools are the user's.
+        available: for tools whose availability depends on state (``go_back`` needs somewhere to go
+            back to), a predicate on the owning app.
+    """
+
+    def decorate(func: F) -> F:
+        target = _counting_writes(func) if kind in ("write", "env") else func
+        setattr(target, TOOL_MARKER, ToolMeta(kind=kind, actors=frozenset(actors), available=available))
+        return target  # type: ignore[return-value]
+
+    return decorate
+
+
+def _counting_writes(func: Callable[..., Any]) -> Callable[..., Any]:
+    """Wrap a backend write so the app's ``write_count`` goes up when it succeeds.
+
+    This is how the environment knows that a user action changed data: user actions call the same
+    backend methods the assistant calls, directly, and are logged once as the user's.
+    """
+
+    @functools.wraps(func)
+    def wrapper(self: Any, *args: Any, **kwargs: Any) -> Any:
+        result = func(self, *args, **kwargs)
+        self.write_count += 1
+        return result
+
+    return wrapper
+
+
+class ToolSpec:
+    """A tool as actors and models see it: name, kind, description, argument schema."""
+
+    def __init__(
+        self,
+        *,
+        app: str,
+        name: str,
+        func: Callable[..., Any],
+        meta: ToolMeta,
+        skip: int,
+        owner: str,
+    ) -> None:
+        self.app = app
+        self.name = name
+        self.func = func
+        self.kind: ToolKind = meta.kind
+        self.actors: frozenset[Actor] = meta.actors
+        self.leads_to = meta.leads_to
+        self.available = meta.available
+        doc = docstring_parser.parse(inspect.getdoc(func) or "")
+        summary = " ".join(part for part in (doc.short_description, doc.long_description) if part)
+        if not summary:
+            raise SimulationBug(f"{owner}.{name} has no docstring: every tool needs one, models read it")
+        self.summary = " ".join(summary.split())
+        self.returns: str | None = doc.returns.description if doc.returns else None
+        self.params = _params_model(func, skip=skip, owner=owner, docs=doc)
+
+    @property
+    def qualified_name(self) -> str:
+        """``app__tool``, the name the assistant calls it by (a valid function name for every API)."""
+        return f"{self.app}__{self.name}"
+
+    @cached_property
+    def parameters_schema(self) -> dict[str, Any]:
+        """The JSON Schema of the arguments."""
+        schema = self.params.model_json_schema()
+        schema.pop("title", None)
+        for prop in schema.get("properties", {}).values():
+            prop.pop("title", None)
+        schema.setdefault("properties", {})
+        schema.setdefault("required", [])
+        schema["additionalProperties"] = False
+        return schema
+
+    @cached_property
+    def description(self) -> str:
+        """The summary plus what the tool returns, for the model."""
+        return f"{self.summary} Returns: {self.returns}" if self.returns else self.summary
+
+    def function_schema(self, name: str | None = None) -> dict[str, Any]:
+        """The tool in the OpenAI function-calling format."""
+        return {
+            "type": "function",
+            "function": {
+                "name": name or self.name,
+                "description": self.description,
+                "parameters": self.parameters_schema,
+            },
+        }
+
+    @cached_property
+    def signature(self) -> str:
+        """A one-line Python-like signature, e.g. ``search_emails(query: str, limit: int = 10)``."""
+        parts = []
+        for field_name, info in self.params.model_fields.items():
+            annotation = _type_name(info.annotation)
+            if info.is_required():
+                parts.append(f"{field_name}: {annotation}")
+            else:
+                parts.append(f"{field_name}: {annotation} = {info.default!r}")
+        return f"{self.name}({', '.join(parts)})"
+
+    def validate(self, args: dict[str, Any]) -> dict[str, Any]:
+        """Arguments checked and converted against the signature; :class:`ToolError` says what is wrong."""
+        try:
+            model = self.params.model_validate(args)
+        except ValidationError as error:
+            raise ToolError(describe_validation_error(self, error)) from None
+        return {name: getattr(model, name) for name in self.params.model_fields}
+
+
+def describe_validation_error(spec: ToolSpec, error: ValidationError) -> str:
+    """Turn pydantic's report into one sentence per problem, naming the argument."""
+    problems = []
+    for item in error.errors():
+        where = ".".join(str(part) for part in item["loc"]) or "arguments"
+        if item["type"] == "missing":
+            problems.append(f"missing required argument '{where}'")
+        elif item["type"] == "extra_forbidden":
+            problems.append(f"unexpected argument '{where}'")
+        else:
+            problems.append(f"argument '{where}': {item['msg']} (got {item.get('input')!r})")
+    return f"Invalid arguments for {spec.name}: " + "; ".join(problems) + f". Expected {spec.signature}."
+
+
+def _type_name(annotation: Any) -> str:
+    if isinstance(annotation, type):
+        return annotation.__name__
+    return str(annotation).replace("typing.", "")
+
+
+def _params_model(
+    func: Callable[..., Any], *, skip: int, owner: str, docs: docstring_parser.Docstring
+) -> type[BaseModel]:
+    signature = inspect.signature(func)
+    hints = get_type_hints(func, include_extras=True)
+    described = {param.arg_name: param.description for param in docs.params}
+    fields: dict[str, Any] = {}
+    for position, (name, parameter) in enumerate(signature.parameters.items()):
+        if position < skip:
+            continue
+        if parameter.kind in (inspect.Parameter.VAR_POSITIONAL, inspect.Parameter.VAR_KEYWORD):
+            raise SimulationBug(f"{owner}.{func.__name__} takes *args/**kwargs; tools need named arguments")
+        if name not in hints:
+            raise SimulationBug(f"{owner}.{func.__name__}: argument '{name}' has no type hint")
+        if name not in described:
+            raise SimulationBug(
+                f"{owner}.{func.__name__}: argument '{name}' is not described in the docstring"
+            )
+        default = ... if parameter.default is inspect.Parameter.empty else parameter.default
+        fields[name] = (hints[name], Field(default=default, description=described[name]))
+    config = ConfigDict(extra="forbid", arbitrary_types_allowed=False)
+    model: type[BaseModel] = create_model(f"{owner}_{func.__name__}_args", __config__=config, **fields)
+    return model
+
+
+def collect_tools(cls: type, *, app: str, skip: int) -> dict[str, ToolSpec]:
+    """Every decorated method of ``cls`` (and its bases), as specs keyed by name."""
+    specs: dict[str, ToolSpec] = {}
+    for klass in reversed(cls.__mro__):
+        for name, member in vars(klass).items():
+            meta = getattr(member, TOOL_MARKER, None)
+            if isinstance(meta, ToolMeta):
+                specs[name] = ToolSpec(
+                    app=app, name=name, func=member, meta=meta, skip=skip, owner=cls.__name__
+                )
+    return specs

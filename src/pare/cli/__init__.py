@@ -1,0 +1,48 @@
+"""The ``pare`` command line: a thin layer over the library.
+
+Each command group lives in its own module; :func:`main` takes an argument list and returns an exit code
+so tests can call it, and :func:`run` is the console entry point.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Sequence
+
+import typer
+
+from pare import __version__
+from pare.cli import apps_cmd
+from pare.errors import UserInputError
+
+app = typer.Typer(
+    name="pare",
+    help="PARE: the Proactive Agent Research Environment.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+app.add_typer(apps_cmd.app, name="apps")
+
+
+@app.command()
+def version() -> None:
+    """Print PARE's version."""
+    typer.echo(__version__)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line with ``argv`` and return its exit code."""
+    try:
+        app(args=list(argv) if argv is not None else None, prog_name="pare")
+    except SystemExit as done:  # the CLI framework exits with the command's code, usage errors with 2
+        return done.code if isinstance(done.code, int) else (0 if done.code is None else 1)
+    except UserInputError as error:
+        typer.secho(f"error: {error}", err=True, fg=typer.colors.RED)
+        return 2
+    return 0
+
+
+def run() -> None:
+    """Console entry point."""
+    sys.exit(main())

@@ -1,0 +1,15 @@
+"""The environment: apps and kernel together, and what each actor may do and see."""
+
+from pare.env.config import EnvConfig
+from pare.env.environment import Environment
+from pare.env.views import AssistantObservation, NamedTool, ToolResult, UserView, describe_action
+
+__all__ = [
+    "AssistantObservation",
+    "EnvConfig",
+    "Environment",
+    "NamedTool",
+    "ToolResult",
+    "UserView",
+    "describe_action",
+]

@@ -1,0 +1,30 @@
+"""Settings of one environment (one episode's world)."""
+
+from __future__ import annotations
+
+from datetime import UTC, datetime
+
+from pydantic import BaseModel, ConfigDict, Field
+
+from pare.sim.notifications import NotificationPolicy
+
+
+class EnvConfig(BaseModel):
+    """Everything that shapes an episode's world besides the scenario's data."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    seed: int = Field(default=0, description="Seed of every random stream in the episode.")
+    start_time: datetime = Field(default=datetime(2025, 1, 6, 9, 0, tzinfo=UTC))
+    tool_failure_probability: float = Field(
+        default=0.0, ge=0.0, le=1.0, description="Chance that an assistant app-tool call fails transiently."
+    )
+    noise_rate_per_minute: float = Field(
+        default=0.0, ge=0.0, description="Distractor events per simulated minute (Poisson arrivals)."
+    )
+    notifications: NotificationPolicy = Field(default_factory=NotificationPolicy)
+    raise_internal_errors: bool = Field(
+        default=False,
+        description="Raise unexpected exceptions from app code instead of returning them as errors "
+        "(for PARE's own tests; a benchmark run keeps going).",
+    )

@@ -1,0 +1,546 @@
+"""The environment: apps and kernel put together, and the one door every tool call goes through."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from datetime import datetime, timedelta
+from typing import Any, cast
+
+import jsonpatch
+from pydantic_core import to_jsonable_python
+
+from pare.apps.agent_ui import AgentUIApp
+from pare.apps.base import App, AppContext
+from pare.apps.registry import CORE_APPS, get_app_class
+from pare.apps.screens import BACK, STAY, Screen, Transition, stay
+from pare.apps.system import SystemApp
+from pare.apps.tools import ToolSpec
+from pare.env.config import EnvConfig
+from pare.env.views import AssistantObservation, NamedTool, ToolResult, UserView
+from pare.errors import SimulationBug, ToolError, UserInputError, did_you_mean
+from pare.sim.clock import SimClock
+from pare.sim.events import EventAction, EventScheduler, ScheduledEvent
+from pare.sim.faults import ToolFailureInjector
+from pare.sim.log import ActionLog, Actor, AssistantMode, LogEntry, ToolKind
+from pare.sim.noise import NoiseStream
+from pare.sim.notifications import NotificationCenter
+from pare.sim.rng import EpisodeRandom
+
+MODES: tuple[AssistantMode, ...] = ("observe", "execute")
+_CONTROL_APPS = ("system", "agent_ui")
+"""Apps whose tools are the turn protocol, not app data: never failed on purpose."""
+
+
+class Environment:
+    """One episode's world.
+
+    Holds the clock, the apps, the action log, the notification inboxes, the event scheduler and the
+    noise stream. Every tool call by any actor goes through :meth:`call`, which checks that the actor may
+    make it now, validates the arguments, runs it, records it in the action log and returns a
+    :class:`ToolResult`. Bad calls come back as error results (recorded too); nothing is raised to the
+    caller and a failed call changes nothing.
+    """
+
+    def __init__(self, apps: Iterable[str | App] = (), config: EnvConfig | None = None) -> None:
+        self.config = config or EnvConfig()
+        self.clock = SimClock(self.config.start_time)
+        self.rng = EpisodeRandom(self.config.seed)
+        self.notifications = NotificationCenter(self.config.notifications)
+        self.log = ActionLog()
+        self.scheduler = EventScheduler(self.clock.start)
+        self.turn = 0
+        self.apps: dict[str, App] = {}
+        self._context = AppContext(self.clock, self.notifications, self.rng, self.apps)
+        for core in CORE_APPS:
+            self._register(get_app_class(core)(self._context))
+        for app in apps:
+            self._register(get_app_class(app)(self._context) if isinstance(app, str) else app)
+        self.system = cast(SystemApp, self.apps["system"])
+        self.agent_ui = cast(AgentUIApp, self.apps["agent_ui"])
+        self._failures = ToolFailureInjector(
+            self.config.tool_failure_probability, self.rng.stream("tool_failures")
+        )
+        self.noise = NoiseStream(
+            rate_per_minute=self.config.noise_rate_per_minute,
+            start=self.clock.start,
+            apps=set(self.apps),
+            arrivals=self.rng.stream("noise_arrivals"),
+            contents=self.rng.stream("noise_contents"),
+        )
+        self._assistant_tools = {mode: self._assistant_toolset(mode) for mode in MODES}
+        self._all_tools = {
+            spec.qualified_name: spec for app in self.apps.values() for spec in app.tools.values()
+        }
+        self._assistant_cursor = 0
+
+    # -- set-up ---------------------------------------------------------------------------------------
+    def _register(self, app: App) -> None:
+        if app.name in self.apps:
+            raise UserInputError(f"app '{app.name}' is registered twice")
+        app.ctx = self._context
+        shell_names = set(SystemApp.tools) | set(AgentUIApp.tools)
+        for screen in app.screens:
+            clash = shell_names & set(screen.actions)
+            if clash:
+                raise SimulationBug(
+                    f"{app.name}.{screen.screen_name()} redefines shell tools {sorted(clash)}"
+                )
+        self.apps[app.name] = app
+
+    def _assistant_toolset(self, mode: AssistantMode) -> dict[str, ToolSpec]:
+        allowed: set[ToolKind] = {"read"} if mode == "observe" else {"read", "write"}
+        toolset: dict[str, ToolSpec] = {}
+        for app in self.apps.values():
+            for spec in app.tools.values():
+                if "assistant" not in spec.actors:
+                    continue
+                if spec.kind in allowed or (
+                    spec.kind == "control" and (mode == "observe" or spec.name != "wait")
+                ):
+                    toolset[spec.qualified_name] = spec
+        return toolset
+
+    def app(self, name: str) -> App:
+        """The registered app called ``name``."""
+        try:
+            return self.apps[name]
+        except KeyError:
+            raise UserInputError(
+                f"app '{name}' is not in this environment.{did_you_mean(name, self.apps)} "
+                f"Apps: {', '.join(self.apps)}."
+            ) from None
+
+    def load(self, seed_data: Mapping[str, Mapping[str, Any]]) -> None:
+        """Seed each app's data: ``{"email": {...}, "contacts": {...}}``."""
+        for name, data in seed_data.items():
+            self.app(name).load(data)
+
+    # -- the one door ---------------------------------------------------------------------------------
+    def call(
+        self,
+        actor: Actor,
+        tool: str,
+        args: object = None,
+        *,
+        mode: AssistantMode | None = None,
+        event_id: str | None = None,
+    ) -> ToolResult:
+        """Run ``tool`` for ``actor`` and record it.
+
+        The user calls tools by their plain names as offered on the current screen (``open_email``,
+        ``go_back``). Everyone else calls them by qualified names (``email__send_email``). The assistant
+        must say which ``mode`` it is in; it may use only that mode's tools.
+        """
+        raw_args: dict[str, Any] = dict(args) if isinstance(args, Mapping) else {}
+        if actor == "assistant" and mode is None:
+            mode = "observe"
+        if args is not None and not isinstance(args, Mapping):
+            return self._fail(
+                actor,
+                "?",
+                tool,
+                raw_args,
+                None,
+                mode,
+                event_id,
+                f"Arguments must be a JSON object, got {type(args).__name__}.",
+            )
+        if actor == "user":
+            return self._call_user(tool, raw_args)
+        return self._call_flat(actor, tool, raw_args, mode, event_id)
+
+    def _call_flat(
+        self, actor: Actor, tool: str, args: dict[str, Any], mode: AssistantMode | None, event_id: str | None
+    ) -> ToolResult:
+        app_name, _, tool_name = tool.partition("__")
+        if actor == "assistant":
+            assert mode is not None
+            spec = self._assistant_tools[mode].get(tool)
+            if spec is None:
+                return self._fail(
+                    actor,
+                    app_name or "?",
+                    tool_name or tool,
+                    args,
+                    None,
+                    mode,
+                    event_id,
+                    self._why_not_for_assistant(tool, mode),
+                )
+        else:
+            spec = self._all_tools.get(tool)
+            if spec is None:
+                return self._fail(
+                    actor,
+                    app_name or "?",
+                    tool_name or tool,
+                    args,
+                    None,
+                    mode,
+                    event_id,
+                    f"Unknown tool '{tool}'.{did_you_mean(tool, self._all_tools)}",
+                )
+        app = self.apps[spec.app]
+        try:
+            values = spec.validate(args)
+        except ToolError as error:
+            return self._fail(actor, spec.app, spec.name, args, spec.kind, mode, event_id, str(error))
+        if actor == "assistant" and spec.app not in _CONTROL_APPS:
+            injected = self._failures.draw(spec.app, spec.name)
+            if injected is not None:
+                return self._fail(
+                    actor,
+                    spec.app,
+                    spec.name,
+                    args,
+                    spec.kind,
+                    mode,
+                    event_id,
+                    injected,
+                    injected_failure=True,
+                )
+        if actor == "assistant" and spec.app == "agent_ui":
+            self.agent_ui.assistant_mode = cast(AssistantMode, mode)
+        try:
+            value = spec.func(app, **values)
+        except ToolError as error:
+            return self._fail(actor, spec.app, spec.name, args, spec.kind, mode, event_id, str(error))
+        except Exception as error:
+            return self._internal_error(actor, spec, args, mode, event_id, error)
+        return self._succeed(actor, spec.app, spec.name, args, spec.kind, mode, event_id, value, None)
+
+    def _why_not_for_assistant(self, tool: str, mode: AssistantMode) -> str:
+        spec = self._all_tools.get(tool)
+        if spec is None:
+            known = self._assistant_tools[mode]
+            hint = did_you_mean(tool, known)
+            return f"Unknown tool '{tool}'.{hint} Tools are named app__tool, e.g. email__list_emails."
+        if "assistant" not in spec.actors:
+            return f"'{tool}' is not available to the assistant."
+        if tool in self._assistant_tools["execute"]:
+            return (
+                f"'{tool}' changes data, so it is available only in execute mode, after the user has "
+                "accepted a proposal. In observe mode use read tools, wait, or send_message_to_user."
+            )
+        return f"'{tool}' is not available in {mode} mode."
+
+    def _call_user(self, tool: str, args: dict[str, Any]) -> ToolResult:
+        screen = self.system.current_screen()
+        foreground = self.system.foreground
+        where = self.system.location()
+        if screen is not None and tool in screen.actions:
+            return self._run_screen_action(cast(str, foreground), screen, screen.actions[tool], args, where)
+        for shell_app in (self.system, self.agent_ui):
+            spec = shell_app.tools.get(tool)
+            if spec is not None and "user" in spec.actors:
+                if spec.available is not None and not spec.available(shell_app):
+                    return self._fail(
+                        "user",
+                        shell_app.name,
+                        tool,
+                        args,
+                        spec.kind,
+                        None,
+                        None,
+                        self._unavailable_message(tool),
+                        screen=where,
+                    )
+                return self._call_shell(shell_app, spec, args, where)
+        return self._fail(
+            "user",
+            foreground or "system",
+            tool,
+            args,
+            None,
+            None,
+            None,
+            self._unavailable_message(tool),
+            screen=where,
+        )
+
+    def _unavailable_message(self, tool: str) -> str:
+        here = self.system.location()
+        available = ", ".join(t.name for t in self.user_tools())
+        elsewhere = [
+            f"{app.name} > {screen.screen_name()}"
+            for app in self.apps.values()
+            for screen in app.screens
+            if tool in screen.actions
+        ]
+        if tool in ("accept_proposal", "reject_proposal"):
+            reason = f"'{tool}' is available only while the assistant has a proposal waiting for your answer."
+        elif tool in SystemApp.tools:
+            reason = f"'{tool}' is not available here ({here})."
+        elif elsewhere:
+            owners = ", ".join(elsewhere)
+            reason = f"'{tool}' is not available on this screen ({here}); it is an action of {owners}."
+        else:
+            reason = f"Unknown action '{tool}'.{did_you_mean(tool, [t.name for t in self.user_tools()])}"
+        return f"{reason} Available now: {available}."
+
+    def _call_shell(self, shell_app: App, spec: ToolSpec, args: dict[str, Any], where: str) -> ToolResult:
+        try:
+            values = spec.validate(args)
+            value = spec.func(shell_app, **values)
+        except ToolError as error:
+            return self._fail(
+                "user", shell_app.name, spec.name, args, spec.kind, None, None, str(error), screen=where
+            )
+        except Exception as error:
+            return self._internal_error("user", spec, args, None, None, error)
+        return self._succeed("user", shell_app.name, spec.name, args, spec.kind, None, None, value, where)
+
+    def _run_screen_action(
+        self, app_name: str, screen: Screen, spec: ToolSpec, args: dict[str, Any], label: str
+    ) -> ToolResult:
+        app = self.apps[app_name]
+        try:
+            values = spec.validate(args)
+        except ToolError as error:
+            return self._fail(
+                "user", app_name, spec.name, args, spec.kind, None, None, str(error), screen=label
+            )
+        writes_before = app.write_count
+        draft = screen.model_copy(deep=True)
+        try:
+            outcome = spec.func(screen, app, **values)
+        except ToolError as error:
+            self._restore_screen(app_name, screen, draft)
+            return self._fail(
+                "user", app_name, spec.name, args, spec.kind, None, None, str(error), screen=label
+            )
+        except Exception as error:
+            self._restore_screen(app_name, screen, draft)
+            return self._internal_error("user", spec, args, None, None, error)
+        transition = outcome if isinstance(outcome, Transition) else stay(outcome)
+        self._apply_transition(app_name, spec, transition)
+        kind: ToolKind = "write" if app.write_count != writes_before else spec.kind
+        return self._succeed("user", app_name, spec.name, args, kind, None, None, transition.result, label)
+
+    def _restore_screen(self, app_name: str, screen: Screen, draft: Screen) -> None:
+        """Undo changes a failing action made to its screen's parameters (a half-edited draft)."""
+        stack = self.system.stacks[app_name]
+        if stack and stack[-1] is screen:
+            stack[-1] = draft
+
+    def _apply_transition(self, app_name: str, spec: ToolSpec, transition: Transition) -> None:
+        stack = self.system.stacks[app_name]
+        declared = spec.leads_to
+        how = transition.how
+        if how == "stay":
+            target = STAY
+        elif how == "back":
+            if len(stack) > 1:
+                stack.pop()
+            else:
+                stack[-1] = self.apps[app_name].root_screen()
+            # An action may declare BACK, or name the screen a back always lands on (Edit -> Detail).
+            target = BACK if BACK in declared else stack[-1].screen_name()
+        elif how in ("push", "replace"):
+            assert transition.screen is not None
+            target = transition.screen.screen_name()
+            if how == "push":
+                stack.append(transition.screen)
+            else:
+                stack[-1] = transition.screen
+        else:
+            target = cast(str, transition.target)
+            while stack and stack[-1].screen_name() != target:
+                stack.pop()
+            if not stack:
+                stack.append(transition.screen or self.apps[app_name].screen_class(target)())
+            elif transition.screen is not None:
+                stack[-1] = transition.screen
+        if target not in declared:
+            raise SimulationBug(
+                f"{app_name}: action {spec.name} went to {target!r} but declares leads_to={declared}"
+            )
+
+    # -- recording ------------------------------------------------------------------------------------
+    def _record(self, entry: LogEntry) -> None:
+        self.log.append(entry)
+        self.scheduler.observe([entry])
+
+    def _succeed(
+        self,
+        actor: Actor,
+        app: str,
+        tool: str,
+        args: dict[str, Any],
+        kind: ToolKind | None,
+        mode: AssistantMode | None,
+        event_id: str | None,
+        value: Any,
+        screen: str | None,
+    ) -> ToolResult:
+        result = to_jsonable_python(value)
+        entry = LogEntry(
+            index=len(self.log),
+            turn=self.turn,
+            time=self.clock.now,
+            actor=actor,
+            app=app,
+            tool=tool,
+            args=args,
+            kind=kind,
+            ok=True,
+            result=result,
+            mode=mode,
+            event_id=event_id,
+            screen=screen,
+        )
+        self._record(entry)
+        return ToolResult(ok=True, value=result, entry=entry)
+
+    def _fail(
+        self,
+        actor: Actor,
+        app: str,
+        tool: str,
+        args: dict[str, Any],
+        kind: ToolKind | None,
+        mode: AssistantMode | None,
+        event_id: str | None,
+        error: str,
+        *,
+        injected_failure: bool = False,
+        screen: str | None = None,
+    ) -> ToolResult:
+        entry = LogEntry(
+            index=len(self.log),
+            turn=self.turn,
+            time=self.clock.now,
+            actor=actor,
+            app=app,
+            tool=tool,
+            args=args,
+            kind=kind,
+            ok=False,
+            error=error,
+            mode=mode,
+            injected_failure=injected_failure,
+            event_id=event_id,
+            screen=screen,
+        )
+        self._record(entry)
+        return ToolResult(ok=False, error=error, entry=entry)
+
+    def _internal_error(
+        self,
+        actor: Actor,
+        spec: ToolSpec,
+        args: dict[str, Any],
+        mode: AssistantMode | None,
+        event_id: str | None,
+        error: Exception,
+    ) -> ToolResult:
+        if self.config.raise_internal_errors:
+            raise error
+        message = f"Internal error in {spec.app}.{spec.name} ({type(error).__name__}: {error}). "
+        message += "This is a bug in PARE."
+        return self._fail(actor, spec.app, spec.name, args, spec.kind, mode, event_id, message)
+
+    # -- what actors see ------------------------------------------------------------------------------
+    def user_tools(self) -> list[NamedTool]:
+        """The tools the user can call right now, under the names the user calls them by."""
+        tools: list[NamedTool] = []
+        screen = self.system.current_screen()
+        if screen is not None:
+            tools.extend(NamedTool(name, spec) for name, spec in screen.actions.items())
+        for shell_app in (self.agent_ui, self.system):
+            for name, spec in shell_app.tools.items():
+                if "user" in spec.actors and (spec.available is None or spec.available(shell_app)):
+                    tools.append(NamedTool(name, spec))
+        return tools
+
+    def user_view(self) -> UserView:
+        """What the user sees now; the new notifications are marked read."""
+        screen = self.system.current_screen()
+        pending = self.agent_ui.pending
+        return UserView(
+            time=self.clock.now.isoformat(),
+            app=self.system.foreground,
+            screen=None if screen is None else screen.label(),
+            background_apps=list(self.system.background),
+            tools=self.user_tools(),
+            notifications=self.notifications.take_unread("user"),
+            pending_proposal=None if pending is None else pending.content,
+        )
+
+    def assistant_tools(self, mode: AssistantMode) -> list[NamedTool]:
+        """The assistant's tools in ``mode``: observe has read tools, ``wait`` and
+        ``send_message_to_user``; execute has every app tool and ``send_message_to_user``.
+        """
+        return [NamedTool(name, spec) for name, spec in self._assistant_tools[mode].items()]
+
+    def assistant_observation(self) -> AssistantObservation:
+        """The user's actions and the notifications since the assistant last looked (marked seen)."""
+        new = [entry for entry in self.log.since(self._assistant_cursor) if entry.actor == "user"]
+        self._assistant_cursor = len(self.log)
+        return AssistantObservation(
+            time=self.clock.now.isoformat(),
+            user_actions=new,
+            notifications=self.notifications.take_unread("assistant"),
+        )
+
+    # -- time and events ------------------------------------------------------------------------------
+    def begin_turn(self) -> int:
+        """Start the next turn; log entries carry the turn number."""
+        self.turn += 1
+        return self.turn
+
+    def schedule(self, event: ScheduledEvent) -> None:
+        """Add a scheduled event."""
+        self.scheduler.add(event)
+
+    def next_event_time(self) -> datetime | None:
+        """When the next scheduled (non-noise) event is due, or ``None``."""
+        return self.scheduler.next_time()
+
+    def advance(self, delta: timedelta) -> None:
+        """Let ``delta`` of simulated time pass, firing events at their own times on the way."""
+        self.advance_to(self.clock.now + delta)
+
+    def advance_to(self, moment: datetime) -> None:
+        """Move the clock to ``moment``, firing every event and noise arrival due on the way, in order."""
+        while True:
+            due = self.scheduler.next_time()
+            noise = self.noise.next_time
+            upcoming = min((t for t in (due, noise) if t is not None), default=None)
+            if upcoming is None or upcoming > moment:
+                break
+            self.clock.advance_to(upcoming)
+            if due is not None and due <= upcoming:
+                self._fire_scheduled()
+            else:
+                arrival = self.noise.pop()
+                self._fire(arrival.action, arrival.event_id)
+        self.clock.advance_to(moment)
+
+    def deliver_due_events(self) -> None:
+        """Fire everything due at the current time (events, their dependents, noise)."""
+        self.advance_to(self.clock.now)
+
+    def _fire_scheduled(self) -> None:
+        due = self.scheduler.pop_due(self.clock.now)
+        if due is None:
+            raise SimulationBug("an event was due but the scheduler released none")
+        self._fire(due.event.action, due.event.event_id)
+        self.scheduler.complete(due.event.event_id, self.clock.now)
+
+    def _fire(self, action: EventAction, event_id: str) -> ToolResult:
+        return self.call("env", f"{action.app}__{action.tool}", action.args, event_id=event_id)
+
+    # -- state ----------------------------------------------------------------------------------------
+    def snapshot(self, *, include_navigation: bool = False) -> dict[str, Any]:
+        """The data of every app as JSON-ready values (and the user's navigation state if asked)."""
+        state = {name: app.snapshot() for name, app in self.apps.items() if name != "system"}
+        if include_navigation:
+            state["system"] = self.system.snapshot()
+        return state
+
+    @staticmethod
+    def diff(before: Mapping[str, Any], after: Mapping[str, Any]) -> list[dict[str, Any]]:
+        """The changes from ``before`` to ``after`` as JSON Patch operations (RFC 6902)."""
+        patch = jsonpatch.make_patch(dict(before), dict(after))
+        return cast(list[dict[str, Any]], list(patch))

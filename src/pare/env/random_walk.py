@@ -1,0 +1,125 @@
+"""A seeded random user: picks an available action and plausible arguments at every step.
+
+Used to exercise every screen of every app (the FSM sweep tests, ``benchmarks/kernel.py``) and as the
+simplest baseline policy. Arguments are drawn from each tool's JSON Schema; strings come from the values
+of the foreground app's data (ids, names, addresses), so opened items mostly exist and forms mostly
+validate, while some calls still fail the way a careless user's would.
+"""
+
+from __future__ import annotations
+
+import random
+from datetime import UTC, datetime, timedelta
+from typing import Any
+
+from pare.env.environment import Environment
+from pare.env.views import NamedTool, ToolResult
+
+_WORDS = ("meeting", "dinner", "hello", "tomorrow", "invoice", "Alice", "INBOX", "work", "2025-03-04 10:00")
+
+
+class RandomUser:
+    """Chooses uniformly among the tools available now; ``wait`` is left out so the walk keeps moving."""
+
+    def __init__(self, rng: random.Random) -> None:
+        self.rng = rng
+        self._pool_cache: dict[tuple[str, int], tuple[list[str], list[str]]] = {}
+        self._now = datetime(2025, 1, 1, tzinfo=UTC)
+
+    def step(self, env: Environment) -> ToolResult:
+        """Take one random action as the user."""
+        self._now = env.clock.now
+        tools = [t for t in env.user_tools() if t.name != "wait"]
+        tool = self.rng.choice(tools)
+        return env.call("user", tool.name, self.arguments(env, tool))
+
+    def arguments(self, env: Environment, tool: NamedTool) -> dict[str, Any]:
+        """Plausible arguments for ``tool`` in ``env``'s current state."""
+        if tool.name in ("open_app", "switch_app"):
+            candidates = env.system.openable_apps() if tool.name == "open_app" else env.system.background
+            return {"app_name": self.rng.choice(candidates or ["none"])}
+        ids, strings = self._pools(env)
+        screen = env.system.current_screen()
+        if screen is not None:  # what is on the screen (a draft's attendees) is what a user would type
+            on_screen: list[str] = []
+            _harvest(screen.model_dump(mode="json"), [], on_screen)
+            strings = strings + on_screen * 5
+        schema = tool.spec.parameters_schema
+        definitions = schema.get("$defs", {})
+        args: dict[str, Any] = {}
+        required = set(schema.get("required", []))
+        for name, prop in schema["properties"].items():
+            if name in required or self.rng.random() < 0.3:
+                args[name] = self._value(name, prop, definitions, ids, strings, depth=0)
+        return args
+
+    def _pools(self, env: Environment) -> tuple[list[str], list[str]]:
+        app_name = env.system.foreground or "system"
+        app = env.apps[app_name]
+        key = (app_name, app.write_count)
+        cached = self._pool_cache.get(key)
+        if cached is None:
+            ids: list[str] = []
+            strings: list[str] = []
+            _harvest(app.snapshot(), ids, strings)
+            cached = (sorted(set(ids)) or ["none"], sorted(set(strings))[:200] or list(_WORDS))
+            self._pool_cache[key] = cached
+        return cached
+
+    def _value(
+        self,
+        name: str,
+        prop: dict[str, Any],
+        defs: dict[str, Any],
+        ids: list[str],
+        strings: list[str],
+        depth: int,
+    ) -> Any:
+        if "$ref" in prop:
+            prop = defs[prop["$ref"].rsplit("/", 1)[-1]]
+        if "anyOf" in prop:
+            options = [p for p in prop["anyOf"] if p.get("type") != "null"] or prop["anyOf"]
+            prop = self.rng.choice(options)
+        kind = prop.get("type")
+        if "enum" in prop:
+            return self.rng.choice(prop["enum"])
+        if kind == "integer":
+            return self.rng.randint(0, 4)
+        if kind == "number":
+            return round(self.rng.uniform(0, 100), 2)
+        if kind == "boolean":
+            return self.rng.random() < 0.5
+        if kind == "array":
+            item = prop.get("items", {"type": "string"})
+            return [
+                self._value(name, item, defs, ids, strings, depth + 1) for _ in range(self.rng.randint(1, 2))
+            ]
+        if kind == "object" and depth < 2:
+            props = prop.get("properties", {})
+            chosen = [k for k in props if self.rng.random() < 0.5] or list(props)[:1]
+            return {k: self._value(k, props[k], defs, ids, strings, depth + 1) for k in chosen}
+        if kind == "null":
+            return None
+        if prop.get("format") in ("date-time", "date"):
+            moment = self._now + timedelta(minutes=15 * self.rng.randint(-200, 400))
+            return moment.date().isoformat() if prop["format"] == "date" else moment.isoformat()
+        if name.endswith("_id") or name == "id":
+            return self.rng.choice(ids)
+        if self.rng.random() < 0.2:
+            return self.rng.choice(_WORDS)
+        return self.rng.choice(strings)
+
+
+def _harvest(value: Any, ids: list[str], strings: list[str]) -> None:
+    if isinstance(value, dict):
+        for key, item in value.items():
+            if isinstance(item, dict):
+                ids.append(key)
+            _harvest(item, ids, strings)
+    elif isinstance(value, list):
+        for item in value:
+            _harvest(item, ids, strings)
+    elif isinstance(value, str) and len(value) <= 80:
+        strings.append(value)
+        if "-" in value and " " not in value and len(value) <= 40:
+            ids.append(value)

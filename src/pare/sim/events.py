@@ -1,0 +1,192 @@
+"""Scheduled events and the scheduler that decides when each one fires.
+
+An event is a tool call the world makes (an email arriving, a driver cancelling). It fires at an absolute
+time, at a delay after the start, at a delay after another event completed, or at a delay after a condition
+on the action log first holds ("after the assistant emails Bob, Bob replies 10 minutes later"). Dependents
+fire whoever caused their trigger: a real run and an oracle run see the same world.
+"""
+
+from __future__ import annotations
+
+import heapq
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from datetime import datetime, timedelta
+from typing import Any
+
+from pare.errors import UserInputError
+from pare.sim.clock import ensure_utc
+from pare.sim.log import LogEntry
+
+
+@dataclass(frozen=True, slots=True)
+class AtTime:
+    """Fire at an absolute simulated time."""
+
+    time: datetime
+
+
+@dataclass(frozen=True, slots=True)
+class AfterStart:
+    """Fire ``delay`` after the start of the episode."""
+
+    delay: timedelta = timedelta(0)
+
+
+@dataclass(frozen=True, slots=True)
+class AfterEvent:
+    """Fire ``delay`` after the event ``event_id`` completed."""
+
+    event_id: str
+    delay: timedelta = timedelta(0)
+
+
+@dataclass(frozen=True, slots=True)
+class WhenLogged:
+    """Fire ``delay`` after the first action-log entry for which ``condition`` holds."""
+
+    condition: Callable[[LogEntry], bool]
+    delay: timedelta = timedelta(0)
+    description: str = "a condition on the action log"
+
+
+Trigger = AtTime | AfterStart | AfterEvent | WhenLogged
+
+
+@dataclass(frozen=True, slots=True)
+class EventAction:
+    """The call an event makes, as the ``env`` actor: ``app.tool(**args)``."""
+
+    app: str
+    tool: str
+    args: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True, slots=True)
+class ScheduledEvent:
+    """An event with its id, its trigger and the call it makes."""
+
+    event_id: str
+    trigger: Trigger
+    action: EventAction
+
+
+@dataclass(frozen=True, slots=True)
+class DueEvent:
+    """An event whose time has been resolved."""
+
+    time: datetime
+    event: ScheduledEvent
+
+
+class EventScheduler:
+    """Keeps events until they are due and releases them in a deterministic order.
+
+    Order: by due time, then by the order in which they became scheduled (so two events at 09:05 fire in
+    the order the scenario lists them).
+    """
+
+    def __init__(self, start: datetime) -> None:
+        self.start = ensure_utc(start)
+        self._events: dict[str, ScheduledEvent] = {}
+        self._heap: list[tuple[datetime, int, str]] = []
+        self._sequence = 0
+        self._dependents: dict[str, list[ScheduledEvent]] = {}
+        self._conditions: list[ScheduledEvent] = []
+        self._log_cursor = 0
+        self.completed: dict[str, datetime] = {}
+        """Completed events and when they completed."""
+
+    def add(self, event: ScheduledEvent) -> None:
+        """Schedule ``event``. An ``AfterEvent`` may name an event added later; :meth:`validate` checks."""
+        if event.event_id in self._events:
+            raise UserInputError(f"two events share the id '{event.event_id}'")
+        self._events[event.event_id] = event
+        trigger = event.trigger
+        if isinstance(trigger, AtTime):
+            self._push(ensure_utc(trigger.time), event.event_id)
+        elif isinstance(trigger, AfterStart):
+            self._push(self.start + trigger.delay, event.event_id)
+        elif isinstance(trigger, AfterEvent):
+            if trigger.event_id in self.completed:
+                self._push(self.completed[trigger.event_id] + trigger.delay, event.event_id)
+            else:
+                self._dependents.setdefault(trigger.event_id, []).append(event)
+        else:
+            self._conditions.append(event)
+
+    def validate(self) -> None:
+        """Check that every ``AfterEvent`` names a known event and that no dependency forms a cycle."""
+        problems: list[str] = []
+        for event in self._events.values():
+            trigger = event.trigger
+            if isinstance(trigger, AfterEvent) and trigger.event_id not in self._events:
+                problems.append(f"event '{event.event_id}' waits for unknown event '{trigger.event_id}'")
+        for event_id in self._events:
+            seen: list[str] = []
+            current: str | None = event_id
+            while current is not None and current in self._events:
+                if current in seen:
+                    cycle = " -> ".join([*seen[seen.index(current) :], current])
+                    problems.append(f"events depend on each other in a cycle: {cycle}")
+                    break
+                seen.append(current)
+                parent = self._events[current].trigger
+                current = parent.event_id if isinstance(parent, AfterEvent) else None
+        if problems:
+            raise UserInputError("; ".join(sorted(set(problems))))
+
+    def _push(self, time: datetime, event_id: str) -> None:
+        heapq.heappush(self._heap, (time, self._sequence, event_id))
+        self._sequence += 1
+
+    def observe(self, entries: list[LogEntry]) -> None:
+        """Check waiting conditions against new log entries; each fires at most once."""
+        if not self._conditions:
+            self._log_cursor += len(entries)
+            return
+        for entry in entries:
+            fired = [e for e in self._conditions if _when_logged(e).condition(entry)]
+            for event in fired:
+                self._conditions.remove(event)
+                self._push(entry.time + _when_logged(event).delay, event.event_id)
+        self._log_cursor += len(entries)
+
+    @property
+    def log_cursor(self) -> int:
+        """How many log entries :meth:`observe` has seen."""
+        return self._log_cursor
+
+    def next_time(self) -> datetime | None:
+        """When the next scheduled event is due, or ``None`` when nothing is scheduled."""
+        return self._heap[0][0] if self._heap else None
+
+    def pop_due(self, now: datetime) -> DueEvent | None:
+        """Remove and return the earliest event due at or before ``now``."""
+        if self._heap and self._heap[0][0] <= now:
+            time, _, event_id = heapq.heappop(self._heap)
+            return DueEvent(time, self._events[event_id])
+        return None
+
+    def complete(self, event_id: str, at: datetime) -> None:
+        """Record that ``event_id`` completed at ``at`` and schedule the events waiting for it."""
+        self.completed[event_id] = at
+        for dependent in self._dependents.pop(event_id, []):
+            assert isinstance(dependent.trigger, AfterEvent)
+            self._push(at + dependent.trigger.delay, dependent.event_id)
+
+    @property
+    def waiting_on_conditions(self) -> list[str]:
+        """Ids of events still waiting for their log condition."""
+        return [e.event_id for e in self._conditions]
+
+    @property
+    def pending(self) -> int:
+        """Events not yet fired: scheduled, waiting on another event, or waiting on a condition."""
+        return len(self._heap) + sum(len(v) for v in self._dependents.values()) + len(self._conditions)
+
+
+def _when_logged(event: ScheduledEvent) -> WhenLogged:
+    trigger = event.trigger
+    assert isinstance(trigger, WhenLogged)
+    return trigger

@@ -1,0 +1,46 @@
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+from pare.apps.registry import app_names
+from pare.cli import main
+
+
+def test_apps_lists_every_app_with_its_screens(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["apps"]) == 0
+    out = capsys.readouterr().out
+    for name in app_names():
+        assert name in out
+    assert "Mailbox" in out and "Agenda" in out and "open_app" in out
+
+
+def test_apps_show_prints_screens_and_tools(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["apps", "show", "contacts"]) == 0
+    out = capsys.readouterr().out
+    assert "screen Detail" in out and "start_edit_contact" in out and "contacts__edit_contact" in out
+
+
+def test_apps_show_mermaid(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["apps", "show", "email", "--mermaid"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("stateDiagram-v2") and "Mailbox --> Detail : open_email" in out
+
+
+def test_unknown_app_is_a_clear_error(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["apps", "show", "emial"]) == 2
+    assert "Unknown app 'emial'. Did you mean 'email'?" in capsys.readouterr().err
+
+
+def test_bad_option_is_a_usage_error(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["apps", "show", "email", "--bogus"]) == 2
+    assert "--bogus" in capsys.readouterr().err
+
+
+def test_console_script_runs() -> None:
+    done = subprocess.run(
+        [sys.executable, "-m", "pare", "version"], capture_output=True, text=True, check=False
+    )
+    assert done.returncode == 0 and done.stdout.strip()

@@ -1,0 +1,115 @@
+"""A tiny app for kernel and environment tests: a notebook of items with two screens."""
+
+from __future__ import annotations
+
+from pydantic import BaseModel, Field
+
+from pare.apps.base import App
+from pare.apps.screens import BACK, Screen, Transition, action, back, push, stay
+from pare.apps.tools import tool
+from pare.errors import ToolError
+
+
+class NotebookState(BaseModel):
+    items: dict[str, str] = Field(default_factory=dict)
+
+
+class NotebookApp(App):
+    """Items with text."""
+
+    name = "notebook"
+    title = "Notebook"
+    State = NotebookState
+    state: NotebookState
+
+    @tool("read")
+    def list_items(self) -> dict[str, str]:
+        """List every item.
+
+        Returns:
+            item ids and texts.
+        """
+        return dict(self.state.items)
+
+    @tool("write")
+    def add_item(self, text: str, count: int = 1) -> list[str]:
+        """Add items.
+
+        Args:
+            text: the text of the item.
+            count: how many copies to add.
+        """
+        if not text:
+            raise ToolError("An item needs text.")
+        added = []
+        for _ in range(count):
+            item_id = self.new_id("item", self.state.items)
+            self.state.items[item_id] = text
+            added.append(item_id)
+        return added
+
+    @tool("env", actors=())
+    def arrive(self, text: str, sender: str = "Ada") -> str:
+        """An item arrives from someone else.
+
+        Args:
+            text: the text.
+            sender: who sent it.
+        """
+        item_id = self.new_id("item", self.state.items)
+        self.state.items[item_id] = text
+        self.notify(
+            "new_item", f"New item from {sender}", subject="Item", body=text, data={"item_id": item_id}
+        )
+        return item_id
+
+
+class Index(Screen):
+    name = "Index"
+
+    @action(kind="read")
+    def show(self, app: NotebookApp) -> dict[str, str]:
+        """Show the items."""
+        return app.list_items()
+
+    @action("Page")
+    def open_item(self, app: NotebookApp, item_id: str) -> Transition:
+        """Open an item.
+
+        Args:
+            item_id: the item.
+        """
+        if item_id not in app.state.items:
+            raise ToolError(f"No item {item_id}.")
+        return push(Page(item_id=item_id))
+
+    @action("Page")
+    def broken_jump(self, app: NotebookApp) -> Transition:
+        """Declares Page but stays: a declaration bug the environment must catch."""
+        return stay("oops")
+
+
+class Page(Screen):
+    name = "Page"
+    item_id: str
+    draft: str = ""
+
+    @action()
+    def type_text(self, app: NotebookApp, text: str) -> str:
+        """Type into the draft.
+
+        Args:
+            text: what to type.
+        """
+        self.draft += text
+        if "!" in text:
+            raise ToolError("No shouting.")
+        return self.draft
+
+    @action(BACK, kind="write")
+    def save_copy(self, app: NotebookApp) -> Transition:
+        """Save the draft as a new item and go back."""
+        return back(app.add_item(self.draft or app.state.items[self.item_id]))
+
+
+NotebookApp.set_screens(Index, Page)

@@ -1,0 +1,120 @@
+from __future__ import annotations
+
+from datetime import timedelta
+
+import pytest
+
+from pare.errors import UserInputError
+from pare.sim import AfterEvent, AfterStart, AtTime, EventAction, EventScheduler, ScheduledEvent, WhenLogged
+from tests.conftest import START, make_env, ok
+from tests.fixture_app import NotebookApp
+
+
+def arrive(text: str) -> EventAction:
+    return EventAction("notebook", "arrive", {"text": text})
+
+
+def fired(env) -> list[tuple[str, str]]:  # type: ignore[no-untyped-def]
+    return [(e.event_id, e.time.strftime("%H:%M")) for e in env.log if e.actor == "env"]
+
+
+def test_each_scheduling_form_fires_at_its_time() -> None:
+    env = make_env([NotebookApp()])
+    env.schedule(ScheduledEvent("absolute", AtTime(START + timedelta(minutes=30)), arrive("a")))
+    env.schedule(ScheduledEvent("relative", AfterStart(timedelta(minutes=5)), arrive("b")))
+    env.schedule(ScheduledEvent("chained", AfterEvent("relative", timedelta(minutes=10)), arrive("c")))
+    env.schedule(ScheduledEvent("chained2", AfterEvent("chained"), arrive("d")))
+    env.scheduler.validate()
+    env.advance(timedelta(minutes=4))
+    assert fired(env) == []
+    env.advance(timedelta(hours=1))
+    assert fired(env) == [
+        ("relative", "09:05"),
+        ("chained", "09:15"),
+        ("chained2", "09:15"),
+        ("absolute", "09:30"),
+    ]
+    assert env.clock.now == START + timedelta(minutes=64)
+    assert env.scheduler.pending == 0
+
+
+def test_condition_on_the_log_fires_once_after_its_delay_whoever_acts() -> None:
+    env = make_env([NotebookApp()])
+    condition = WhenLogged(
+        lambda entry: entry.tool == "add_item" and entry.ok and entry.args.get("text") == "ping",
+        delay=timedelta(minutes=10),
+        description="someone adds 'ping'",
+    )
+    env.schedule(ScheduledEvent("pong", condition, arrive("pong")))
+    env.schedule(ScheduledEvent("after-pong", AfterEvent("pong", timedelta(minutes=1)), arrive("pong2")))
+    env.advance(timedelta(minutes=30))
+    assert fired(env) == []
+    assert env.scheduler.waiting_on_conditions == ["pong"]
+    ok(env.call("assistant", "notebook__add_item", {"text": "ping"}, mode="execute"))
+    ok(env.call("assistant", "notebook__add_item", {"text": "ping"}, mode="execute"))
+    env.advance(timedelta(minutes=9))
+    assert fired(env) == []
+    env.advance(timedelta(minutes=5))
+    assert fired(env) == [("pong", "09:40"), ("after-pong", "09:41")]
+
+
+def test_failed_call_can_still_satisfy_only_conditions_that_ask_for_it() -> None:
+    env = make_env([NotebookApp()])
+    env.schedule(ScheduledEvent("e", WhenLogged(lambda e: e.tool == "add_item" and e.ok), arrive("x")))
+    env.call("assistant", "notebook__add_item", {"text": ""}, mode="execute")
+    env.deliver_due_events()
+    assert fired(env) == []
+
+
+def test_same_time_events_fire_in_the_order_scheduled() -> None:
+    env = make_env([NotebookApp()])
+    for name in ("first", "second", "third"):
+        env.schedule(ScheduledEvent(name, AfterStart(timedelta(minutes=1)), arrive(name)))
+    env.advance(timedelta(minutes=1))
+    assert [e for e, _ in fired(env)] == ["first", "second", "third"]
+
+
+def test_events_due_at_start_are_delivered_without_moving_time() -> None:
+    env = make_env([NotebookApp()])
+    env.schedule(ScheduledEvent("now", AfterStart(), arrive("now")))
+    env.deliver_due_events()
+    assert fired(env) == [("now", "09:00")]
+    assert env.clock.now == START
+
+
+def test_next_event_time_allows_jumping_when_everyone_waits() -> None:
+    env = make_env([NotebookApp()])
+    env.schedule(ScheduledEvent("later", AtTime(START + timedelta(hours=3)), arrive("x")))
+    upcoming = env.next_event_time()
+    assert upcoming == START + timedelta(hours=3)
+    env.advance_to(upcoming)
+    assert fired(env) == [("later", "12:00")]
+    assert env.next_event_time() is None
+
+
+def test_validate_reports_unknown_dependencies_and_cycles() -> None:
+    scheduler = EventScheduler(START)
+    scheduler.add(ScheduledEvent("a", AfterEvent("b"), arrive("a")))
+    scheduler.add(ScheduledEvent("b", AfterEvent("a"), arrive("b")))
+    scheduler.add(ScheduledEvent("c", AfterEvent("ghost"), arrive("c")))
+    with pytest.raises(UserInputError) as raised:
+        scheduler.validate()
+    assert "unknown event 'ghost'" in str(raised.value)
+    assert "cycle" in str(raised.value)
+
+
+def test_duplicate_event_ids_are_refused() -> None:
+    scheduler = EventScheduler(START)
+    scheduler.add(ScheduledEvent("a", AfterStart(), arrive("a")))
+    with pytest.raises(UserInputError, match="share the id 'a'"):
+        scheduler.add(ScheduledEvent("a", AfterStart(), arrive("b")))
+
+
+def test_event_results_raise_notifications_to_both_actors() -> None:
+    env = make_env([NotebookApp()])
+    env.schedule(ScheduledEvent("a", AfterStart(timedelta(minutes=2)), arrive("buy milk and eggs")))
+    env.advance(timedelta(minutes=2))
+    assert env.user_view().notifications == [
+        "[2025-03-03 09:02] Notebook: New item from Ada — Item: buy milk and eggs"
+    ]
+    assert "item_id=item-1" in env.assistant_observation().notifications[0]
