@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Collection, Iterable, Mapping
 from datetime import UTC, datetime
 from typing import Any, ClassVar
 
@@ -117,6 +117,7 @@ class App:
     def __init__(self, ctx: AppContext | None = None) -> None:
         self.ctx = ctx or AppContext.standalone()
         self.state = self.State()
+        self._id_counters: dict[str, int] = {}
         self.write_count = 0
         """Backend writes so far; how a user action is known to have changed data."""
 
@@ -142,6 +143,7 @@ class App:
 
     def load(self, data: Mapping[str, Any], *, where: str = "") -> None:
         """Replace the app's data with ``data`` (seed data), validating it fully."""
+        self._id_counters.clear()
         try:
             self.state = self.State.model_validate(dict(data))
         except ValidationError as error:
@@ -156,10 +158,20 @@ class App:
         """Post a notification from this app."""
         self.ctx.notify(self.title, kind, headline, **kwargs)
 
-    def new_id(self, prefix: str, taken: Iterable[str]) -> str:
-        """A fresh id ``prefix-N`` not in ``taken``; deterministic for a given history."""
-        existing = set(taken)
-        number = len(existing) + 1
-        while f"{prefix}-{number}" in existing:
-            number += 1
-        return f"{prefix}-{number}"
+    def new_id(self, prefix: str, taken: Collection[str]) -> str:
+        """A fresh id ``prefix-N``, never one used before in this app, even if that item was deleted.
+
+        Numbering continues after the highest ``prefix-N`` ever seen, so an id that other records still
+        refer to (a reply's ``in_reply_to``) is never given to a new item. Ids chosen by a scenario are
+        skipped. Deterministic for a given history.
+        """
+        counter = self._id_counters.get(prefix)
+        if counter is None:  # first use since the data was loaded: continue after the highest seeded id
+            start = len(prefix) + 1
+            numbers = [int(i[start:]) for i in taken if i.startswith(prefix + "-") and i[start:].isdigit()]
+            counter = max(numbers, default=0)
+        counter += 1
+        while f"{prefix}-{counter}" in taken:
+            counter += 1
+        self._id_counters[prefix] = counter
+        return f"{prefix}-{counter}"

@@ -614,7 +614,7 @@ class EventDetail(Screen):
         """Show who takes part in this event."""
         return app.require(self.event_id).attendees
 
-    @action("Agenda")
+    @action("Agenda", kind="write")
     def delete(self, app: CalendarApp) -> Transition:
         """Delete this event and return to the agenda."""
         return back_to("Agenda", app.delete_calendar_event(self.event_id))
@@ -766,7 +766,7 @@ class EventEdit(Screen):
         self.attendees = [a for a in self.attendees if a != matches[0]]
         return self.draft()
 
-    @action("Detail")
+    @action("Detail", kind="write")
     def save(self, app: CalendarApp) -> Transition:
         """Save the event and show it: creates it if it is new, updates it otherwise."""
         if self.event_title is None or not self.event_title.strip():

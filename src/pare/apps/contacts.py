@@ -283,7 +283,7 @@ class ContactList(Screen):
         """
         return push(ContactDetail(contact_id=contact_id), app.require(contact_id))
 
-    @action("Detail")
+    @action("Detail", kind="write")
     def create_contact(
         self,
         app: ContactsApp,
@@ -332,7 +332,7 @@ class ContactDetail(Screen):
         """Edit this contact."""
         return push(ContactEdit(contact_id=self.contact_id), app.require(self.contact_id))
 
-    @action("List")
+    @action("List", kind="write")
     def delete_contact(self, app: ContactsApp) -> Transition:
         """Delete this contact and return to the list."""
         return back_to("List", app.delete_contact(self.contact_id))
@@ -350,7 +350,7 @@ class ContactEdit(Screen):
         """Show the contact being edited."""
         return app.require(self.contact_id)
 
-    @action(BACK)
+    @action(BACK, kind="write")
     def update_contact(self, app: ContactsApp, updates: ContactUpdate) -> Transition:
         """Save changes to the contact and return to its page.
 

@@ -668,7 +668,7 @@ class EmailDetail(Screen):
         """Show this email again."""
         return app.require(self.email_id)
 
-    @action()
+    @action(kind="write")
     def reply(self, app: EmailApp, content: str, attachments: list[str] | None = None) -> str:
         """Send a quick reply to this email.
 
@@ -678,7 +678,7 @@ class EmailDetail(Screen):
         """
         return app.reply_to_email(self.email_id, content, attachments)
 
-    @action()
+    @action(kind="write")
     def forward(self, app: EmailApp, recipients: list[str]) -> str:
         """Forward this email and its attachments.
 
@@ -687,7 +687,7 @@ class EmailDetail(Screen):
         """
         return app.forward_email(self.email_id, recipients)
 
-    @action(BACK)
+    @action(BACK, kind="write")
     def move(self, app: EmailApp, folder: Folder) -> Transition:
         """Move this email to another folder (INBOX, ARCHIVE or TRASH) and go back to the list.
 
@@ -696,12 +696,12 @@ class EmailDetail(Screen):
         """
         return back(app.move_email(self.email_id, folder))
 
-    @action(BACK)
+    @action(BACK, kind="write")
     def delete(self, app: EmailApp) -> Transition:
         """Delete this email (to TRASH, or for good if it is in TRASH) and go back to the list."""
         return back(app.delete_email(self.email_id))
 
-    @action()
+    @action(kind="write")
     def download_attachments(self, app: EmailApp, path: str = "/Downloads") -> list[str]:
         """Save this email's attachments to your files.
 
@@ -809,7 +809,7 @@ class Compose(Screen):
         self.attachments = app.check_attachments([*self.attachments, path])
         return self.draft()
 
-    @action(BACK)
+    @action(BACK, kind="write")
     def send(self, app: EmailApp) -> Transition:
         """Send the email and go back."""
         if self.reply_to is not None:
@@ -823,7 +823,7 @@ class Compose(Screen):
         )
         return back(email_id)
 
-    @action(BACK)
+    @action(BACK, kind="write")
     def save_draft(self, app: EmailApp) -> Transition:
         """Save the email in DRAFT without sending it, and go back."""
         return back(

@@ -812,7 +812,7 @@ class ConversationOpened(Screen):
     title = "Conversation"
     conversation_id: str
 
-    @action()
+    @action(kind="write")
     def send_message(self, app: MessagingApp, content: str, attachment: str | None = None) -> MessageView:
         """Send a message in this conversation.
 

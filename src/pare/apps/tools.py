@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import functools
 import inspect
+import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
@@ -173,9 +174,11 @@ def describe_validation_error(spec: ToolSpec, error: ValidationError) -> str:
 
 
 def _type_name(annotation: Any) -> str:
-    if isinstance(annotation, type):
+    """A short, readable type: ``list[str] | None``, ``Folder``, without module paths."""
+    if isinstance(annotation, type) and not getattr(annotation, "__args__", None):
         return annotation.__name__
-    return str(annotation).replace("typing.", "")
+    text = str(annotation).replace("typing.", "")
+    return re.sub(r"\b(?:[A-Za-z_]\w*\.)+([A-Za-z_]\w*)", r"\1", text)
 
 
 def _params_model(

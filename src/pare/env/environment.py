@@ -314,7 +314,11 @@ class Environment:
             return self._internal_error("user", spec, args, None, None, error)
         transition = outcome if isinstance(outcome, Transition) else stay(outcome)
         self._apply_transition(app_name, spec, transition)
-        kind: ToolKind = "write" if app.write_count != writes_before else spec.kind
+        # What the call did decides its kind: a declared write that changed nothing (saving an unchanged
+        # event) is logged as ui, any action that ran a backend write as write.
+        kind: ToolKind = (
+            "write" if app.write_count != writes_before else ("ui" if spec.kind == "write" else spec.kind)
+        )
         return self._succeed("user", app_name, spec.name, args, kind, None, None, transition.result, label)
 
     def _restore_screen(self, app_name: str, screen: Screen, draft: Screen) -> None:

@@ -23,15 +23,19 @@ class RandomUser:
 
     def __init__(self, rng: random.Random) -> None:
         self.rng = rng
-        self._pool_cache: dict[tuple[str, int], tuple[list[str], list[str]]] = {}
-        self._now = datetime(2025, 1, 1, tzinfo=UTC)
+        self._ids: dict[tuple[str, int], list[str]] = {}
+        self._strings: list[str] | None = None
+        self.now = datetime(2025, 1, 1, tzinfo=UTC)
 
     def step(self, env: Environment) -> ToolResult:
         """Take one random action as the user."""
-        self._now = env.clock.now
-        tools = [t for t in env.user_tools() if t.name != "wait"]
-        tool = self.rng.choice(tools)
+        tool = self.choose(env)
         return env.call("user", tool.name, self.arguments(env, tool))
+
+    def choose(self, env: Environment) -> NamedTool:
+        """A tool available now, uniformly (``wait`` excluded)."""
+        self.now = env.clock.now
+        return self.rng.choice([t for t in env.user_tools() if t.name != "wait"])
 
     def arguments(self, env: Environment, tool: NamedTool) -> dict[str, Any]:
         """Plausible arguments for ``tool`` in ``env``'s current state."""
@@ -54,17 +58,26 @@ class RandomUser:
         return args
 
     def _pools(self, env: Environment) -> tuple[list[str], list[str]]:
+        """Ids from the app on screen (kept current); strings (addresses, paths, names) from every app's
+        data as it was when the walk started.
+        """
+        if self._strings is None:
+            strings: list[str] = []
+            for app in env.apps.values():
+                _harvest(app.snapshot(), [], strings)
+            pool = sorted(set(strings))
+            self.rng.shuffle(pool)
+            self._strings = pool[:400] or list(_WORDS)
         app_name = env.system.foreground or "system"
         app = env.apps[app_name]
         key = (app_name, app.write_count)
-        cached = self._pool_cache.get(key)
-        if cached is None:
-            ids: list[str] = []
-            strings: list[str] = []
-            _harvest(app.snapshot(), ids, strings)
-            cached = (sorted(set(ids)) or ["none"], sorted(set(strings))[:200] or list(_WORDS))
-            self._pool_cache[key] = cached
-        return cached
+        ids = self._ids.get(key)
+        if ids is None:
+            found: list[str] = []
+            _harvest(app.snapshot(), found, [])
+            ids = sorted(set(found)) or ["none"]
+            self._ids = {key: ids}
+        return ids, self._strings
 
     def _value(
         self,
@@ -101,7 +114,7 @@ class RandomUser:
         if kind == "null":
             return None
         if prop.get("format") in ("date-time", "date"):
-            moment = self._now + timedelta(minutes=15 * self.rng.randint(-200, 400))
+            moment = self.now + timedelta(minutes=15 * self.rng.randint(-200, 400))
             return moment.date().isoformat() if prop["format"] == "date" else moment.isoformat()
         if name.endswith("_id") or name == "id":
             return self.rng.choice(ids)
