@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass
 from datetime import datetime, timedelta
 from typing import Any, cast
 
@@ -29,6 +30,20 @@ from pare.sim.rng import EpisodeRandom
 MODES: tuple[AssistantMode, ...] = ("observe", "execute")
 _CONTROL_APPS = ("system", "agent_ui")
 """Apps whose tools are the turn protocol, not app data: never failed on purpose."""
+
+
+@dataclass(slots=True)
+class _Call:
+    """One call being dispatched: what the log entry will say, filled in as the call is resolved."""
+
+    actor: Actor
+    app: str
+    tool: str
+    args: dict[str, Any]
+    mode: AssistantMode | None
+    event_id: str | None
+    kind: ToolKind | None = None
+    screen: str | None = None
 
 
 class Environment:
@@ -129,85 +144,46 @@ class Environment:
 
         The user calls tools by their plain names as offered on the current screen (``open_email``,
         ``go_back``). Everyone else calls them by qualified names (``email__send_email``). The assistant
-        must say which ``mode`` it is in; it may use only that mode's tools.
+        must say which ``mode`` it is in (observe when not said); it may use only that mode's tools.
         """
-        raw_args: dict[str, Any] = dict(args) if isinstance(args, Mapping) else {}
         if actor == "assistant" and mode is None:
             mode = "observe"
-        if args is not None and not isinstance(args, Mapping):
-            return self._fail(
-                actor,
-                "?",
-                tool,
-                raw_args,
-                None,
-                mode,
-                event_id,
-                f"Arguments must be a JSON object, got {type(args).__name__}.",
-            )
-        if actor == "user":
-            return self._call_user(tool, raw_args)
-        return self._call_flat(actor, tool, raw_args, mode, event_id)
-
-    def _call_flat(
-        self, actor: Actor, tool: str, args: dict[str, Any], mode: AssistantMode | None, event_id: str | None
-    ) -> ToolResult:
         app_name, _, tool_name = tool.partition("__")
-        if actor == "assistant":
-            assert mode is not None
-            spec = self._assistant_tools[mode].get(tool)
+        call = _Call(
+            actor=actor,
+            app=app_name if tool_name else "?",
+            tool=tool_name or tool,
+            args=dict(args) if isinstance(args, Mapping) else {},
+            mode=mode if actor == "assistant" else None,
+            event_id=event_id,
+        )
+        if args is not None and not isinstance(args, Mapping):
+            return self._fail(call, f"Arguments must be a JSON object, got {type(args).__name__}.")
+        if actor == "user":
+            return self._call_user(call, tool)
+        return self._call_flat(call, tool)
+
+    def _call_flat(self, call: _Call, tool: str) -> ToolResult:
+        if call.mode is not None:
+            spec = self._assistant_tools[call.mode].get(tool)
             if spec is None:
-                return self._fail(
-                    actor,
-                    app_name or "?",
-                    tool_name or tool,
-                    args,
-                    None,
-                    mode,
-                    event_id,
-                    self._why_not_for_assistant(tool, mode),
-                )
+                return self._fail(call, self._why_not_for_assistant(tool, call.mode))
         else:
             spec = self._all_tools.get(tool)
             if spec is None:
-                return self._fail(
-                    actor,
-                    app_name or "?",
-                    tool_name or tool,
-                    args,
-                    None,
-                    mode,
-                    event_id,
-                    f"Unknown tool '{tool}'.{did_you_mean(tool, self._all_tools)}",
-                )
-        app = self.apps[spec.app]
+                return self._fail(call, f"Unknown tool '{tool}'.{did_you_mean(tool, self._all_tools)}")
+        call.app, call.tool, call.kind = spec.app, spec.name, spec.kind
         try:
-            values = spec.validate(args)
+            values = spec.validate(call.args)
         except ToolError as error:
-            return self._fail(actor, spec.app, spec.name, args, spec.kind, mode, event_id, str(error))
-        if actor == "assistant" and spec.app not in _CONTROL_APPS:
+            return self._fail(call, str(error))
+        if call.actor == "assistant" and spec.app not in _CONTROL_APPS:
             injected = self._failures.draw(spec.app, spec.name)
             if injected is not None:
-                return self._fail(
-                    actor,
-                    spec.app,
-                    spec.name,
-                    args,
-                    spec.kind,
-                    mode,
-                    event_id,
-                    injected,
-                    injected_failure=True,
-                )
-        if actor == "assistant" and spec.app == "agent_ui":
-            self.agent_ui.assistant_mode = cast(AssistantMode, mode)
-        try:
-            value = spec.func(app, **values)
-        except ToolError as error:
-            return self._fail(actor, spec.app, spec.name, args, spec.kind, mode, event_id, str(error))
-        except Exception as error:
-            return self._internal_error(actor, spec, args, mode, event_id, error)
-        return self._succeed(actor, spec.app, spec.name, args, spec.kind, mode, event_id, value, None)
+                return self._fail(call, injected, injected_failure=True)
+        if call.mode is not None and spec.app == "agent_ui":
+            self.agent_ui.assistant_mode = call.mode
+        return self._run(call, spec, lambda: spec.func(self.apps[spec.app], **values))
 
     def _why_not_for_assistant(self, tool: str, mode: AssistantMode) -> str:
         spec = self._all_tools.get(tool)
@@ -224,39 +200,22 @@ class Environment:
             )
         return f"'{tool}' is not available in {mode} mode."
 
-    def _call_user(self, tool: str, args: dict[str, Any]) -> ToolResult:
+    def _call_user(self, call: _Call, tool: str) -> ToolResult:
+        call.screen = self.system.location()
         screen = self.system.current_screen()
-        foreground = self.system.foreground
-        where = self.system.location()
         if screen is not None and tool in screen.actions:
-            return self._run_screen_action(cast(str, foreground), screen, screen.actions[tool], args, where)
+            return self._run_screen_action(
+                call, cast(str, self.system.foreground), screen, screen.actions[tool]
+            )
+        call.app = self.system.foreground or "system"
         for shell_app in (self.system, self.agent_ui):
             spec = shell_app.tools.get(tool)
             if spec is not None and "user" in spec.actors:
+                call.app, call.kind = shell_app.name, spec.kind
                 if spec.available is not None and not spec.available(shell_app):
-                    return self._fail(
-                        "user",
-                        shell_app.name,
-                        tool,
-                        args,
-                        spec.kind,
-                        None,
-                        None,
-                        self._unavailable_message(tool),
-                        screen=where,
-                    )
-                return self._call_shell(shell_app, spec, args, where)
-        return self._fail(
-            "user",
-            foreground or "system",
-            tool,
-            args,
-            None,
-            None,
-            None,
-            self._unavailable_message(tool),
-            screen=where,
-        )
+                    return self._fail(call, self._unavailable_message(tool))
+                return self._call_shell(call, shell_app, spec)
+        return self._fail(call, self._unavailable_message(tool))
 
     def _unavailable_message(self, tool: str) -> str:
         here = self.system.location()
@@ -278,48 +237,35 @@ class Environment:
             reason = f"Unknown action '{tool}'.{did_you_mean(tool, [t.name for t in self.user_tools()])}"
         return f"{reason} Available now: {available}."
 
-    def _call_shell(self, shell_app: App, spec: ToolSpec, args: dict[str, Any], where: str) -> ToolResult:
+    def _call_shell(self, call: _Call, shell_app: App, spec: ToolSpec) -> ToolResult:
         try:
-            values = spec.validate(args)
-            value = spec.func(shell_app, **values)
+            values = spec.validate(call.args)
         except ToolError as error:
-            return self._fail(
-                "user", shell_app.name, spec.name, args, spec.kind, None, None, str(error), screen=where
-            )
-        except Exception as error:
-            return self._internal_error("user", spec, args, None, None, error)
-        return self._succeed("user", shell_app.name, spec.name, args, spec.kind, None, None, value, where)
+            return self._fail(call, str(error))
+        return self._run(call, spec, lambda: spec.func(shell_app, **values))
 
-    def _run_screen_action(
-        self, app_name: str, screen: Screen, spec: ToolSpec, args: dict[str, Any], label: str
-    ) -> ToolResult:
+    def _run_screen_action(self, call: _Call, app_name: str, screen: Screen, spec: ToolSpec) -> ToolResult:
         app = self.apps[app_name]
+        call.app, call.kind = app_name, spec.kind
         try:
-            values = spec.validate(args)
+            values = spec.validate(call.args)
         except ToolError as error:
-            return self._fail(
-                "user", app_name, spec.name, args, spec.kind, None, None, str(error), screen=label
-            )
+            return self._fail(call, str(error))
         writes_before = app.write_count
         draft = screen.model_copy(deep=True)
-        try:
-            outcome = spec.func(screen, app, **values)
-        except ToolError as error:
+        failure, outcome = self._attempt(call, spec, lambda: spec.func(screen, app, **values))
+        if failure is not None:  # undo what the action did to its screen (a half-typed draft)
             self._restore_screen(app_name, screen, draft)
-            return self._fail(
-                "user", app_name, spec.name, args, spec.kind, None, None, str(error), screen=label
-            )
-        except Exception as error:
-            self._restore_screen(app_name, screen, draft)
-            return self._internal_error("user", spec, args, None, None, error)
+            return failure
         transition = outcome if isinstance(outcome, Transition) else stay(outcome)
         self._apply_transition(app_name, spec, transition)
         # What the call did decides its kind: a declared write that changed nothing (saving an unchanged
         # event) is logged as ui, any action that ran a backend write as write.
-        kind: ToolKind = (
-            "write" if app.write_count != writes_before else ("ui" if spec.kind == "write" else spec.kind)
-        )
-        return self._succeed("user", app_name, spec.name, args, kind, None, None, transition.result, label)
+        if app.write_count != writes_before:
+            call.kind = "write"
+        elif spec.kind == "write":
+            call.kind = "ui"
+        return self._succeed(call, transition.result)
 
     def _restore_screen(self, app_name: str, screen: Screen, draft: Screen) -> None:
         """Undo changes a failing action made to its screen's parameters (a half-edited draft)."""
@@ -361,88 +307,61 @@ class Environment:
             )
 
     # -- recording ------------------------------------------------------------------------------------
-    def _record(self, entry: LogEntry) -> None:
-        self.log.append(entry)
-        self.scheduler.observe([entry])
+    def _run(self, call: _Call, spec: ToolSpec, body: Callable[[], Any]) -> ToolResult:
+        """Run a tool's body and record the outcome."""
+        failure, value = self._attempt(call, spec, body)
+        return failure if failure is not None else self._succeed(call, value)
 
-    def _succeed(
-        self,
-        actor: Actor,
-        app: str,
-        tool: str,
-        args: dict[str, Any],
-        kind: ToolKind | None,
-        mode: AssistantMode | None,
-        event_id: str | None,
-        value: Any,
-        screen: str | None,
-    ) -> ToolResult:
+    def _attempt(self, call: _Call, spec: ToolSpec, body: Callable[[], Any]) -> tuple[ToolResult | None, Any]:
+        """Run a tool's body; an error becomes a recorded error result, a value is returned unrecorded."""
+        try:
+            return None, body()
+        except ToolError as error:
+            return self._fail(call, str(error)), None
+        except Exception as error:
+            if self.config.raise_internal_errors:
+                raise
+            message = f"Internal error in {spec.app}.{spec.name} ({type(error).__name__}: {error}). "
+            return self._fail(call, message + "This is a bug in PARE."), None
+
+    def _succeed(self, call: _Call, value: Any) -> ToolResult:
         result = to_jsonable_python(value)
-        entry = LogEntry(
-            index=len(self.log),
-            turn=self.turn,
-            time=self.clock.now,
-            actor=actor,
-            app=app,
-            tool=tool,
-            args=args,
-            kind=kind,
-            ok=True,
-            result=result,
-            mode=mode,
-            event_id=event_id,
-            screen=screen,
-        )
-        self._record(entry)
+        entry = self._record(call, ok=True, result=result)
         return ToolResult(ok=True, value=result, entry=entry)
 
-    def _fail(
+    def _fail(self, call: _Call, error: str, *, injected_failure: bool = False) -> ToolResult:
+        entry = self._record(call, ok=False, error=error, injected_failure=injected_failure)
+        return ToolResult(ok=False, error=error, entry=entry)
+
+    def _record(
         self,
-        actor: Actor,
-        app: str,
-        tool: str,
-        args: dict[str, Any],
-        kind: ToolKind | None,
-        mode: AssistantMode | None,
-        event_id: str | None,
-        error: str,
+        call: _Call,
         *,
+        ok: bool,
+        result: Any = None,
+        error: str | None = None,
         injected_failure: bool = False,
-        screen: str | None = None,
-    ) -> ToolResult:
+    ) -> LogEntry:
         entry = LogEntry(
             index=len(self.log),
             turn=self.turn,
             time=self.clock.now,
-            actor=actor,
-            app=app,
-            tool=tool,
-            args=args,
-            kind=kind,
-            ok=False,
+            actor=call.actor,
+            app=call.app,
+            tool=call.tool,
+            args=call.args,
+            kind=call.kind,
+            ok=ok,
+            result=result,
             error=error,
-            mode=mode,
+            mode=call.mode,
             injected_failure=injected_failure,
-            event_id=event_id,
-            screen=screen,
+            event_id=call.event_id,
+            screen=call.screen,
         )
-        self._record(entry)
-        return ToolResult(ok=False, error=error, entry=entry)
-
-    def _internal_error(
-        self,
-        actor: Actor,
-        spec: ToolSpec,
-        args: dict[str, Any],
-        mode: AssistantMode | None,
-        event_id: str | None,
-        error: Exception,
-    ) -> ToolResult:
-        if self.config.raise_internal_errors:
-            raise error
-        message = f"Internal error in {spec.app}.{spec.name} ({type(error).__name__}: {error}). "
-        message += "This is a bug in PARE."
-        return self._fail(actor, spec.app, spec.name, args, spec.kind, mode, event_id, message)
+        self.log.append(entry)
+        self.scheduler.observe([entry])
+        return entry
 
     # -- what actors see ------------------------------------------------------------------------------
     def user_tools(self) -> list[NamedTool]:
