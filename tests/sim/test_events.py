@@ -118,3 +118,12 @@ def test_event_results_raise_notifications_to_both_actors() -> None:
         "[2025-03-03 09:02] Notebook: New item from Ada — Item: buy milk and eggs"
     ]
     assert "item_id=item-1" in env.assistant_observation().notifications[0]
+
+
+def test_a_failing_event_is_recorded_and_reported_not_silent() -> None:
+    env = make_env([NotebookApp()])
+    env.schedule(ScheduledEvent("bad", AfterStart(), EventAction("notebook", "arrive", {"txt": "typo"})))
+    env.schedule(ScheduledEvent("good", AfterStart(), arrive("fine")))
+    env.deliver_due_events()
+    assert [e.event_id for e in env.failed_events()] == ["bad"]
+    assert "unexpected argument 'txt'" in (env.failed_events()[0].error or "")

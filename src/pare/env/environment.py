@@ -440,6 +440,17 @@ class Environment:
                 self._fire(arrival.action, arrival.event_id)
         self.clock.advance_to(moment)
 
+    def failed_events(self) -> list[LogEntry]:
+        """Scheduled events (not noise) whose call failed: the world did not happen as the scenario said."""
+        return [
+            entry
+            for entry in self.log
+            if entry.actor == "env"
+            and not entry.ok
+            and entry.event_id
+            and not entry.event_id.startswith("noise-")
+        ]
+
     def deliver_due_events(self) -> None:
         """Fire everything due at the current time (events, their dependents, noise)."""
         self.advance_to(self.clock.now)
