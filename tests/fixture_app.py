@@ -113,3 +113,54 @@ class Page(Screen):
 
 
 NotebookApp.set_screens(Index, Page)
+
+
+class AlarmState(BaseModel):
+    alarms: list[str] = Field(default_factory=list)
+    """ISO times, sorted; each rings once."""
+
+
+class AlarmApp(App):
+    """Alarms that ring at their simulated time: the wakeup hook."""
+
+    name = "alarm"
+    title = "Alarm"
+    State = AlarmState
+    state: AlarmState
+    wakeup_tool = "ring"
+
+    def next_wakeup(self):  # type: ignore[no-untyped-def]
+        from datetime import datetime
+
+        return datetime.fromisoformat(self.state.alarms[0]) if self.state.alarms else None
+
+    @tool("read")
+    def list_alarms(self) -> list[str]:
+        """List alarms.
+
+        Returns:
+            the alarm times.
+        """
+        return list(self.state.alarms)
+
+    @tool("write")
+    def set_alarm(self, at: str) -> str:
+        """Set an alarm.
+
+        Args:
+            at: ISO time.
+        """
+        self.state.alarms = sorted([*self.state.alarms, at])
+        return at
+
+    @tool("env", actors=())
+    def ring(self) -> list[str]:
+        """Ring every alarm that is due."""
+        from datetime import datetime
+
+        now = self.ctx.now()
+        rung = [a for a in self.state.alarms if datetime.fromisoformat(a) <= now]
+        self.state.alarms = [a for a in self.state.alarms if a not in rung]
+        for alarm in rung:
+            self.notify("alarm", f"Alarm {alarm}")
+        return rung

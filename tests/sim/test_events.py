@@ -127,3 +127,20 @@ def test_a_failing_event_is_recorded_and_reported_not_silent() -> None:
     env.deliver_due_events()
     assert [e.event_id for e in env.failed_events()] == ["bad"]
     assert "unexpected argument 'txt'" in (env.failed_events()[0].error or "")
+
+
+def test_app_wakeups_fire_at_their_time_through_the_logged_door() -> None:
+    from tests.fixture_app import AlarmApp
+
+    env = make_env([AlarmApp()])
+    ok(env.call("assistant", "alarm__set_alarm", {"at": "2025-03-03T10:30:00+00:00"}, mode="execute"))
+    ok(env.call("assistant", "alarm__set_alarm", {"at": "2025-03-03T09:45:00+00:00"}, mode="execute"))
+    assert env.next_event_time() == START + timedelta(minutes=45)
+    env.advance(timedelta(hours=2))
+    rings = [(e.event_id, e.time.strftime("%H:%M"), e.result) for e in env.log if e.actor == "env"]
+    assert rings == [
+        ("alarm:ring", "09:45", ["2025-03-03T09:45:00+00:00"]),
+        ("alarm:ring", "10:30", ["2025-03-03T10:30:00+00:00"]),
+    ]
+    assert env.next_event_time() is None
+    assert len(env.user_view().notifications) == 2

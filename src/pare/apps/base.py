@@ -85,6 +85,10 @@ class App:
     screens: ClassVar[tuple[type[Screen], ...]] = ()
     tools: ClassVar[dict[str, ToolSpec]] = {}
 
+    wakeup_tool: ClassVar[str | None] = None
+    """An ``env`` tool the environment calls (as the ``env`` actor, logged) when :meth:`next_wakeup` comes
+    due: how time-driven changes such as a reminder falling due enter the simulation."""
+
     state: Any
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
@@ -120,6 +124,10 @@ class App:
         self._id_counters: dict[str, int] = {}
         self.write_count = 0
         """Backend writes so far; how a user action is known to have changed data."""
+
+    def next_wakeup(self) -> datetime | None:
+        """When the app next needs :attr:`wakeup_tool` called, or ``None``. Calling it must move this on."""
+        return None
 
     @classmethod
     def root_screen(cls) -> Screen:

@@ -18,6 +18,11 @@ _APPS: dict[str, str] = {
     "messaging": "pare.apps.messaging:MessagingApp",
     "contacts": "pare.apps.contacts:ContactsApp",
     "calendar": "pare.apps.calendar:CalendarApp",
+    "reminder": "pare.apps.reminder:ReminderApp",
+    "notes": "pare.apps.notes:NotesApp",
+    "shopping": "pare.apps.shopping:ShoppingApp",
+    "cab": "pare.apps.cab:CabApp",
+    "apartment": "pare.apps.apartment:ApartmentApp",
 }
 
 

@@ -82,6 +82,7 @@ class Environment:
             arrivals=self.rng.stream("noise_arrivals"),
             contents=self.rng.stream("noise_contents"),
         )
+        self._wakeup_apps = [app for app in self.apps.values() if app.wakeup_tool is not None]
         self._assistant_tools = {mode: self._assistant_toolset(mode) for mode in MODES}
         self._all_tools = {
             spec.qualified_name: spec for app in self.apps.values() for spec in app.tools.values()
@@ -417,28 +418,53 @@ class Environment:
         self.scheduler.add(event)
 
     def next_event_time(self) -> datetime | None:
-        """When the next scheduled (non-noise) event is due, or ``None``."""
-        return self.scheduler.next_time()
+        """When the next scheduled event or app wakeup (a reminder falling due) is due, or ``None``.
+
+        Noise is left out: distractors alone never keep an episode going.
+        """
+        return min(
+            (t for t in (self.scheduler.next_time(), self._next_wakeup()[0]) if t is not None), default=None
+        )
+
+    def _next_wakeup(self) -> tuple[datetime | None, App | None]:
+        best: tuple[datetime | None, App | None] = (None, None)
+        for app in self._wakeup_apps:
+            moment = app.next_wakeup()
+            if moment is not None and (best[0] is None or moment < best[0]):
+                best = (moment, app)
+        return best
 
     def advance(self, delta: timedelta) -> None:
         """Let ``delta`` of simulated time pass, firing events at their own times on the way."""
         self.advance_to(self.clock.now + delta)
 
     def advance_to(self, moment: datetime) -> None:
-        """Move the clock to ``moment``, firing every event and noise arrival due on the way, in order."""
+        """Move the clock to ``moment``, firing every event, app wakeup and noise arrival due on the way,
+        in time order (scheduled events first, then wakeups, then noise, at equal times).
+        """
         while True:
             due = self.scheduler.next_time()
+            wakeup, waking_app = self._next_wakeup()
             noise = self.noise.next_time
-            upcoming = min((t for t in (due, noise) if t is not None), default=None)
+            upcoming = min((t for t in (due, wakeup, noise) if t is not None), default=None)
             if upcoming is None or upcoming > moment:
                 break
             self.clock.advance_to(upcoming)
             if due is not None and due <= upcoming:
                 self._fire_scheduled()
+            elif wakeup is not None and waking_app is not None and wakeup <= upcoming:
+                self._wake(waking_app, wakeup)
             else:
                 arrival = self.noise.pop()
                 self._fire(arrival.action, arrival.event_id)
         self.clock.advance_to(moment)
+
+    def _wake(self, app: App, due: datetime) -> None:
+        tool = cast(str, app.wakeup_tool)
+        self._fire(EventAction(app.name, tool, {}), f"{app.name}:{tool}")
+        after = app.next_wakeup()
+        if after is not None and after <= due:
+            raise SimulationBug(f"{app.name}.{tool} ran at {due} but the app still wants waking at {after}")
 
     def failed_events(self) -> list[LogEntry]:
         """Scheduled events (not noise) whose call failed: the world did not happen as the scenario said."""
