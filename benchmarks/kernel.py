@@ -16,7 +16,7 @@ from collections.abc import Callable
 from pare.apps.registry import app_names, get_app_class
 from pare.apps.sample_data import START, sample_world
 from pare.env import EnvConfig, Environment
-from pare.env.random_walk import RandomUser
+from pare.env.random_walk import RandomAssistant, RandomUser
 
 APPS = app_names()
 
@@ -101,6 +101,26 @@ def random_walk(steps: int, seed: int) -> None:
     )
 
 
+def assistant_walk(steps: int, seed: int) -> None:
+    env = fresh_env(seed)
+    assistant = RandomAssistant(random.Random(seed))
+    in_env = 0.0
+    began = time.perf_counter()
+    for _ in range(steps):
+        tool, args = assistant.choose(env)
+        call_began = time.perf_counter()
+        env.call("assistant", tool.name, args, mode="execute")
+        in_env += time.perf_counter() - call_began
+    elapsed = time.perf_counter() - began
+    apps = sorted({e.app for e in env.log if e.ok})
+    succeeded = sum(e.ok for e in env.log) / len(env.log)
+    print(f"assistant random walk, {steps} calls over the flat API of {len(apps)} apps ({', '.join(apps)}):")
+    print(
+        f"  total {elapsed:.2f} s, mean {elapsed / steps * 1e6:.1f} us/call, of which the environment's "
+        f"dispatch {in_env / steps * 1e6:.1f} us; calls that succeeded: {succeeded:.1%}"
+    )
+
+
 def _where(location: str) -> tuple[str, str]:
     app, _, screen = location.partition(" > ")
     return app, screen.split("(")[0]
@@ -122,6 +142,7 @@ def main() -> None:
     ]:
         print(f"  {label:<48} {per_call_us(make):8.1f} us")
     random_walk(options.steps, options.seed)
+    assistant_walk(options.steps, options.seed)
 
 
 if __name__ == "__main__":

@@ -696,3 +696,13 @@ def test_noise_arrives_as_emails() -> None:
     assert arrivals, "expected some noise emails in an hour"
     assert all(entry.ok for entry in arrivals), [entry.error for entry in arrivals if not entry.ok]
     assert len(emails(env)) == len(EMAILS) + len(arrivals)
+
+
+def test_compose_can_browse_files_to_attach(env: Environment) -> None:
+    ok(env.call("user", "start_compose"))
+    top = ok(env.call("user", "browse_files"))
+    assert [(e["name"], e["type"]) for e in top] == [("Documents", "directory")]
+    found = ok(env.call("user", "browse_files", {"directory": "/Documents"}))
+    assert [e["path"] for e in found] == [LEASE, "/Documents/notes.txt"]
+    assert screen_of(env) == "Compose"
+    assert env.log[-1].kind == "read"

@@ -650,3 +650,12 @@ def test_received_message_shows_on_the_opened_screen(env: Environment) -> None:
         "Court 3 is booked",
         "Great",
     ]
+
+
+def test_opened_conversation_can_browse_files_to_send(env: Environment) -> None:
+    conversation = ok(env.call("user", "list_recent_conversations"))["conversations"][0]["conversation_id"]
+    ok(env.call("user", "open_conversation", {"conversation_id": conversation}))
+    photos = ok(env.call("user", "browse_files", {"directory": "/Photos"}))
+    assert [e["path"] for e in photos] == ["/Photos/summit.jpg"]
+    assert screen_of(env) == "Opened"
+    err(env.call("user", "browse_files", {"directory": "/Nowhere"}), "no directory")

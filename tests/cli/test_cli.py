@@ -5,14 +5,14 @@ import sys
 
 import pytest
 
-from pare.apps.registry import app_names
+from pare.apps.registry import phone_apps
 from pare.cli import main
 
 
 def test_apps_lists_every_app_with_its_screens(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["apps"]) == 0
     out = capsys.readouterr().out
-    for name in app_names():
+    for name in phone_apps():
         assert name in out
     assert "Mailbox" in out and "Agenda" in out and "open_app" in out
 
@@ -44,3 +44,10 @@ def test_console_script_runs() -> None:
         [sys.executable, "-m", "pare", "version"], capture_output=True, text=True, check=False
     )
     assert done.returncode == 0 and done.stdout.strip()
+
+
+def test_files_has_no_diagram(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["apps", "show", "files"]) == 0
+    assert "files__list_directory" in capsys.readouterr().out
+    assert main(["apps", "show", "files", "--mermaid"]) == 2
+    assert "has no screens" in capsys.readouterr().err

@@ -73,13 +73,20 @@ def test_expire_pending(env: Environment) -> None:
 def test_assistant_tool_sets_per_mode(env: Environment) -> None:
     observe = {t.name for t in env.assistant_tools("observe")}
     execute = {t.name for t in env.assistant_tools("execute")}
+    files_read = {"files__list_directory", "files__list_files", "files__read_file", "files__get_file_info"}
+    files_write = {
+        "files__write_file",
+        "files__make_directory",
+        "files__move",
+        "files__copy_file",
+        "files__delete",
+    }
     assert observe == {
         "notebook__list_items",
-        "files__list_files",
-        "files__read_file",
+        *files_read,
         "system__get_current_time",
         "system__wait",
         "agent_ui__send_message_to_user",
     }
-    assert execute == (observe - {"system__wait"}) | {"notebook__add_item", "files__write_file"}
+    assert execute == (observe - {"system__wait"}) | {"notebook__add_item", *files_write}
     assert "notebook__arrive" not in execute

@@ -6,6 +6,7 @@ import json
 import random
 from datetime import timedelta
 
+from pare.apps.registry import app_names
 from pare.apps.sample_data import sample_world
 from pare.env.random_walk import RandomUser
 from pare.sim import AfterStart, EventAction, ScheduledEvent
@@ -14,7 +15,7 @@ from tests.conftest import make_env
 
 def run(seed: int, steps: int = 400) -> str:
     env = make_env(
-        ["contacts", "email", "messaging", "calendar"],
+        app_names(),
         sample_world(),
         seed=seed,
         tool_failure_probability=0.3,

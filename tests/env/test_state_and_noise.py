@@ -2,17 +2,19 @@ from __future__ import annotations
 
 from datetime import timedelta
 
+from pare.apps.registry import app_names
 from pare.apps.sample_data import START, sample_world
 from pare.env import Environment
 from tests.conftest import make_env, ok
 
-APPS = ["contacts", "email", "messaging", "calendar"]
+APPS = app_names()
 
 
 def test_snapshot_covers_every_app_and_diff_names_each_change() -> None:
     env = make_env(APPS, sample_world(), start_time=START)
     before = env.snapshot()
-    assert set(before) == {"agent_ui", "files", "contacts", "email", "messaging", "calendar"}
+    assert set(before) == {"agent_ui", "files", *app_names()}
+    assert len(app_names()) == 9  # the nine apps with screens, plus files: the ten apps of the paper
     assert "system" not in before and "system" in env.snapshot(include_navigation=True)
     ok(
         env.call(

@@ -8,12 +8,12 @@ from __future__ import annotations
 import posixpath
 import re
 from enum import StrEnum
-from typing import Any, cast
+from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from pare.apps.base import App
-from pare.apps.files import FilesApp, normalize_path
+from pare.apps.files import DirectoryEntry, FilesApp, browse, files_of, normalize_path
 from pare.apps.screens import BACK, Screen, Transition, action, back, push, replace
 from pare.apps.tools import tool
 from pare.apps.types import SimTime
@@ -145,10 +145,7 @@ class EmailApp(App):
 
     def files(self) -> FilesApp:
         """Return the Files app, where attachments live."""
-        files = self.ctx.apps.get("files")
-        if files is None:
-            raise ToolError("Attachments are not available: this phone has no Files app.")
-        return cast(FilesApp, files)
+        return files_of(self)
 
     def in_folder(self, folder: str) -> list[Email]:
         """Return the emails of ``folder`` (any case), newest first; on a tie, the latest stored first."""
@@ -798,6 +795,15 @@ class Compose(Screen):
         """
         self.body = body
         return self.draft()
+
+    @action(kind="read")
+    def browse_files(self, app: EmailApp, directory: str = "/") -> list[DirectoryEntry]:
+        """Look through the files on your phone to find one to attach.
+
+        Args:
+            directory: the folder to look in, e.g. "/Documents"; "/" is the top.
+        """
+        return browse(app, directory)
 
     @action()
     def attach_file(self, app: EmailApp, path: str) -> dict[str, Any]:

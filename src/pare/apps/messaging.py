@@ -5,12 +5,12 @@ from __future__ import annotations
 import difflib
 import posixpath
 from datetime import UTC, datetime
-from typing import Any, cast
+from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from pare.apps.base import App
-from pare.apps.files import FilesApp, normalize_path
+from pare.apps.files import DirectoryEntry, FilesApp, browse, files_of, normalize_path
 from pare.apps.screens import Screen, Transition, action, push
 from pare.apps.tools import tool
 from pare.apps.types import SimTime
@@ -282,10 +282,7 @@ class MessagingApp(App):
         )
 
     def _files(self) -> FilesApp:
-        files = self.ctx.apps.get("files")
-        if files is None:
-            raise ToolError("Attachments need the Files app, which is not available.")
-        return cast(FilesApp, files)
+        return files_of(self)
 
     def _check_message(self, content: str, attachment: str | None) -> tuple[str, str | None]:
         """Return the stripped content and the attachment's normalised path.
@@ -827,6 +824,15 @@ class ConversationOpened(Screen):
         else:
             app.send_message(app.other_participant(conversation), content, attachment)
         return app.message_view(conversation.messages[-1])
+
+    @action(kind="read")
+    def browse_files(self, app: MessagingApp, directory: str = "/") -> list[DirectoryEntry]:
+        """Look through the files on your phone to find one to send as an attachment.
+
+        Args:
+            directory: the folder to look in, e.g. "/Photos"; "/" is the top.
+        """
+        return browse(app, directory)
 
     @action(kind="read")
     def read_messages(self, app: MessagingApp, offset: int = 0, limit: int = 10) -> ConversationMessages:

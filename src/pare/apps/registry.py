@@ -27,8 +27,13 @@ _APPS: dict[str, str] = {
 
 
 def app_names(*, include_core: bool = False) -> list[str]:
-    """Names of the registered apps, in registration order."""
+    """Names of the registered apps with screens (or, with ``include_core``, every app), in order."""
     return [name for name in _APPS if include_core or name not in CORE_APPS]
+
+
+def phone_apps() -> list[str]:
+    """The apps a phone shows: every app with screens, and Files (which has none)."""
+    return [*app_names(), "files"]
 
 
 def get_app_class(name: str) -> type[App]:

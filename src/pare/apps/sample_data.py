@@ -165,8 +165,257 @@ def _calendar() -> dict[str, Any]:
     return {"events": events}
 
 
+def _reminder() -> dict[str, Any]:
+    plan = [
+        ("Pay rent", 2, 9, 0, "Transfer March rent to Bob", "monthly"),
+        ("Call Mum", 0, 18, 0, "Ask about Saturday dinner", "weekly"),
+        ("Take vitamins", 0, 8, 0, "", "daily"),
+        ("Renew passport", 10, 12, 0, "Photos are in /Documents", "none"),
+        ("Water the plants", 1, 19, 0, "", "none"),
+        ("Submit expense report", 3, 16, 0, "Receipts in email", "none"),
+    ]
+    reminders = {}
+    for index, (title, day, hour, minute, description, repetition) in enumerate(plan, start=1):
+        due = START.replace(hour=hour, minute=minute) + timedelta(days=day)
+        reminders[f"reminder-{index}"] = {
+            "reminder_id": f"reminder-{index}",
+            "title": title,
+            "description": description,
+            "due_datetime": due.isoformat(),
+            "repetition": repetition,
+            "announced": due < START,
+        }
+    return {"reminders": reminders}
+
+
+def _notes() -> dict[str, Any]:
+    texts = [
+        ("Groceries", "milk, eggs, spinach, coffee beans", "Personal"),
+        ("Offsite ideas", "Lake venue? Ask George about budget.", "Work"),
+        ("Gift ideas for Mum", "scarf, cookbook, concert tickets", "Personal"),
+        ("1:1 talking points", "promotion timeline; conference budget", "Work"),
+        ("Wifi password", "flat 4B: maple-river-42", "Notes"),
+        ("Books to read", "The Tin Lantern; Driftwood Summer", "Personal"),
+    ]
+    notes = {}
+    for index, (title, content, folder) in enumerate(texts, start=1):
+        written = (START - timedelta(days=index, hours=index)).isoformat()
+        notes[f"note-{index}"] = {
+            "note_id": f"note-{index}",
+            "title": title,
+            "content": content,
+            "folder": folder,
+            "created_at": written,
+            "updated_at": written,
+            "attachments": ["/Documents/lease.txt"] if index == 5 else [],
+        }
+    return {"folders": ["Notes", "Personal", "Work"], "notes": notes}
+
+
+def _cab() -> dict[str, Any]:
+    home, office, airport = "14 Elm St", "Acme Analytics, 200 Market St", "City Airport, Terminal 2"
+    rides = {}
+    for index, (start, end, service, days_ago, status) in enumerate(
+        [
+            (home, office, "Default", 6, "completed"),
+            (office, home, "Pool", 6, "completed"),
+            (home, airport, "Van", 12, "completed"),
+            (home, office, "Default", 3, "cancelled_by_driver"),
+        ],
+        start=1,
+    ):
+        pickup = START - timedelta(days=days_ago, hours=index)
+        rides[f"ride-{index}"] = {
+            "ride_id": f"ride-{index}",
+            "start_location": start,
+            "end_location": end,
+            "service_type": service,
+            "pickup_time": pickup.isoformat(),
+            "booked_at": (pickup - timedelta(minutes=10)).isoformat(),
+            "distance_km": 6.8 + index,
+            "duration_minutes": 14 + 2 * index,
+            "price": 14.5 + 3 * index,
+            "status": status,
+            "driver_name": "Marco",
+            "vehicle": "grey Toyota Prius",
+        }
+    pickup = START + timedelta(minutes=20)
+    rides["ride-5"] = {
+        "ride_id": "ride-5",
+        "start_location": home,
+        "end_location": office,
+        "service_type": "Default",
+        "pickup_time": pickup.isoformat(),
+        "booked_at": (START - timedelta(minutes=5)).isoformat(),
+        "distance_km": 7.2,
+        "duration_minutes": 15,
+        "price": 21.4,
+        "status": "driver_assigned",
+        "driver_name": "Aisha",
+        "vehicle": "white Kia Niro",
+    }
+    return {"rides": rides, "current_ride_id": "ride-5", "known_distances": {f"{home}|{office}": 7.2}}
+
+
+def _apartment() -> dict[str, Any]:
+    rows = [
+        (
+            "Sunny 2BR near the park",
+            "Riverside",
+            "12 Park Ave",
+            3200,
+            2,
+            1.0,
+            "Apartment",
+            ["Laundry", "Balcony"],
+        ),
+        ("Riverside studio", "Riverside", "3 Quay St", 1900, 0, 1.0, "Studio", ["Gym"]),
+        ("Family house with garden", "Northfield", "88 Oak Rd", 4800, 3, 2.5, "House", ["Garden", "Parking"]),
+        ("Loft by the station", "Old Town", "5 Rail Yard", 2700, 1, 1.0, "Condo", ["Roof deck", "Laundry"]),
+        ("Quiet 1BR", "Northfield", "41 Elm Ct", 2300, 1, 1.0, "Apartment", ["Parking"]),
+        (
+            "Townhouse near school",
+            "Old Town",
+            "9 Mill Ln",
+            3900,
+            3,
+            2.0,
+            "Townhouse",
+            ["Garden", "Dishwasher"],
+        ),
+        (
+            "Penthouse with views",
+            "Riverside",
+            "1 Tower Pl",
+            6500,
+            2,
+            2.0,
+            "Condo",
+            ["Doorman", "Gym", "Pool"],
+        ),
+        ("Basement studio", "Old Town", "17 Cellar St", 1400, 0, 1.0, "Studio", []),
+    ]
+    apartments = {}
+    for index, (name, location, address, price, bedrooms, bathrooms, kind, amenities) in enumerate(
+        rows, start=1
+    ):
+        apartments[f"apt-{index}"] = {
+            "apartment_id": f"apt-{index}",
+            "name": name,
+            "location": location,
+            "address": address,
+            "price": price,
+            "bedrooms": bedrooms,
+            "bathrooms": bathrooms,
+            "property_type": kind,
+            "amenities": amenities,
+            "pet_policy": "Pets allowed" if index % 2 else "No pets",
+            "lease_term": "1 year",
+            "furnished_status": "Unfurnished",
+            "square_footage": 500 + 150 * bedrooms,
+        }
+    return {"apartments": apartments, "saved": ["apt-1", "apt-4"]}
+
+
+def _shopping() -> dict[str, Any]:
+    catalogue = [
+        ("prod-kettle", "Electric Kettle 1.7L", "Homely", "Kitchen", [("kettle-steel", "Steel", 39.99, 6)]),
+        (
+            "prod-mug",
+            "Ceramic Mug",
+            "Homely",
+            "Kitchen",
+            [("mug-blue", "Blue", 8.5, 20), ("mug-red", "Red", 8.5, 0)],
+        ),
+        (
+            "prod-shoe",
+            "Trail Runner 3",
+            "Stride",
+            "Shoes",
+            [("shoe-42", "Blue / 42", 89.99, 4), ("shoe-43", "Blue / 43", 89.99, 1)],
+        ),
+        (
+            "prod-hoodie",
+            "Everyday Hoodie",
+            "Northline",
+            "Clothing",
+            [("hoodie-m", "Grey / M", 45.0, 8), ("hoodie-l", "Grey / L", 45.0, 2)],
+        ),
+        (
+            "prod-charger",
+            "USB-C Charger 65W",
+            "Voltly",
+            "Electronics",
+            [("charger-white", "White", 34.99, 12)],
+        ),
+        ("prod-mat", "Yoga Mat", "Northline", "Sports", [("mat-purple", "Purple", 29.99, 5)]),
+    ]
+    products = {
+        product_id: {
+            "product_id": product_id,
+            "name": name,
+            "brand": brand,
+            "category": category,
+            "description": f"{name} by {brand}.",
+            "variants": {
+                item: {"item_id": item, "name": label, "price": price, "stock": stock, "options": {}}
+                for item, label, price, stock in variants
+            },
+        }
+        for product_id, name, brand, category, variants in catalogue
+    }
+    codes = {
+        "SPRING15": {
+            "code": "SPRING15",
+            "description": "Spring sale",
+            "percent_off": 15,
+            "min_subtotal": 50,
+            "expires_at": (START + timedelta(days=20)).isoformat(),
+        },
+        "WELCOME10": {"code": "WELCOME10", "description": "Welcome gift", "amount_off": 10},
+    }
+    placed = (START - timedelta(days=2)).isoformat()
+    orders = {
+        "order-1": {
+            "order_id": "order-1",
+            "status": "shipped",
+            "placed_at": placed,
+            "subtotal": 17.0,
+            "discount": 0,
+            "total": 17.0,
+            "items": [
+                {
+                    "item_id": "mug-blue",
+                    "product_name": "Ceramic Mug",
+                    "variant_name": "Blue",
+                    "quantity": 2,
+                    "unit_price": 8.5,
+                }
+            ],
+        },
+        "order-2": {
+            "order_id": "order-2",
+            "status": "placed",
+            "placed_at": placed,
+            "subtotal": 34.99,
+            "discount": 0,
+            "total": 34.99,
+            "items": [
+                {
+                    "item_id": "charger-white",
+                    "product_name": "USB-C Charger 65W",
+                    "variant_name": "White",
+                    "quantity": 1,
+                    "unit_price": 34.99,
+                }
+            ],
+        },
+    }
+    return {"products": products, "cart": {"hoodie-m": 1}, "discount_codes": codes, "orders": orders}
+
+
 def sample_world() -> dict[str, dict[str, Any]]:
-    """Seed data for files, contacts, email, messaging and calendar."""
+    """Seed data for every app."""
     people = {
         key: f"{first}.{last}@{'acme.example' if company == 'Acme Analytics' else 'mail.example'}".lower()
         for key, first, last, _, company in _PEOPLE
@@ -202,4 +451,9 @@ def sample_world() -> dict[str, dict[str, Any]]:
         "email": _email(people),
         "messaging": _messaging(),
         "calendar": _calendar(),
+        "reminder": _reminder(),
+        "notes": _notes(),
+        "cab": _cab(),
+        "apartment": _apartment(),
+        "shopping": _shopping(),
     }

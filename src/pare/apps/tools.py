@@ -14,7 +14,8 @@ import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any, TypeVar, get_type_hints
+from types import UnionType
+from typing import Annotated, Any, Literal, TypeVar, Union, get_args, get_origin, get_type_hints
 
 import docstring_parser
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model
@@ -174,11 +175,26 @@ def describe_validation_error(spec: ToolSpec, error: ValidationError) -> str:
 
 
 def _type_name(annotation: Any) -> str:
-    """A short, readable type: ``list[str] | None``, ``Folder``, without module paths."""
-    if isinstance(annotation, type) and not getattr(annotation, "__args__", None):
+    """A short, readable, run-independent type: ``list[str] | None``, ``datetime``, ``Folder``.
+
+    ``Annotated`` metadata (validators) is dropped: its text holds memory addresses, which would make
+    error messages, and so logs, differ between runs.
+    """
+    origin = get_origin(annotation)
+    if origin is Annotated:
+        return _type_name(get_args(annotation)[0])
+    if origin in (Union, UnionType):
+        return " | ".join(_type_name(arg) for arg in get_args(annotation))
+    if origin is Literal:
+        return " | ".join(repr(arg) for arg in get_args(annotation))
+    if origin is not None:
+        name = getattr(origin, "__name__", str(origin))
+        return f"{name}[{', '.join(_type_name(arg) for arg in get_args(annotation))}]"
+    if annotation is type(None):
+        return "None"
+    if isinstance(annotation, type):
         return annotation.__name__
-    text = str(annotation).replace("typing.", "")
-    return re.sub(r"\b(?:[A-Za-z_]\w*\.)+([A-Za-z_]\w*)", r"\1", text)
+    return re.sub(r"\b(?:[A-Za-z_]\w*\.)+([A-Za-z_]\w*)", r"\1", str(annotation))
 
 
 def _params_model(

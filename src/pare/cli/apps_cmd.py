@@ -9,9 +9,10 @@ from rich.console import Console
 from rich.table import Table
 
 from pare.apps.fsm import to_mermaid
-from pare.apps.registry import app_names, get_app_class
+from pare.apps.registry import get_app_class, phone_apps
 from pare.apps.screens import BACK, STAY
 from pare.apps.system import SystemApp
+from pare.errors import UserInputError
 
 app = typer.Typer(help="The phone's apps: screens, user actions, agent tools.", invoke_without_command=True)
 
@@ -24,12 +25,13 @@ def list_apps(ctx: typer.Context) -> None:
     table = Table(title="PARE apps")
     for column in ("app", "screens (root first)", "read", "write", "env"):
         table.add_column(column)
-    for name in app_names():
+    for name in phone_apps():
         cls = get_app_class(name)
         kinds = [spec.kind for spec in cls.tools.values()]
         table.add_row(
             name,
-            ", ".join(s.screen_name() for s in cls.screens),
+            ", ".join(s.screen_name() for s in cls.screens)
+            or "(none: the assistant's API; users attach by path)",
             str(kinds.count("read")),
             str(kinds.count("write")),
             str(kinds.count("env")),
@@ -52,6 +54,8 @@ def show_app(
     """Show an app's screens with their user actions, and its agent tools."""
     cls = get_app_class(name)
     if mermaid:
+        if not cls.screens:
+            raise UserInputError(f"'{name}' has no screens, so there is no diagram to draw.")
         typer.echo(to_mermaid(cls), nl=False)
         return
     console = Console()
