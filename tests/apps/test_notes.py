@@ -995,3 +995,12 @@ def test_a_random_user_walks_every_screen() -> None:
     screens = {e.screen.partition(" > ")[2].split("(")[0] for e in env.log if e.screen and " > " in e.screen}
     assert {"List", "Folders", "Detail", "Edit"} <= screens
     assert sum(e.ok for e in env.log) / len(env.log) > 0.5
+
+
+def test_detail_and_edit_can_browse_files_to_attach(env: Environment) -> None:
+    user(env, "open_note", note_id="note-apartment")
+    docs = user(env, "browse_files", directory="/Documents")
+    assert PLAN in [e["path"] for e in docs] and screen_of(env) == "Detail"
+    user(env, "edit")
+    assert [e["type"] for e in user(env, "browse_files")] == ["directory"] * len(user(env, "browse_files"))
+    assert screen_of(env) == "Edit"

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 from collections.abc import Iterable
-from typing import cast
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from pare.apps.base import App
-from pare.apps.files import FilesApp, normalize_path
+from pare.apps.files import DirectoryEntry, FilesApp, browse, files_of, normalize_path
 from pare.apps.screens import BACK, Screen, Transition, action, back, back_to, push, replace
 from pare.apps.tools import tool
 from pare.apps.types import SimTime
@@ -141,10 +140,7 @@ class NotesApp(App):
 
     def files(self) -> FilesApp:
         """Return the Files app, where attachments live."""
-        files = self.ctx.apps.get("files")
-        if files is None:
-            raise ToolError("Attachments are not available: this phone has no Files app.")
-        return cast(FilesApp, files)
+        return files_of(self)
 
     def in_folder(self, folder: str) -> list[Note]:
         """Return the notes of ``folder`` as listed: pinned first, then most recently updated first."""
@@ -574,6 +570,15 @@ class NoteDetail(Screen):
         """Show the files attached to this note."""
         return app.list_attachments(self.note_id)
 
+    @action(kind="read")
+    def browse_files(self, app: NotesApp, directory: str = "/") -> list[DirectoryEntry]:
+        """Look through the files on your phone to find one to attach.
+
+        Args:
+            directory: the folder to look in, e.g. "/Documents"; "/" is the top.
+        """
+        return browse(app, directory)
+
     @action(kind="write")
     def add_attachment(self, app: NotesApp, path: str) -> Note:
         """Attach a file from your files to this note.
@@ -667,6 +672,15 @@ class NoteEdit(Screen):
         """
         self.content = content
         return self.draft()
+
+    @action(kind="read")
+    def browse_files(self, app: NotesApp, directory: str = "/") -> list[DirectoryEntry]:
+        """Look through the files on your phone to find one to attach.
+
+        Args:
+            directory: the folder to look in, e.g. "/Documents"; "/" is the top.
+        """
+        return browse(app, directory)
 
     @action()
     def attach_file(self, app: NotesApp, path: str) -> NoteDraft:
