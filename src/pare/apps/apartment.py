@@ -12,6 +12,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 
 from pare.apps.base import App
 from pare.apps.screens import Screen, Transition, action, push
+from pare.apps.text import optional_text, unique_names
 from pare.apps.tools import tool
 from pare.apps.types import SimTime
 from pare.errors import ToolError
@@ -193,25 +194,6 @@ class ApartmentPage(BaseModel):
     offset: int
 
 
-def _text(value: str | None) -> str | None:
-    """Strip ``value``; an empty text is no text."""
-    if value is None:
-        return None
-    return value.strip() or None
-
-
-def _amenities(names: Iterable[str]) -> list[str]:
-    """Strip amenity names, dropping empty ones and repeats (case-insensitively), keeping the order."""
-    cleaned: list[str] = []
-    seen: set[str] = set()
-    for name in names:
-        name = name.strip()
-        if name and name.casefold() not in seen:
-            seen.add(name.casefold())
-            cleaned.append(name)
-    return cleaned
-
-
 def money(amount: float) -> str:
     """Format a rent for people, e.g. ``$2,950`` or ``$1,899.50``."""
     return f"${amount:,.0f}" if amount == int(amount) else f"${amount:,.2f}"
@@ -370,7 +352,7 @@ class ApartmentApp(App):
                 raise ToolError("location is empty; leave it out to search every location.")
         wanted: list[str] = []
         if amenities is not None:
-            wanted = [name.casefold() for name in _amenities(amenities)]
+            wanted = [name.casefold() for name in unique_names(amenities)]
             if not wanted:
                 raise ToolError("amenities lists no amenity name; leave it out to accept any amenities.")
 
@@ -512,9 +494,9 @@ class ApartmentApp(App):
             floor_level=floor_level,
             pet_policy=pet_policy,
             lease_term=lease_term,
-            amenities=_amenities(amenities or []),
+            amenities=unique_names(amenities or []),
             available_from=available_from,
-            description=_text(description),
+            description=optional_text(description),
         )
         return new_id
 
@@ -549,9 +531,9 @@ class ApartmentApp(App):
                 if not changes[field]:
                     raise ToolError(f"A listing's {field} cannot be empty.")
         if "description" in changes:
-            changes["description"] = _text(changes["description"])
+            changes["description"] = optional_text(changes["description"])
         if "amenities" in changes:
-            changes["amenities"] = _amenities(changes["amenities"] or [])
+            changes["amenities"] = unique_names(changes["amenities"] or [])
         try:
             new = Apartment.model_validate({**old.model_dump(), **changes})
         except ValidationError as error:

@@ -9,6 +9,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from pare.apps.base import App
 from pare.apps.screens import BACK, Screen, Transition, action, back, back_to, push, replace
+from pare.apps.text import optional_text, unique_names
 from pare.apps.tools import tool
 from pare.apps.types import SimTime
 from pare.errors import ToolError
@@ -95,25 +96,6 @@ class EventDraft(BaseModel):
     attendees: list[str]
 
 
-def _text(value: str | None) -> str | None:
-    """Strip ``value``; an empty text is no text."""
-    if value is None:
-        return None
-    return value.strip() or None
-
-
-def _names(names: Iterable[str]) -> list[str]:
-    """Strip names, dropping empty ones and repeats (case-insensitively), keeping the order."""
-    cleaned: list[str] = []
-    seen: set[str] = set()
-    for name in names:
-        name = name.strip()
-        if name and name.casefold() not in seen:
-            seen.add(name.casefold())
-            cleaned.append(name)
-    return cleaned
-
-
 def _check_range(start: datetime, end: datetime) -> None:
     """Raise a :class:`ToolError` unless ``end`` is after ``start``."""
     if end <= start:
@@ -194,10 +176,10 @@ class CalendarApp(App):
             title=title.strip(),
             start_datetime=start,
             end_datetime=end,
-            tag=_text(tag),
-            description=_text(description),
-            location=_text(location),
-            attendees=_names(attendees),
+            tag=optional_text(tag),
+            description=optional_text(description),
+            location=optional_text(location),
+            attendees=unique_names(attendees),
         )
         self.state.events[new_id] = event
         return event
@@ -266,9 +248,9 @@ class CalendarApp(App):
             changes["title"] = changes["title"].strip()
         for optional in ("tag", "description", "location"):
             if optional in changes:
-                changes[optional] = _text(changes[optional])
+                changes[optional] = optional_text(changes[optional])
         if "attendees" in changes:
-            changes["attendees"] = _names(changes["attendees"] or [])
+            changes["attendees"] = unique_names(changes["attendees"] or [])
         start = changes.get("start_datetime", event.start_datetime)
         end = changes.get("end_datetime", event.end_datetime)
         if end <= start:
@@ -697,7 +679,7 @@ class EventEdit(Screen):
         Args:
             tag: a category, e.g. "work", or "" for none.
         """
-        self.tag = _text(tag)
+        self.tag = optional_text(tag)
         return self.draft()
 
     @action()
@@ -707,7 +689,7 @@ class EventEdit(Screen):
         Args:
             description: notes about the event, or "" for none.
         """
-        self.description = _text(description)
+        self.description = optional_text(description)
         return self.draft()
 
     @action()
@@ -717,7 +699,7 @@ class EventEdit(Screen):
         Args:
             location: the place, or "" for none.
         """
-        self.location = _text(location)
+        self.location = optional_text(location)
         return self.draft()
 
     @action()
@@ -727,7 +709,7 @@ class EventEdit(Screen):
         Args:
             attendees: names of the people taking part, e.g. ["Alice Chen", "Bob Okafor"]; [] for none.
         """
-        self.attendees = _names(attendees)
+        self.attendees = unique_names(attendees)
         return self.draft()
 
     @action()
