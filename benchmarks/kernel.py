@@ -85,7 +85,7 @@ def random_walk(steps: int, seed: int) -> None:
         env.call("user", tool.name, args)
         in_env += time.perf_counter() - call_began
     elapsed = time.perf_counter() - began
-    screens = {_where(e.screen) for e in env.log if e.screen and " > " in e.screen}
+    screens = {e.app_screen for e in env.log if e.app_screen}
     total_screens = sum(len(get_app_class(name).screens) for name in APPS)
     actions = {(e.app, e.tool) for e in env.log if e.ok and e.actor == "user" and e.app in APPS}
     total_actions = sum(len(s.actions) for name in APPS for s in get_app_class(name).screens)
@@ -119,11 +119,6 @@ def assistant_walk(steps: int, seed: int) -> None:
         f"  total {elapsed:.2f} s, mean {elapsed / steps * 1e6:.1f} us/call, of which the environment's "
         f"dispatch {in_env / steps * 1e6:.1f} us; calls that succeeded: {succeeded:.1%}"
     )
-
-
-def _where(location: str) -> tuple[str, str]:
-    app, _, screen = location.partition(" > ")
-    return app, screen.split("(")[0]
 
 
 def main() -> None:

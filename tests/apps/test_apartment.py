@@ -765,9 +765,7 @@ def test_a_random_user_walks_every_screen_without_breaking_anything() -> None:
     user = RandomUser(random.Random(0))
     for _ in range(1500):
         user.step(env)  # raise_internal_errors: a crash or an undeclared transition fails the test
-    tried = {
-        (e.screen.split(" > ")[-1].split("(")[0], e.tool) for e in env.log if e.actor == "user" and e.screen
-    }
+    tried = {(e.app_screen[1], e.tool) for e in env.log if e.app_screen}
     for screen, action in [
         ("Home", "list_apartments"),
         ("Search", "search"),

@@ -765,6 +765,6 @@ def test_a_random_user_walks_every_screen() -> None:
     user = RandomUser(random.Random(0))
     for _ in range(1500):
         user.step(env)  # raise_internal_errors: a crash or an undeclared transition fails the test
-    screens = {e.screen.split(" > ")[1].split("(")[0] for e in env.log if e.screen and " > " in e.screen}
+    screens = {e.app_screen[1] for e in env.log if e.app_screen}
     assert screens == {"Home", "Options", "Quote", "Ride"}
     assert sum(e.ok for e in env.log) / len(env.log) > 0.5

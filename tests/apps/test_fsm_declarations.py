@@ -60,10 +60,7 @@ def test_random_walk_reaches_every_screen_and_action_without_breaking_a_declarat
     user = RandomUser(random.Random(1))
     for _ in range(10_000):
         user.step(env)  # raise_internal_errors: any undeclared transition or crash fails the test
-    seen_screens = {
-        (app, screen.split("(")[0])
-        for app, _, screen in (e.screen.partition(" > ") for e in env.log if e.screen and " > " in e.screen)
-    }
+    seen_screens = {e.app_screen for e in env.log if e.app_screen}
     tried = {(e.app, e.tool) for e in env.log if e.actor == "user"}
     for name in APPS:
         cls = get_app_class(name)

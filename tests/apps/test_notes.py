@@ -992,7 +992,7 @@ def test_a_random_user_walks_every_screen() -> None:
     walker = RandomUser(random.Random(0))
     for _ in range(3000):
         walker.step(env)  # raise_internal_errors: a crash or an undeclared transition fails the test
-    screens = {e.screen.partition(" > ")[2].split("(")[0] for e in env.log if e.screen and " > " in e.screen}
+    screens = {e.app_screen[1] for e in env.log if e.app_screen}
     assert {"List", "Folders", "Detail", "Edit"} <= screens
     assert sum(e.ok for e in env.log) / len(env.log) > 0.5
 

@@ -956,6 +956,6 @@ def test_a_random_user_walks_every_screen_without_breaking() -> None:
     user = RandomUser(random.Random(0))
     for _ in range(3000):
         user.step(env)  # raise_internal_errors: a crash or an undeclared transition fails the test
-    screens = {entry.screen.partition(" > ")[2].split("(")[0] for entry in env.log if entry.screen}
+    screens = {entry.app_screen[1] for entry in env.log if entry.app_screen}
     assert {"Home", "Product", "Variant", "Cart", "Orders", "OrderDetail"} <= screens
     assert sum(entry.ok for entry in env.log) / len(env.log) > 0.5

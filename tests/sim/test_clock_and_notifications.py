@@ -81,3 +81,14 @@ def test_each_recipient_has_its_own_read_position() -> None:
 def test_truncate_words() -> None:
     assert truncate_words("one two three", 3) == "one two three"
     assert truncate_words("one  two\nthree four", 2) == "one two …"
+
+
+def test_log_entry_names_the_app_and_screen_of_a_user_call() -> None:
+    from tests.conftest import make_env, ok
+
+    env = make_env(["contacts"])
+    ok(env.call("user", "open_app", {"app_name": "contacts"}))
+    ok(env.call("user", "list_contacts"))
+    assert [e.app_screen for e in env.log] == [None, ("contacts", "List")]
+    ok(env.call("assistant", "contacts__get_contacts", {}, mode="observe"))
+    assert env.log[-1].app_screen is None

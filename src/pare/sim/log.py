@@ -54,6 +54,16 @@ class LogEntry:
     screen: str | None = None
     """For the user: the screen the action was taken on."""
 
+    @property
+    def app_screen(self) -> tuple[str, str] | None:
+        """For a user call made inside an app: the app and the screen's FSM name, e.g. ``("email",
+        "Detail")``; ``None`` for other actors and on the home screen.
+        """
+        if self.screen is None or " > " not in self.screen:
+            return None
+        app, _, label = self.screen.partition(" > ")
+        return app, label.split("(", 1)[0]
+
     def to_dict(self) -> dict[str, Any]:
         """A JSON-ready dict; the key order is fixed so serialised logs compare byte for byte."""
         return {
