@@ -1,4 +1,4 @@
-"""The README's Python example runs as written."""
+"""The README's Python examples run as written."""
 
 from __future__ import annotations
 
@@ -8,12 +8,16 @@ from pathlib import Path
 README = Path(__file__).resolve().parents[1] / "README.md"
 
 
-def test_readme_python_example_runs() -> None:
+def _run_block(containing: str) -> dict[str, object]:
     blocks = re.findall(r"```python\n(.*?)```", README.read_text(encoding="utf-8"), re.S)
-    assert blocks, "the README shows how to use the environment from Python"
+    (block,) = [b for b in blocks if containing in b]
     namespace: dict[str, object] = {}
-    exec(compile(blocks[0], str(README), "exec"), namespace)
-    env = namespace["env"]
+    exec(compile(block, str(README), "exec"), namespace)
+    return namespace
+
+
+def test_readme_environment_example_runs() -> None:
+    env = _run_block("Environment(")["env"]
     assert [(e.actor, e.tool, e.ok) for e in env.log] == [  # type: ignore[attr-defined]
         ("env", "receive_email", True),
         ("user", "open_app", True),
@@ -22,3 +26,8 @@ def test_readme_python_example_runs() -> None:
         ("assistant", "send_message_to_user", True),
         ("user", "accept_proposal", True),
     ]
+
+
+def test_readme_scenario_example_runs() -> None:
+    result = _run_block("run_episode(")["result"]
+    assert result.success  # type: ignore[attr-defined]

@@ -11,7 +11,7 @@ from __future__ import annotations
 import functools
 import inspect
 import re
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from types import UnionType
@@ -19,6 +19,7 @@ from typing import Annotated, Any, Literal, TypeVar, Union, get_args, get_origin
 
 import docstring_parser
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model
+from pydantic_core import ErrorDetails
 
 from pare.errors import SimulationBug, ToolError
 from pare.sim.log import Actor, ToolKind
@@ -162,8 +163,13 @@ class ToolSpec:
 
 def describe_validation_error(spec: ToolSpec, error: ValidationError) -> str:
     """Turn pydantic's report into one sentence per problem, naming the argument."""
+    return describe_argument_errors(spec, error.errors())
+
+
+def describe_argument_errors(spec: ToolSpec, errors: Iterable[ErrorDetails]) -> str:
+    """One sentence per problem in pydantic's error details, naming the argument."""
     problems = []
-    for item in error.errors():
+    for item in errors:
         where = ".".join(str(part) for part in item["loc"]) or "arguments"
         if item["type"] == "missing":
             problems.append(f"missing required argument '{where}'")

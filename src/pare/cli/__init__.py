@@ -12,7 +12,7 @@ from collections.abc import Sequence
 import typer
 
 from pare import __version__
-from pare.cli import apps_cmd
+from pare.cli import apps_cmd, scenarios_cmd
 from pare.errors import UserInputError
 
 app = typer.Typer(
@@ -23,6 +23,7 @@ app = typer.Typer(
     pretty_exceptions_enable=False,
 )
 app.add_typer(apps_cmd.app, name="apps")
+app.add_typer(scenarios_cmd.app, name="scenarios")
 
 
 @app.command()

@@ -1,0 +1,104 @@
+"""What an actor is to the episode loop: given what it observes, its next action.
+
+The loop owns the environment and the turn order; an actor only decides. A user policy is asked for one
+action at a time and sees the user's view; an assistant policy is asked in observe mode (it sees the
+user's actions and notifications) and, after the user accepts a proposal, in execute mode (it sees the
+accepted task). Each is told the result of its previous action. Model-backed actors and deterministic
+ones (silent, oracle, scripted) share these interfaces.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+from typing import Any
+
+from pare.env import AssistantObservation, Environment, ToolResult, UserView
+
+WAIT = "wait"
+"""The user's name for waiting."""
+ASSISTANT_WAIT = "system__wait"
+"""The assistant's name for waiting (observe mode only)."""
+SEND_MESSAGE = "agent_ui__send_message_to_user"
+"""The assistant's proposal (observe mode) or report (execute mode)."""
+
+
+@dataclass(frozen=True, slots=True)
+class Action:
+    """One tool call an actor chose: the tool's name as that actor calls it, and the arguments."""
+
+    tool: str
+    args: dict[str, Any] = field(default_factory=dict)
+    raw: str | None = None
+    """What a model wrote to produce this action, when a model did."""
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready form."""
+        return {"tool": self.tool, "args": self.args, "raw": self.raw}
+
+
+@dataclass(frozen=True, slots=True)
+class Task:
+    """What execute mode starts from: the accepted proposal and the user's answer."""
+
+    proposal: str
+    answer: str
+    proposal_id: str
+
+
+class UserPolicy(ABC):
+    """Plays the user: one action per call, from the user's view of the phone."""
+
+    name: str = "user"
+
+    def start(self, env: Environment) -> None:  # noqa: B027 - optional hook
+        """Called once before the episode's first turn."""
+
+    @abstractmethod
+    def step(self, view: UserView, previous: ToolResult | None) -> Action:
+        """The next action, given what the user sees and the result of the previous action."""
+
+
+class AssistantPolicy(ABC):
+    """Plays the proactive assistant in its two modes."""
+
+    name: str = "assistant"
+
+    def start(self, env: Environment) -> None:  # noqa: B027 - optional hook
+        """Called once before the episode's first turn."""
+
+    @abstractmethod
+    def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
+        """Observe mode: ``observation`` is given on the turn's first step (then ``None``); read tools,
+        ``system__wait`` or a proposal through ``agent_ui__send_message_to_user``.
+        """
+
+    @abstractmethod
+    def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
+        """Execute mode: ``task`` is given on the first step (then ``None``); any app tool, ending with
+        a report through ``agent_ui__send_message_to_user``.
+        """
+
+
+class SilentUser(UserPolicy):
+    """A user who never does anything."""
+
+    name = "silent_user"
+
+    def step(self, view: UserView, previous: ToolResult | None) -> Action:
+        """Always wait."""
+        return Action(WAIT)
+
+
+class SilentAssistant(AssistantPolicy):
+    """An assistant that only ever waits."""
+
+    name = "silent_assistant"
+
+    def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
+        """Always wait."""
+        return Action(ASSISTANT_WAIT)
+
+    def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
+        """Never reached (it never proposes); reports at once if it is."""
+        return Action(SEND_MESSAGE, {"content": "I did nothing."})

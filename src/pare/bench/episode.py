@@ -1,0 +1,247 @@
+"""One episode: the turn loop that alternates the user and the assistant over a scenario.
+
+Each turn: events due by now are delivered, the user acts (``user_steps`` actions), then the assistant
+acts: in observe mode up to ``observe_steps`` actions, ending at ``wait`` or a proposal; while a proposal
+waits for an answer it holds back (the proposal expires after ``proposal_ttl_turns`` turns); once the user
+accepts, execute mode runs up to ``execute_steps`` actions, ending with a report. Then simulated time
+moves on: by ``turn_duration``, or straight to the next scheduled event when everyone waited. The episode
+ends after ``max_turns`` turns, or earlier when nothing can happen any more (no event to come, no proposal
+pending, both actors waiting).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from datetime import timedelta
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field
+
+from pare.agents.policy import ASSISTANT_WAIT, SEND_MESSAGE, WAIT, Action, AssistantPolicy, Task, UserPolicy
+from pare.env import EnvConfig, Environment, ToolResult
+from pare.scenarios.build import build_environment
+from pare.scenarios.checks import Judge, Outcome, evaluate
+from pare.scenarios.model import Scenario
+from pare.sim.log import AssistantMode
+
+EndReason = Literal["max_turns", "idle"]
+StepActor = Literal["user", "assistant"]
+
+
+class EpisodeSettings(BaseModel):
+    """The turn protocol's numbers and the world's settings; every count is configurable."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    max_turns: int = Field(default=10, ge=1, description="Turns before the episode is cut off.")
+    user_steps: int = Field(default=1, ge=1, description="User actions per turn.")
+    observe_steps: int = Field(default=5, ge=1, description="Assistant actions per turn in observe mode.")
+    execute_steps: int = Field(
+        default=10, ge=1, description="Assistant actions to carry out an accepted task."
+    )
+    proposal_ttl_turns: int = Field(
+        default=3, ge=1, description="Turns a proposal may wait for an answer before it expires."
+    )
+    turn_duration: timedelta = Field(
+        default=timedelta(minutes=1), description="Simulated time one turn takes when someone acted."
+    )
+    env: EnvConfig = Field(
+        default_factory=EnvConfig, description="Seed, tool failures, noise, notifications."
+    )
+
+
+@dataclass(frozen=True, slots=True)
+class Step:
+    """One action of one actor and what came of it."""
+
+    turn: int
+    actor: StepActor
+    mode: AssistantMode | None
+    action: Action
+    ok: bool
+    observation: str
+    log_index: int | None
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready form."""
+        return {
+            "turn": self.turn,
+            "actor": self.actor,
+            "mode": self.mode,
+            "action": self.action.to_dict(),
+            "ok": self.ok,
+            "observation": self.observation,
+            "log_index": self.log_index,
+        }
+
+
+@dataclass
+class EpisodeResult:
+    """Everything an episode produced: its steps, the action log, the final state and the verdict."""
+
+    scenario_id: str
+    user: str
+    assistant: str
+    turns: int
+    ended: EndReason
+    steps: list[Step]
+    env: Environment
+    outcome: Outcome
+    expired_proposals: list[str] = field(default_factory=list)
+
+    @property
+    def success(self) -> bool:
+        """Whether every goal was met."""
+        return self.outcome.success
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready form: settings-independent facts, the steps, the log and the verdict."""
+        return {
+            "scenario_id": self.scenario_id,
+            "user": self.user,
+            "assistant": self.assistant,
+            "turns": self.turns,
+            "ended": self.ended,
+            "expired_proposals": self.expired_proposals,
+            "steps": [step.to_dict() for step in self.steps],
+            "log": [entry.to_dict() for entry in self.env.log],
+            "outcome": self.outcome.to_dict(),
+        }
+
+
+def run_episode(
+    scenario: Scenario,
+    user: UserPolicy,
+    assistant: AssistantPolicy,
+    settings: EpisodeSettings | None = None,
+    *,
+    judge: Judge | None = None,
+) -> EpisodeResult:
+    """Play ``scenario`` with ``user`` and ``assistant`` and evaluate its goals."""
+    return _Episode(scenario, user, assistant, settings or EpisodeSettings()).run(judge)
+
+
+class _Episode:
+    def __init__(
+        self, scenario: Scenario, user: UserPolicy, assistant: AssistantPolicy, settings: EpisodeSettings
+    ) -> None:
+        self.scenario = scenario
+        self.user = user
+        self.assistant = assistant
+        self.settings = settings
+        self.env = build_environment(scenario, settings.env)
+        self.steps: list[Step] = []
+        self.handled: set[str] = set()
+        """Proposals the assistant has already executed (or that expired)."""
+        self.proposed_at: dict[str, int] = {}
+        self.expired: list[str] = []
+        self.user_previous: ToolResult | None = None
+
+    def run(self, judge: Judge | None) -> EpisodeResult:
+        env = self.env
+        self.user.start(env)
+        self.assistant.start(env)
+        ended: EndReason = "max_turns"
+        turn = 0
+        resume_at = env.clock.now
+        for turn in range(1, self.settings.max_turns + 1):
+            env.begin_turn()
+            # time passes at the start of the turn, so what it brings is logged under the turn that sees it
+            env.advance_to(resume_at)
+            user_waited = self._user_turn(turn)
+            self._expire_stale(turn)
+            assistant_waited = self._assistant_turn(turn)
+            if user_waited and assistant_waited and env.agent_ui.pending is None:
+                upcoming = env.next_event_time()
+                if upcoming is None:
+                    ended = "idle"
+                    break
+                resume_at = max(upcoming, env.clock.now)
+            else:
+                resume_at = env.clock.now + self.settings.turn_duration
+        outcome = evaluate(self.scenario, env.log.entries, env.snapshot(), judge=judge)
+        return EpisodeResult(
+            scenario_id=self.scenario.id,
+            user=self.user.name,
+            assistant=self.assistant.name,
+            turns=turn,
+            ended=ended,
+            steps=self.steps,
+            env=env,
+            outcome=outcome,
+            expired_proposals=self.expired,
+        )
+
+    # -- the user --------------------------------------------------------------------------------------
+    def _user_turn(self, turn: int) -> bool:
+        """The user's steps; True when the user only waited."""
+        waited = True
+        for _ in range(self.settings.user_steps):
+            view = self.env.user_view()
+            action = self.user.step(view, self.user_previous)
+            result = self.env.call("user", action.tool, action.args)
+            self._record(turn, "user", None, action, result)
+            self.user_previous = result
+            if action.tool == WAIT:
+                break
+            waited = False
+        return waited
+
+    def _expire_stale(self, turn: int) -> None:
+        pending = self.env.agent_ui.pending
+        if pending is None:
+            return
+        asked = self.proposed_at.setdefault(pending.proposal_id, turn)
+        if turn - asked >= self.settings.proposal_ttl_turns:
+            self.env.agent_ui.expire_pending()
+            self.handled.add(pending.proposal_id)
+            self.expired.append(pending.proposal_id)
+
+    # -- the assistant ---------------------------------------------------------------------------------
+    def _assistant_turn(self, turn: int) -> bool:
+        """The assistant's steps this turn; True when it only waited (or awaits an answer)."""
+        accepted = self._accepted_task()
+        if accepted is not None:
+            self._execute(turn, accepted)
+            return False
+        if self.env.agent_ui.pending is not None:
+            return True  # awaiting confirmation
+        return self._observe(turn)
+
+    def _accepted_task(self) -> Task | None:
+        for proposal in self.env.agent_ui.state.proposals:
+            if proposal.status == "accepted" and proposal.proposal_id not in self.handled:
+                self.handled.add(proposal.proposal_id)
+                return Task(proposal.content, proposal.reason, proposal.proposal_id)
+        return None
+
+    def _observe(self, turn: int) -> bool:
+        observation = self.env.assistant_observation()
+        previous: ToolResult | None = None
+        for step in range(self.settings.observe_steps):
+            action = self.assistant.observe(observation if step == 0 else None, previous)
+            previous = self.env.call("assistant", action.tool, action.args, mode="observe")
+            self._record(turn, "assistant", "observe", action, previous)
+            if action.tool == ASSISTANT_WAIT:
+                return step == 0
+            if action.tool == SEND_MESSAGE and previous.ok:
+                pending = self.env.agent_ui.pending
+                if pending is not None:
+                    self.proposed_at[pending.proposal_id] = turn
+                return False
+        return False
+
+    def _execute(self, turn: int, task: Task) -> None:
+        previous: ToolResult | None = None
+        for step in range(self.settings.execute_steps):
+            action = self.assistant.execute(task if step == 0 else None, previous)
+            previous = self.env.call("assistant", action.tool, action.args, mode="execute")
+            self._record(turn, "assistant", "execute", action, previous)
+            if action.tool == SEND_MESSAGE and previous.ok:
+                return
+
+    def _record(
+        self, turn: int, actor: StepActor, mode: AssistantMode | None, action: Action, result: ToolResult
+    ) -> None:
+        index = result.entry.index if result.entry is not None else None
+        self.steps.append(Step(turn, actor, mode, action, result.ok, result.observation(), index))

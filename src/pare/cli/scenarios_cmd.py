@@ -1,0 +1,181 @@
+"""``pare scenarios``: list, show, self-test and describe the scenario library."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from pare.bench.selftest import RUNS, check_scenario
+from pare.scenarios.library import load_scenarios, select
+from pare.scenarios.model import Scenario
+from pare.scenarios.schema import schema_text
+from pare.scenarios.times import parse_time
+
+app = typer.Typer(help="The PARE-Bench scenarios: list, show, self-test, schema.", no_args_is_help=True)
+
+AppFilter = Annotated[
+    list[str] | None, typer.Option("--app", "-a", help="Only scenarios using this app (repeatable).")
+]
+TagFilter = Annotated[
+    list[str] | None, typer.Option("--tag", "-t", help="Only scenarios with this tag (repeatable).")
+]
+DifficultyFilter = Annotated[
+    list[str] | None, typer.Option("--difficulty", "-d", help="Only this difficulty: easy, medium, hard.")
+]
+SplitFilter = Annotated[str | None, typer.Option("--split", "-s", help="Only this split: full, smoke.")]
+Paths = Annotated[
+    list[Path] | None,
+    typer.Argument(help="Scenario files or directories (default: the shipped library).", show_default=False),
+]
+
+
+def _chosen(
+    paths: list[Path] | None,
+    split: str | None,
+    apps: list[str] | None,
+    tags: list[str] | None,
+    difficulty: list[str] | None,
+) -> list[Scenario]:
+    return select(
+        load_scenarios(paths or None),
+        split=split,
+        apps=apps or (),
+        tags=tags or (),
+        difficulty=difficulty or (),
+    )
+
+
+@app.command("list")
+def list_scenarios(
+    paths: Paths = None,
+    app_name: AppFilter = None,
+    tag: TagFilter = None,
+    difficulty: DifficultyFilter = None,
+    split: SplitFilter = None,
+) -> None:
+    """List scenarios with their apps, tags and difficulty."""
+    scenarios = _chosen(paths, split, app_name, tag, difficulty)
+    table = Table(title=f"{len(scenarios)} scenarios")
+    for column in ("id", "difficulty", "apps", "tags", "title"):
+        table.add_column(column, overflow="fold")
+    for scenario in scenarios:
+        table.add_row(
+            scenario.id,
+            scenario.difficulty,
+            ", ".join(scenario.apps),
+            ", ".join(scenario.tags),
+            scenario.title,
+        )
+    Console().print(table)
+
+
+@app.command("show")
+def show(
+    scenario_id: Annotated[str, typer.Argument(help="A scenario id, or the path of a scenario file.")],
+) -> None:
+    """Show one scenario: story, apps, events, the oracle's proposal and the goals' checks."""
+    path = Path(scenario_id)
+    if path.suffix in (".yaml", ".yml"):
+        scenario = load_scenarios([path])[0]
+    else:
+        scenario = select(load_scenarios(), ids=[scenario_id])[0]
+    console = Console()
+    console.print(f"[bold]{scenario.id}[/bold] — {scenario.title}")
+    console.print(
+        f"{scenario.difficulty}; tags: {', '.join(scenario.tags)}; apps: {', '.join(scenario.apps)}"
+    )
+    console.print(f"starts {scenario.start.isoformat()}")
+    console.print(f"\n{scenario.story.strip()}\n")
+    seeded = ", ".join(
+        f"{app} ({sum(len(v) if isinstance(v, list | dict) else 1 for v in data.values())})"
+        for app, data in scenario.seed.items()
+    )
+    console.print(f"[bold]seed data[/bold]: {seeded or 'none'}")
+    if scenario.events:
+        console.print("[bold]events[/bold]:")
+        for event in scenario.events:
+            if event.at is not None:
+                when = parse_time(event.at, scenario.start).isoformat()
+            elif event.after is not None:
+                when = f"{event.delay} after {event.after}"
+            else:
+                when = f"{event.delay} after the first matching action"
+            console.print(f"  {event.id}: {event.tool} at {when}", markup=False)
+    console.print("[bold]oracle[/bold]:")
+    for step in scenario.oracle.user:
+        console.print(
+            f"  user: {step.tool}({', '.join(f'{k}={v!r}' for k, v in step.args.items())})", markup=False
+        )
+    for intervention in scenario.oracle.interventions:
+        console.print(f"  proposal: {intervention.proposal}", markup=False)
+        for action in intervention.actions:
+            console.print(f"    then {action.tool}", markup=False)
+    console.print("[bold]goals[/bold]:")
+    for goal in scenario.goals:
+        console.print(f"  {goal.id}: {goal.description} ({len(goal.checks)} checks)", markup=False)
+
+
+@app.command("check")
+def check(
+    paths: Paths = None,
+    app_name: AppFilter = None,
+    tag: TagFilter = None,
+    difficulty: DifficultyFilter = None,
+    split: SplitFilter = None,
+    verbose: Annotated[bool, typer.Option("--verbose", "-v", help="Show every check's verdict.")] = False,
+) -> None:
+    """Self-test scenarios: the oracle must pass; doing nothing, the user alone and an unrelated
+    proposal must fail. Exits 1 on any breach.
+    """
+    scenarios = _chosen(paths, split, app_name, tag, difficulty)
+    console = Console()
+    table = Table(title=f"self-test of {len(scenarios)} scenarios")
+    table.add_column("scenario")
+    for name, (_, expected) in RUNS.items():
+        table.add_column(f"{name}\n(must {'pass' if expected else 'fail'})", justify="center")
+    table.add_column("ms", justify="right")
+    breaches: list[str] = []
+    total = 0.0
+    for scenario in scenarios:
+        verdict = check_scenario(scenario)
+        total += verdict.seconds
+        cells = []
+        for run in verdict.runs:
+            outcome = "error" if run.success is None else ("pass" if run.success else "fail")
+            cells.append(f"[green]{outcome}[/green]" if run.ok else f"[red]{outcome} ✗[/red]")
+        table.add_row(scenario.id, *cells, f"{verdict.seconds * 1000:.0f}")
+        breaches.extend(verdict.breaches())
+        if verbose:
+            for name, result in verdict.details.items():
+                for goal in result.outcome.goals:
+                    for item in goal.checks:
+                        mark = "ok " if item.passed else "NO "
+                        console.print(
+                            f"  {scenario.id} [{name}] {mark}{goal.id}: {item.detail}", markup=False
+                        )
+    console.print(table)
+    if breaches:
+        console.print(f"[red]{len(breaches)} breach(es):[/red]")
+        for line in breaches:
+            console.print(f"  {line}", markup=False)
+        raise typer.Exit(1)
+    console.print(f"all {len(scenarios)} scenarios pass the gate ({total:.2f} s)")
+
+
+@app.command("schema")
+def schema(
+    output: Annotated[
+        Path | None, typer.Option("--output", "-o", help="Write to this file instead of stdout.")
+    ] = None,
+) -> None:
+    """Print the JSON Schema of scenario files (for editors and validators)."""
+    text = schema_text()
+    if output is None:
+        typer.echo(text, nl=False)
+    else:
+        output.write_text(text, encoding="utf-8")
+        typer.echo(f"wrote {output}")

@@ -1,0 +1,32 @@
+"""Scenarios: the file format, loading with clear errors, checks, the oracle and the PARE-Bench library."""
+
+from pare.scenarios.build import build_environment
+from pare.scenarios.checks import CheckResult, GoalResult, Judge, Outcome, evaluate
+from pare.scenarios.library import get_scenario, library, load_scenarios, select, splits
+from pare.scenarios.loader import ScenarioError, load_scenario, parse_scenario
+from pare.scenarios.model import TAGS, Scenario
+from pare.scenarios.oracle import OracleAssistant, OracleUser, UnrelatedAssistant
+from pare.scenarios.schema import scenario_json_schema
+
+__all__ = [
+    "TAGS",
+    "CheckResult",
+    "GoalResult",
+    "Judge",
+    "OracleAssistant",
+    "OracleUser",
+    "Outcome",
+    "Scenario",
+    "ScenarioError",
+    "UnrelatedAssistant",
+    "build_environment",
+    "evaluate",
+    "get_scenario",
+    "library",
+    "load_scenario",
+    "load_scenarios",
+    "parse_scenario",
+    "scenario_json_schema",
+    "select",
+    "splits",
+]

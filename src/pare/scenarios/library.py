@@ -1,0 +1,141 @@
+"""The PARE-Bench library shipped in the package: scenario files, splits, and selection by filters."""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from pare.errors import UserInputError, did_you_mean
+from pare.scenarios.loader import ScenarioError, load_scenario
+from pare.scenarios.model import Scenario
+
+BENCH_DIR = Path(__file__).parent / "bench"
+"""Where the library's scenario files live, one ``<id>.yaml`` each."""
+SPLITS_FILE = BENCH_DIR / "splits.yaml"
+ALL = "*"
+
+
+class Split(BaseModel):
+    """A named set of scenarios."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    description: str
+    scenarios: list[str] | str = Field(description="Scenario ids, or '*' for every scenario of the library.")
+
+
+class SplitsFile(BaseModel):
+    """The splits file: split name to split."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    splits: dict[str, Split]
+
+
+def scenario_files(paths: Iterable[str | Path] | None = None) -> list[Path]:
+    """The scenario files under ``paths`` (files or directories; the library when none), sorted."""
+    found: list[Path] = []
+    for path in [BENCH_DIR] if paths is None else [Path(p) for p in paths]:
+        if path.is_dir():
+            found.extend(p for p in path.glob("*.yaml") if p.name != SPLITS_FILE.name)
+        elif path.exists():
+            found.append(path)
+        else:
+            raise UserInputError(f"{path}: no such scenario file or directory")
+    return sorted(found)
+
+
+def load_scenarios(paths: Iterable[str | Path] | None = None) -> list[Scenario]:
+    """Load every scenario under ``paths``; all broken files are reported together."""
+    scenarios: list[Scenario] = []
+    errors: list[str] = []
+    for file in scenario_files(paths):
+        try:
+            scenarios.append(load_scenario(file))
+        except ScenarioError as error:
+            errors.append(str(error))
+    if errors:
+        raise UserInputError("\n".join(errors))
+    seen: dict[str, Scenario] = {}
+    for scenario in scenarios:
+        if scenario.id in seen:
+            raise UserInputError(f"two scenario files have the id '{scenario.id}'")
+        seen[scenario.id] = scenario
+    return scenarios
+
+
+@functools.cache
+def library() -> dict[str, Scenario]:
+    """The shipped library by id (loaded and validated once per process)."""
+    return {scenario.id: scenario for scenario in load_scenarios()}
+
+
+def get_scenario(scenario_id: str) -> Scenario:
+    """A library scenario by id, with "did you mean" for unknown ids."""
+    scenarios = library()
+    if scenario_id not in scenarios:
+        raise UserInputError(
+            f"no scenario '{scenario_id}' in the library.{did_you_mean(scenario_id, scenarios)}"
+        )
+    return scenarios[scenario_id]
+
+
+@functools.cache
+def splits() -> dict[str, list[str]]:
+    """Split name to the ids it holds; every id is checked against the library."""
+    try:
+        raw = yaml.safe_load(SPLITS_FILE.read_text(encoding="utf-8"))
+        parsed = SplitsFile.model_validate(raw)
+    except (OSError, yaml.YAMLError, ValidationError) as error:
+        raise UserInputError(f"{SPLITS_FILE}: {error}") from None
+    ids = sorted(library())
+    resolved: dict[str, list[str]] = {}
+    for name, split in parsed.splits.items():
+        if split.scenarios == ALL:
+            resolved[name] = ids
+            continue
+        if isinstance(split.scenarios, str):
+            raise UserInputError(f"{SPLITS_FILE}: split '{name}': scenarios is a list of ids or '*'")
+        unknown = [s for s in split.scenarios if s not in library()]
+        if unknown:
+            raise UserInputError(f"{SPLITS_FILE}: split '{name}' names unknown scenarios {unknown}")
+        resolved[name] = list(split.scenarios)
+    return resolved
+
+
+def select(
+    scenarios: Sequence[Scenario],
+    *,
+    ids: Sequence[str] = (),
+    split: str | None = None,
+    apps: Sequence[str] = (),
+    tags: Sequence[str] = (),
+    difficulty: Sequence[str] = (),
+) -> list[Scenario]:
+    """The scenarios matching every given filter (an app or tag filter keeps scenarios with any of them)."""
+    chosen = list(scenarios)
+    if ids:
+        known = {s.id for s in scenarios}
+        for scenario_id in ids:
+            if scenario_id not in known:
+                raise UserInputError(f"no scenario '{scenario_id}'.{did_you_mean(scenario_id, known)}")
+        chosen = [s for s in chosen if s.id in ids]
+    if split is not None:
+        available = splits()
+        if split not in available:
+            raise UserInputError(
+                f"no split '{split}'.{did_you_mean(split, available)} Splits: {', '.join(available)}"
+            )
+        members = set(available[split])
+        chosen = [s for s in chosen if s.id in members]
+    if apps:
+        chosen = [s for s in chosen if set(apps) & set(s.all_apps)]
+    if tags:
+        chosen = [s for s in chosen if set(tags) & set(s.tags)]
+    if difficulty:
+        chosen = [s for s in chosen if s.difficulty in difficulty]
+    return chosen

@@ -1,0 +1,154 @@
+"""Reading scenario files: every problem reported at once, with its file, line and place."""
+
+from __future__ import annotations
+
+import types
+import typing
+from dataclasses import dataclass
+from pathlib import Path as FilePath
+from typing import Any
+
+from pydantic import BaseModel, ValidationError
+
+from pare.errors import UserInputError, did_you_mean
+from pare.scenarios.model import Scenario
+from pare.scenarios.validation import Problem, format_path, validate_scenario
+from pare.scenarios.yaml_source import Path, YamlDocument, YamlSyntaxError, parse_yaml
+
+
+@dataclass(frozen=True, slots=True)
+class LocatedProblem:
+    """A problem with where it is: file, line (when known) and path in the document."""
+
+    source: str
+    line: int | None
+    path: str
+    message: str
+
+    def __str__(self) -> str:
+        place = f"{self.source}:{self.line}" if self.line is not None else self.source
+        return f"{place}: {self.path}: {self.message}"
+
+
+class ScenarioError(UserInputError):
+    """A scenario file that cannot be used; :attr:`problems` lists everything wrong with it."""
+
+    def __init__(self, source: str, problems: list[LocatedProblem]) -> None:
+        self.source = source
+        self.problems = problems
+        count = f"{len(problems)} problem{'s' if len(problems) != 1 else ''}"
+        super().__init__(f"{source}: {count}:\n" + "\n".join(f"  {problem}" for problem in problems))
+
+
+def load_scenario(path: str | FilePath) -> Scenario:
+    """Read and fully validate the scenario file at ``path``; :class:`ScenarioError` lists all problems.
+
+    A file inside a library must be named after its id (``<id>.yaml``).
+    """
+    file = FilePath(path)
+    try:
+        text = file.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise UserInputError(f"{file}: no such scenario file") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise UserInputError(f"{file}: cannot read it ({error})") from None
+    scenario = parse_scenario(text, source=str(file))
+    if file.stem != scenario.id:
+        line = None
+        raise ScenarioError(
+            str(file),
+            [
+                LocatedProblem(
+                    str(file), line, "id", f"the id '{scenario.id}' differs from the file name '{file.stem}'"
+                )
+            ],
+        )
+    return scenario
+
+
+def parse_scenario(text: str, *, source: str = "<scenario>") -> Scenario:
+    """Parse and fully validate a scenario given as YAML text."""
+    try:
+        document = parse_yaml(text)
+    except YamlSyntaxError as error:
+        raise ScenarioError(source, [LocatedProblem(source, error.line, "(file)", str(error))]) from None
+    if not isinstance(document.data, dict):
+        kind = "empty" if document.data is None else f"a {type(document.data).__name__}"
+        raise ScenarioError(
+            source,
+            [LocatedProblem(source, 1, "(top)", f"a scenario is a mapping of fields; this file is {kind}")],
+        )
+    if document.duplicate_keys:
+        raise ScenarioError(
+            source,
+            [
+                _locate(Problem(path, f"'{path[-1]}' is written twice in the same mapping"), document, source)
+                for path in document.duplicate_keys
+            ],
+        )
+    try:
+        scenario = Scenario.model_validate(document.data)
+    except ValidationError as error:
+        raise ScenarioError(source, _structure_problems(error, document, source)) from None
+    problems = validate_scenario(scenario)
+    if problems:
+        raise ScenarioError(source, [_locate(problem, document, source) for problem in problems])
+    return scenario
+
+
+def _structure_problems(error: ValidationError, document: YamlDocument, source: str) -> list[LocatedProblem]:
+    located: list[LocatedProblem] = []
+    for item in error.errors():
+        # pydantic adds the names of union members and validators to locations; keep the document's keys
+        path: Path = tuple(part for part in item["loc"] if isinstance(part, int) or "[" not in str(part))
+        kind = item["type"]
+        if kind == "missing":
+            message = "required field missing"
+        elif kind == "extra_forbidden":
+            allowed = _fields_at(path[:-1])
+            message = f"unknown field '{path[-1]}'" if path else "unknown field"
+            if allowed:
+                message += f".{did_you_mean(str(path[-1]), allowed)} Fields here: {', '.join(allowed)}"
+        else:
+            message = str(item["msg"]).removeprefix("Value error, ")
+        located.append(_locate(Problem(path, message), document, source))
+    return located
+
+
+def _fields_at(path: Path) -> list[str]:
+    """The field names of the model that sits at ``path`` in a scenario document (empty if none)."""
+    annotation: Any = Scenario
+    for part in path:
+        annotation = _unwrap(annotation, part)
+        if annotation is None:
+            return []
+    annotation = _unwrap(annotation, None)
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return list(annotation.model_fields)
+    return []
+
+
+def _unwrap(annotation: Any, part: str | int | None) -> Any:
+    """Step from a type into ``part``: a model's field, a list's item, a dict's value (``None`` to only
+    strip ``X | None``).
+    """
+    options = [arg for arg in typing.get_args(annotation) if arg is not type(None)]
+    if typing.get_origin(annotation) in (typing.Union, types.UnionType):
+        models = [o for o in options if isinstance(o, type) and issubclass(o, BaseModel)]
+        annotation = models[0] if models else (options[0] if len(options) == 1 else None)
+        options = list(typing.get_args(annotation))
+    if part is None:
+        return annotation
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        info = annotation.model_fields.get(str(part))
+        return None if info is None else info.annotation
+    origin = typing.get_origin(annotation)
+    if origin is list and isinstance(part, int):
+        return options[0] if options else None
+    if origin is dict:
+        return options[1] if len(options) == 2 else None
+    return None
+
+
+def _locate(problem: Problem, document: YamlDocument, source: str) -> LocatedProblem:
+    return LocatedProblem(source, document.line_of(problem.path), format_path(problem.path), problem.message)

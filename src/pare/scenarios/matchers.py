@@ -1,0 +1,235 @@
+"""Value matchers: how a check says which argument values or state values it accepts.
+
+Written in YAML as a plain value (``email-12``: equal to it), or as a mapping of operators that must all
+hold::
+
+    content: {contains: [thursday, "3"]}         # case-insensitive, every piece
+    recipients: {same_set: [bob@x.org, ann@x.org]}
+    start_datetime: {after: day+1 09:00, before: day+1 12:00}
+    updates: {start_datetime: day+1 10:00}        # a mapping of fields: each listed field must match
+
+A mapping whose keys are not operators matches a mapping value field by field (unlisted fields are
+ignored). Operators are listed in :data:`OPERATORS`.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from datetime import UTC, datetime
+from typing import Any
+
+from pare.scenarios.times import TimeFormatError, is_relative_time, parse_time
+
+OPERATORS: dict[str, str] = {
+    "equals": "equal to the value (times compare as times, whatever their format)",
+    "contains": "text containing the string, or every string of a list (case-insensitive); for a list "
+    "value, some element contains it",
+    "contains_any": "text containing at least one of the strings (case-insensitive)",
+    "regex": "text in which the regular expression is found (case-insensitive)",
+    "one_of": "equal to one of the values",
+    "same_set": "a list with the same elements in any order (text compared case-insensitively)",
+    "min": "a number at least this",
+    "max": "a number at most this",
+    "after": "a time at or after this (absolute or relative to the start)",
+    "before": "a time at or before this (absolute or relative to the start)",
+    "present": "true: the value is given (not missing or null); false: it is not",
+    "not": "a matcher that must not hold",
+    "any_of": "a list of matchers of which at least one holds",
+}
+
+_TIME_OPERATORS = ("after", "before")
+
+
+class MatcherError(ValueError):
+    """A matcher that cannot be compiled; the message names the operator and what is wrong."""
+
+
+@dataclass(frozen=True, slots=True)
+class Matcher:
+    """A compiled matcher: ``test(value, start)`` says whether ``value`` is accepted."""
+
+    operators: tuple[tuple[str, Any], ...] = ()
+    fields: tuple[tuple[str, Matcher], ...] = ()
+
+    def test(self, value: Any, start: datetime) -> bool:
+        """Whether ``value`` is accepted; relative times are resolved against ``start``."""
+        if self.fields:
+            if not isinstance(value, Mapping):
+                return False
+            return all(matcher.test(value.get(key), start) for key, matcher in self.fields)
+        return all(_apply(name, expected, value, start) for name, expected in self.operators)
+
+    def describe(self) -> str:
+        """A short human reading, e.g. ``contains ['thursday']``."""
+        if self.fields:
+            return "{" + ", ".join(f"{key}: {matcher.describe()}" for key, matcher in self.fields) + "}"
+        parts = []
+        for name, expected in self.operators:
+            if isinstance(expected, Matcher):
+                parts.append(f"not ({expected.describe()})")
+            elif name == "any_of":
+                parts.append("any of (" + " | ".join(m.describe() for m in expected) + ")")
+            elif isinstance(expected, re.Pattern):
+                parts.append(f"{name} {expected.pattern!r}")
+            else:
+                shown = list(expected) if isinstance(expected, tuple) else expected
+                parts.append(f"{name} {shown!r}")
+        return " and ".join(parts)
+
+
+def compile_matcher(raw: Any) -> Matcher:
+    """Compile a matcher as written in a scenario file; :class:`MatcherError` says what is wrong."""
+    if isinstance(raw, Mapping):
+        keys = [str(key) for key in raw]
+        operators = [key for key in keys if key in OPERATORS]
+        if operators and len(operators) != len(keys):
+            others = [key for key in keys if key not in OPERATORS]
+            raise MatcherError(
+                f"mixes operators {operators} with other keys {others}; operators are "
+                f"{', '.join(OPERATORS)} (to match fields of a mapping, list only field names)"
+            )
+        if not operators:
+            if not keys:
+                raise MatcherError("an empty mapping matches nothing useful; give a value or operators")
+            return Matcher(fields=tuple((str(key), compile_matcher(value)) for key, value in raw.items()))
+        return Matcher(operators=tuple(_compile_operator(str(k), v) for k, v in raw.items()))
+    return Matcher(operators=(("equals", raw),))
+
+
+def _compile_operator(name: str, value: Any) -> tuple[str, Any]:
+    if name == "not":
+        return name, compile_matcher(value)
+    if name == "any_of":
+        if not isinstance(value, list) or not value:
+            raise MatcherError("'any_of' needs a non-empty list of matchers")
+        return name, tuple(compile_matcher(item) for item in value)
+    if name in ("contains", "contains_any"):
+        pieces = value if isinstance(value, list) else [value]
+        if name == "contains_any" and not isinstance(value, list):
+            raise MatcherError("'contains_any' needs a list of strings")
+        if not pieces or not all(
+            isinstance(p, str | int | float) and not isinstance(p, bool) for p in pieces
+        ):
+            raise MatcherError(f"'{name}' needs a string or a list of strings, got {value!r}")
+        return name, tuple(str(piece).casefold() for piece in pieces)
+    if name == "regex":
+        if not isinstance(value, str):
+            raise MatcherError(f"'regex' needs a string, got {value!r}")
+        try:
+            return name, re.compile(value, re.IGNORECASE)
+        except re.error as error:
+            raise MatcherError(f"'regex' {value!r} is not a valid regular expression: {error}") from None
+    if name in ("one_of", "same_set"):
+        if not isinstance(value, list):
+            raise MatcherError(f"'{name}' needs a list, got {value!r}")
+        return name, tuple(value)
+    if name in ("min", "max"):
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise MatcherError(f"'{name}' needs a number, got {value!r}")
+        return name, float(value)
+    if name in _TIME_OPERATORS:
+        if not isinstance(value, str | datetime):
+            raise MatcherError(f"'{name}' needs a time, got {value!r}")
+        try:
+            parse_time(value, datetime(2000, 1, 1, tzinfo=UTC))
+        except TimeFormatError as error:
+            raise MatcherError(f"'{name}': {error}") from None
+        return name, value
+    if name == "present":
+        if not isinstance(value, bool):
+            raise MatcherError(f"'present' needs true or false, got {value!r}")
+        return name, value
+    return name, value  # equals
+
+
+def _apply(name: str, expected: Any, value: Any, start: datetime) -> bool:
+    if name == "equals":
+        return _equal(expected, value, start)
+    if name == "not":
+        return not expected.test(value, start)
+    if name == "any_of":
+        return any(matcher.test(value, start) for matcher in expected)
+    if name == "present":
+        return (value is not None) is bool(expected)
+    if value is None:
+        return False
+    if name == "contains":
+        return all(_contains(value, piece) for piece in expected)
+    if name == "contains_any":
+        return any(_contains(value, piece) for piece in expected)
+    if name == "regex":
+        texts = value if isinstance(value, list) else [value]
+        return any(expected.search(_text(item)) is not None for item in texts)
+    if name == "one_of":
+        return any(_equal(option, value, start) for option in expected)
+    if name == "same_set":
+        return (
+            isinstance(value, Sequence) and not isinstance(value, str) and _as_set(value) == _as_set(expected)
+        )
+    if name in ("min", "max"):
+        number = _number(value)
+        return number is not None and (number >= expected if name == "min" else number <= expected)
+    moment = _time(value, start)
+    if moment is None:
+        return False
+    bound = parse_time(expected, start)
+    return moment >= bound if name == "after" else moment <= bound
+
+
+def _text(value: Any) -> str:
+    return value if isinstance(value, str) else str(value)
+
+
+def _contains(value: Any, piece: str) -> bool:
+    if isinstance(value, list):
+        return any(_contains(item, piece) for item in value)
+    return piece in _text(value).casefold()
+
+
+def _as_set(values: Sequence[Any]) -> set[Any]:
+    return {v.strip().casefold() if isinstance(v, str) else repr(v) for v in values}
+
+
+def _number(value: Any) -> float | None:
+    if isinstance(value, bool):
+        return None
+    if isinstance(value, int | float):
+        return float(value)
+    if isinstance(value, str):
+        try:
+            number = float(value)
+        except ValueError:
+            return None
+        return number if math.isfinite(number) else None
+    return None
+
+
+def _time(value: Any, start: datetime) -> datetime | None:
+    if isinstance(value, datetime):
+        return value if value.tzinfo else value.replace(tzinfo=UTC)
+    if not isinstance(value, str):
+        return None
+    try:
+        return parse_time(value, start)
+    except TimeFormatError:
+        return None
+
+
+def _looks_like_time(text: str) -> bool:
+    if is_relative_time(text):
+        return True
+    return bool(re.match(r"^\d{4}-\d{2}-\d{2}[T ]\d{2}:\d{2}", text.strip()))
+
+
+def _equal(expected: Any, value: Any, start: datetime) -> bool:
+    if isinstance(expected, str) and isinstance(value, str | datetime) and _looks_like_time(expected):
+        left, right = _time(expected, start), _time(value, start)
+        if left is not None and right is not None:
+            return left == right
+    if isinstance(expected, int | float) and not isinstance(expected, bool):
+        number = _number(value)
+        return number is not None and number == float(expected)
+    return bool(expected == value)

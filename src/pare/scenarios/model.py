@@ -1,0 +1,411 @@
+"""The scenario file format, as pydantic models (the JSON Schema is generated from these).
+
+A scenario is data only: the story, the apps and their seed data, the events the world schedules, the
+oracle (what a perfect assistant proposes and does, and what the user does), and the user's goals with
+declarative checks. :mod:`pare.scenarios.loader` reads a file into a :class:`Scenario` and validates it
+against the apps; nothing in a scenario file runs code.
+"""
+
+from __future__ import annotations
+
+import re
+from datetime import UTC, datetime
+from typing import Annotated, Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, WithJsonSchema, field_validator, model_validator
+
+from pare.apps.registry import phone_apps
+from pare.errors import did_you_mean
+from pare.scenarios.matchers import OPERATORS, MatcherError, compile_matcher
+from pare.scenarios.times import TimeFormatError, parse_duration, parse_time
+from pare.sim.log import AssistantMode, ToolKind
+
+FORMAT_VERSION = 1
+"""Version of the scenario file format; bumped when a file valid before would be read differently."""
+
+Tag = Literal["context_observation", "goal_inference", "intervention_timing", "multi_app_orchestration"]
+TAGS: tuple[Tag, ...] = (
+    "context_observation",
+    "goal_inference",
+    "intervention_timing",
+    "multi_app_orchestration",
+)
+Difficulty = Literal["easy", "medium", "hard"]
+ActorPattern = Literal["user", "assistant", "env", "any"]
+
+_ID = re.compile(r"^[a-z][a-z0-9_]*$")
+_REF = re.compile(r"^\$\{([A-Za-z0-9_-]+)\.([A-Za-z0-9_.\[\]-]+)\}$")
+
+_MATCHER_SCHEMA: dict[str, Any] = {
+    "description": "A value (equal to it), a mapping of operators that must all hold ("
+    + "; ".join(f"{name}: {text}" for name, text in OPERATORS.items())
+    + "), or a mapping of field names to matchers.",
+}
+Matcher = Annotated[Any, WithJsonSchema(_MATCHER_SCHEMA)]
+TimeText = Annotated[
+    str,
+    WithJsonSchema(
+        {
+            "type": "string",
+            "description": "An ISO time, an offset from the start (+15m, -2h, +1d2h) or a day and clock time "
+            "(day+1 09:00).",
+        }
+    ),
+]
+DurationText = Annotated[
+    str | int,
+    WithJsonSchema(
+        {
+            "anyOf": [{"type": "string"}, {"type": "integer", "minimum": 0}],
+            "description": "A duration: 10m, 1h30m, 2d, 45s, or a number of seconds.",
+        }
+    ),
+]
+
+
+def reference(value: Any) -> tuple[str, str] | None:
+    """For a ``${step.field}`` string (a value produced while the scenario runs): the step and field."""
+    if isinstance(value, str):
+        found = _REF.match(value.strip())
+        if found:
+            return found.group(1), found.group(2)
+    return None
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+def _check_matchers(args: dict[str, Any]) -> dict[str, Any]:
+    for name, raw in args.items():
+        try:
+            compile_matcher(raw)
+        except MatcherError as error:
+            raise ValueError(f"argument '{name}': {error}") from None
+    return args
+
+
+class ActionPattern(_Strict):
+    """Which action-log entries are meant: by actor, tool or app, kind, mode and arguments."""
+
+    actor: ActorPattern = Field(
+        default="assistant", description="Who made the call; 'any' for anyone. Default: the assistant."
+    )
+    tool: str | None = Field(
+        default=None,
+        description="The tool as app__tool (email__send_email); for user screen actions the app and the "
+        "action's name (email__open_email).",
+    )
+    app: str | None = Field(default=None, description="Any tool of this app (when no tool is given).")
+    kind: ToolKind | None = Field(default=None, description="Only calls of this kind (read, write, ...).")
+    mode: AssistantMode | None = Field(default=None, description="Only assistant calls in this mode.")
+    args: dict[str, Matcher] = Field(default_factory=dict, description="Argument name to matcher.")
+    result: Matcher | None = Field(default=None, description="A matcher on the call's result.")
+    ok: bool | None = Field(
+        default=True, description="Only successful calls (true, the default), failed ones, or any (null)."
+    )
+    after_event: str | None = Field(default=None, description="Only calls made after this event fired.")
+    before_event: str | None = Field(
+        default=None, description="Only calls made before this event fired (or if it never did)."
+    )
+
+    @field_validator("args")
+    @classmethod
+    def _check_args(cls, value: dict[str, Any]) -> dict[str, Any]:
+        return _check_matchers(value)
+
+    @field_validator("result")
+    @classmethod
+    def _check_result(cls, value: Any) -> Any:
+        if value is not None:
+            try:
+                compile_matcher(value)
+            except MatcherError as error:
+                raise ValueError(f"result: {error}") from None
+        return value
+
+
+class Count(_Strict):
+    """How many matching entries or items there must be."""
+
+    min: int | None = Field(default=None, ge=0)
+    max: int | None = Field(default=None, ge=0)
+
+    @model_validator(mode="after")
+    def _ordered(self) -> Count:
+        if self.min is not None and self.max is not None and self.min > self.max:
+            raise ValueError(f"min {self.min} is greater than max {self.max}")
+        return self
+
+    def allows(self, number: int) -> bool:
+        """Whether ``number`` is within the bounds."""
+        return (self.min is None or number >= self.min) and (self.max is None or number <= self.max)
+
+    def describe(self) -> str:
+        """E.g. ``exactly 1``, ``at least 1``, ``between 1 and 2``."""
+        if self.min == self.max:
+            return f"exactly {self.min}"
+        if self.max is None:
+            return f"at least {self.min or 0}"
+        if self.min is None or self.min == 0:
+            return f"at most {self.max}"
+        return f"between {self.min} and {self.max}"
+
+
+def as_count(value: int | Count | None, default: Count) -> Count:
+    """A count as written (a number means exactly that many) with a default."""
+    if value is None:
+        return default
+    return Count(min=value, max=value) if isinstance(value, int) else value
+
+
+class ActionCheck(ActionPattern):
+    """Such an action happened (at least once, or ``count`` times)."""
+
+    count: int | Count | None = Field(
+        default=None, description="Exactly N, or {min, max}. Default: at least 1."
+    )
+
+
+class StateCheck(_Strict):
+    """A condition on the final state of the apps.
+
+    ``path`` names a place in the state snapshot (``calendar.events``, ``shopping.cart``,
+    ``apartment.saved``). Either ``value`` is a matcher for what is there, or the place is a collection
+    whose items are filtered by ``where`` (field name to matcher) and counted against ``count``.
+    """
+
+    path: str = Field(description="Dotted path into the final state, starting with an app: calendar.events.")
+    where: dict[str, Matcher] = Field(default_factory=dict, description="Item field to matcher.")
+    count: int | Count | None = Field(
+        default=None, description="Exactly N, or {min, max}. Default: at least 1."
+    )
+    value: Matcher | None = Field(default=None, description="A matcher for the value at the path itself.")
+
+    @field_validator("where")
+    @classmethod
+    def _check_where(cls, value: dict[str, Any]) -> dict[str, Any]:
+        return _check_matchers(value)
+
+    @model_validator(mode="after")
+    def _one_form(self) -> StateCheck:
+        if "value" in self.model_fields_set and (self.where or self.count is not None):
+            raise ValueError("give either 'value' or 'where'/'count', not both")
+        if "value" in self.model_fields_set:
+            try:
+                compile_matcher(self.value)
+            except MatcherError as error:
+                raise ValueError(f"value: {error}") from None
+        return self
+
+
+class JudgeCheck(_Strict):
+    """Free text judged by a model against a criterion, with a deterministic fallback.
+
+    The text is the argument ``field`` of the actions matched by ``action``; the check holds when one of
+    them meets the criterion. Without a judge model, ``fallback`` (a matcher on the same text) decides.
+    """
+
+    criterion: str = Field(min_length=1, description="What the text must do, for the judge model.")
+    action: ActionPattern = Field(description="Which actions carry the text.")
+    field: str = Field(default="content", description="The argument holding the text.")
+    fallback: Matcher = Field(description="A matcher on the text, used when no judge model is configured.")
+
+    @field_validator("fallback")
+    @classmethod
+    def _check_fallback(cls, value: Any) -> Any:
+        try:
+            compile_matcher(value)
+        except MatcherError as error:
+            raise ValueError(str(error)) from None
+        return value
+
+
+class Check(_Strict):
+    """One check; exactly one of its forms is given."""
+
+    action: ActionCheck | None = Field(default=None, description="An action that must have happened.")
+    no_action: ActionPattern | None = Field(
+        default=None, description="An action that must not have happened."
+    )
+    state: StateCheck | None = Field(default=None, description="A condition on the final state.")
+    judge: JudgeCheck | None = Field(default=None, description="Model-judged free text with a fallback.")
+    description: str = Field(default="", description="What the check means, for reports.")
+
+    @model_validator(mode="after")
+    def _exactly_one(self) -> Check:
+        given = [
+            name for name in ("action", "no_action", "state", "judge") if getattr(self, name) is not None
+        ]
+        if len(given) != 1:
+            raise ValueError(
+                "a check has exactly one of action, no_action, state, judge"
+                + (f"; this one has {given}" if given else "")
+            )
+        return self
+
+    @property
+    def form(self) -> str:
+        """Which form the check takes: ``action``, ``no_action``, ``state`` or ``judge``."""
+        return next(
+            name for name in ("action", "no_action", "state", "judge") if getattr(self, name) is not None
+        )
+
+
+class Goal(_Strict):
+    """One of the user's goals; it is met when all its checks hold."""
+
+    id: str = Field(pattern=_ID.pattern)
+    description: str = Field(min_length=1)
+    checks: list[Check] = Field(min_length=1)
+
+
+class Condition(_Strict):
+    """Something that has happened by now: an event fired, and/or a matching action was logged."""
+
+    event: str | None = Field(default=None, description="This scheduled event has fired.")
+    action: ActionPattern | None = Field(default=None, description="A matching action has been logged.")
+
+    @model_validator(mode="after")
+    def _something(self) -> Condition:
+        if self.event is None and self.action is None:
+            raise ValueError("a condition needs 'event' or 'action' (or both)")
+        return self
+
+
+class Event(_Strict):
+    """A call the world makes (an email arriving), and when.
+
+    Exactly one of ``at`` (a time), ``after`` (another event's id) or ``when`` (the first matching
+    action, by whoever) says when; ``delay`` shifts ``after`` and ``when``.
+    """
+
+    id: str = Field(min_length=1)
+    at: TimeText | None = None
+    after: str | None = None
+    when: ActionPattern | None = None
+    delay: DurationText = "0"
+    tool: str = Field(description="The tool as app__tool, e.g. email__receive_email.")
+    args: dict[str, Any] = Field(default_factory=dict)
+
+    @field_validator("delay")
+    @classmethod
+    def _duration(cls, value: str | int) -> str | int:
+        try:
+            parse_duration(value)
+        except TimeFormatError as error:
+            raise ValueError(str(error)) from None
+        return value
+
+    @field_validator("at")
+    @classmethod
+    def _time(cls, value: str | None) -> str | None:
+        if value is not None:
+            try:
+                parse_time(value, datetime(2000, 1, 1, tzinfo=UTC))
+            except TimeFormatError as error:
+                raise ValueError(str(error)) from None
+        return value
+
+    @model_validator(mode="after")
+    def _one_trigger(self) -> Event:
+        given = [name for name in ("at", "after", "when") if getattr(self, name) is not None]
+        if len(given) != 1:
+            raise ValueError(
+                "an event has exactly one of 'at', 'after' or 'when'"
+                + (f"; this one has {given}" if given else "")
+            )
+        if self.at is not None and "delay" in self.model_fields_set:
+            raise ValueError("'delay' goes with 'after' or 'when'; with 'at', write the time itself")
+        return self
+
+
+class UserStep(_Strict):
+    """An action the oracle user takes (by its name on the screen), once ``when`` holds."""
+
+    tool: str = Field(description="The action's name as the user sees it: open_app, open_email, ...")
+    args: dict[str, Any] = Field(default_factory=dict)
+    when: Condition | None = None
+
+
+class OracleAction(_Strict):
+    """An action the oracle assistant takes in execute mode. ``id`` names its result for later
+    arguments written ``${id.field}``.
+    """
+
+    id: str | None = None
+    tool: str = Field(description="The tool as app__tool.")
+    args: dict[str, Any] = Field(default_factory=dict)
+
+
+class Intervention(_Strict):
+    """What a perfect assistant does: propose once ``when`` holds, then, once accepted, act and report."""
+
+    when: Condition | None = Field(default=None, description="Propose once this holds; at once if omitted.")
+    proposal: str = Field(min_length=1, description="The proposal, as specific as a strict user expects.")
+    answer: str = Field(default="Yes, please do that.", description="The oracle user's acceptance message.")
+    actions: list[OracleAction] = Field(default_factory=list, description="Execute-mode actions, in order.")
+    report: str = Field(default="Done.", min_length=1, description="The message reporting the task done.")
+
+
+class Oracle(_Strict):
+    """The scenario's solution: the user's own steps and the assistant's interventions."""
+
+    user: list[UserStep] = Field(default_factory=list, description="The user's scripted steps, in order.")
+    interventions: list[Intervention] = Field(min_length=1)
+
+
+class UserProfile(_Strict):
+    """What the user simulator is told about the person it plays."""
+
+    goal: str | None = Field(
+        default=None, description="A hidden goal the user has (never told the assistant)."
+    )
+    persona: str | None = Field(default=None, description="Who the user is and how readily they trust help.")
+
+
+class Scenario(_Strict):
+    """A PARE-Bench scenario."""
+
+    format: Literal[1] = Field(default=1, description="Version of the scenario file format.")
+    id: str = Field(pattern=_ID.pattern, description="Lowercase words joined by underscores.")
+    title: str = Field(min_length=1)
+    story: str = Field(min_length=1, description="The situation in a few sentences.")
+    tags: list[Tag] = Field(min_length=1)
+    difficulty: Difficulty
+    apps: list[str] = Field(min_length=1, description="The apps on the phone besides the core ones.")
+    start: datetime = Field(description="When the episode starts (UTC if no zone is given).")
+    user: UserProfile = Field(default_factory=UserProfile)
+    seed: dict[str, dict[str, Any]] = Field(default_factory=dict, description="Seed data per app.")
+    events: list[Event] = Field(default_factory=list)
+    oracle: Oracle
+    goals: list[Goal] = Field(min_length=1)
+
+    @field_validator("start")
+    @classmethod
+    def _utc(cls, value: datetime) -> datetime:
+        return value if value.tzinfo else value.replace(tzinfo=UTC)
+
+    @field_validator("tags", "apps")
+    @classmethod
+    def _unique(cls, values: list[str]) -> list[str]:
+        repeated = sorted({v for v in values if values.count(v) > 1})
+        if repeated:
+            raise ValueError(f"listed more than once: {', '.join(repeated)}")
+        return values
+
+    @field_validator("apps")
+    @classmethod
+    def _known_apps(cls, values: list[str]) -> list[str]:
+        known = phone_apps()
+        for app in values:
+            if app in ("system", "agent_ui"):
+                raise ValueError(f"'{app}' is part of every phone; do not list it")
+            if app not in known:
+                raise ValueError(f"unknown app '{app}'.{did_you_mean(app, known)} Apps: {', '.join(known)}")
+        return values
+
+    @property
+    def all_apps(self) -> list[str]:
+        """The scenario's apps plus Files when it is seeded (the core apps are always present)."""
+        return [*self.apps, *(["files"] if "files" in self.seed and "files" not in self.apps else [])]

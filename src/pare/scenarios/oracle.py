@@ -1,0 +1,235 @@
+"""Deterministic policies that play a scenario's oracle, and the one that proposes something unrelated.
+
+The oracle user takes the scenario's scripted steps (each once its condition holds) and accepts every
+proposal. The oracle assistant waits until an intervention's condition holds, proposes it, and once it
+is accepted carries out its actions in execute mode and reports. Both act through the same environment
+and turn order as model-backed actors, so the oracle proves the scenario can be solved as written.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from pare.agents.policy import ASSISTANT_WAIT, SEND_MESSAGE, WAIT, Action, AssistantPolicy, Task, UserPolicy
+from pare.env import AssistantObservation, Environment, ToolResult, UserView
+from pare.errors import UserInputError
+from pare.scenarios.model import Condition, Intervention, OracleAction, Scenario, reference
+from pare.scenarios.patterns import CompiledPattern, event_positions
+from pare.scenarios.times import resolve_relative_times
+
+DEFAULT_ANSWER = "Yes, go ahead."
+
+
+class OracleRunError(UserInputError):
+    """The oracle could not be played as written (a reference to a value that never appeared)."""
+
+
+def condition_holds(condition: Condition, scenario: Scenario, env: Environment) -> bool:
+    """Whether ``condition`` holds now: its event has fired and a matching action has been logged."""
+    if condition.event is not None and condition.event not in env.scheduler.completed:
+        return False
+    if condition.action is not None:
+        pattern = CompiledPattern.of(condition.action, scenario.start)
+        return bool(pattern.find(env.log.entries))
+    return True
+
+
+class _References:
+    """Values produced while the scenario runs, for oracle arguments written ``${id.field}``."""
+
+    def __init__(self, scenario: Scenario) -> None:
+        self.scenario = scenario
+        self.results: dict[str, Any] = {}
+
+    def resolve(self, args: dict[str, Any], env: Environment) -> dict[str, Any]:
+        resolved = {}
+        for name, value in args.items():
+            ref = reference(value)
+            resolved[name] = value if ref is None else self._value(ref[0], ref[1], env)
+        return dict(resolve_relative_times(resolved, self.scenario.start))
+
+    def _value(self, source: str, path: str, env: Environment) -> Any:
+        if source in self.results:
+            value = self.results[source]
+        else:
+            positions = event_positions(env.log.entries)
+            if source not in positions:
+                raise OracleRunError(
+                    f"scenario '{self.scenario.id}': the oracle needs ${{{source}.{path}}}, but '{source}' "
+                    "has not produced a result yet (an oracle action id or an event that has fired)"
+                )
+            value = env.log.entries[positions[source]].result
+        for part in path.split("."):
+            if isinstance(value, dict) and part in value:
+                value = value[part]
+            elif isinstance(value, list) and part.isdigit() and int(part) < len(value):
+                value = value[int(part)]
+            else:
+                raise OracleRunError(
+                    f"scenario '{self.scenario.id}': ${{{source}.{path}}}: the result of '{source}' has no "
+                    f"'{part}' (it is {value!r})"
+                )
+        return value
+
+
+class OracleUser(UserPolicy):
+    """Takes the scenario's scripted user steps in order and accepts every proposal."""
+
+    name = "oracle_user"
+
+    def __init__(self, scenario: Scenario, *, scripted: bool = True) -> None:
+        self.scenario = scenario
+        self.steps = list(scenario.oracle.user) if scripted else []
+        self.position = 0
+        self.references = _References(scenario)
+        self.env: Environment | None = None
+
+    def start(self, env: Environment) -> None:
+        """Remember the environment (the oracle may look at the log to time its steps)."""
+        self.env = env
+
+    def step(self, view: UserView, previous: ToolResult | None) -> Action:
+        """Accept a pending proposal, else the next scripted step whose condition holds, else wait."""
+        env = self._env()
+        if view.pending_proposal is not None:
+            return Action("accept_proposal", {"reason": self._answer(view.pending_proposal)})
+        if self.position < len(self.steps):
+            step = self.steps[self.position]
+            if step.when is None or condition_holds(step.when, self.scenario, env):
+                self.position += 1
+                return Action(step.tool, self.references.resolve(step.args, env))
+        return Action(WAIT)
+
+    def _answer(self, proposal: str) -> str:
+        for intervention in self.scenario.oracle.interventions:
+            if intervention.proposal == proposal:
+                return intervention.answer
+        return DEFAULT_ANSWER
+
+    def _env(self) -> Environment:
+        if self.env is None:
+            raise RuntimeError("OracleUser.start() was not called")
+        return self.env
+
+
+class OracleAssistant(AssistantPolicy):
+    """Proposes each intervention once its condition holds; once accepted, acts and reports."""
+
+    name = "oracle_assistant"
+
+    def __init__(self, scenario: Scenario) -> None:
+        self.scenario = scenario
+        self.next_intervention = 0
+        self.references = _References(scenario)
+        self.env: Environment | None = None
+        self._queue: list[OracleAction] = []
+        self._current: Intervention | None = None
+        self._last: OracleAction | None = None
+
+    def start(self, env: Environment) -> None:
+        """Remember the environment (conditions are checked against its log)."""
+        self.env = env
+
+    def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
+        """Propose the next intervention once its condition holds; otherwise wait."""
+        env = self._env()
+        interventions = self.scenario.oracle.interventions
+        if self.next_intervention < len(interventions):
+            intervention = interventions[self.next_intervention]
+            if intervention.when is None or condition_holds(intervention.when, self.scenario, env):
+                self.next_intervention += 1
+                return Action(SEND_MESSAGE, {"content": intervention.proposal})
+        return Action(ASSISTANT_WAIT)
+
+    def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
+        """Carry out the accepted intervention's actions in order, then report."""
+        env = self._env()
+        if task is not None:
+            self._current = next(
+                (i for i in self.scenario.oracle.interventions if i.proposal == task.proposal), None
+            )
+            self._queue = list(self._current.actions) if self._current is not None else []
+            self._last = None
+        elif self._last is not None and self._last.id is not None and previous is not None:
+            self.references.results[self._last.id] = previous.value
+        if self._queue:
+            action = self._queue.pop(0)
+            self._last = action
+            return Action(action.tool, self.references.resolve(action.args, env))
+        self._last = None
+        report = self._current.report if self._current is not None else "I could not match that task."
+        return Action(SEND_MESSAGE, {"content": report})
+
+    def _env(self) -> Environment:
+        if self.env is None:
+            raise RuntimeError("OracleAssistant.start() was not called")
+        return self.env
+
+
+_UNRELATED: list[tuple[str, str, str, dict[str, Any]]] = [
+    (
+        "reminder",
+        "Shall I set a reminder for you to water the plants tomorrow at 18:00?",
+        "reminder__add_reminder",
+        {
+            "title": "Water the plants",
+            "due_datetime": "day+1 18:00",
+            "description": "The ferns on the balcony.",
+        },
+    ),
+    (
+        "notes",
+        "Shall I start a note with a watering schedule for your plants?",
+        "notes__create_note",
+        {"title": "Plant watering schedule", "content": "Ferns: Fridays. Cactus: once a month."},
+    ),
+    (
+        "calendar",
+        "Shall I block 30 minutes tomorrow at 18:00 in your calendar to water the plants?",
+        "calendar__add_calendar_event",
+        {"title": "Water the plants", "start_datetime": "day+1 18:00", "end_datetime": "day+1 18:30"},
+    ),
+    (
+        "contacts",
+        "Shall I add the garden centre to your contacts?",
+        "contacts__add_new_contact",
+        {"first_name": "Greenleaf", "last_name": "Garden Centre", "phone": "+1 555 0199"},
+    ),
+    (
+        "files",
+        "Shall I save a text file with a watering schedule for your plants?",
+        "files__create_file",
+        {"path": "/Documents/plant_watering.txt", "content": "Ferns: Fridays. Cactus: once a month."},
+    ),
+]
+
+
+class UnrelatedAssistant(AssistantPolicy):
+    """Proposes, at once, a plausible task that has nothing to do with the scenario, and does it.
+
+    A scenario whose checks this passes checks too little: the gate demands it fails.
+    """
+
+    name = "unrelated_assistant"
+
+    def __init__(self, scenario: Scenario) -> None:
+        self.scenario = scenario
+        apps = set(scenario.all_apps) | {"files"}
+        self.app, self.proposal, self.tool, args = next(row for row in _UNRELATED if row[0] in apps)
+        self.args = dict(resolve_relative_times(args, scenario.start))
+        self.proposed = False
+        self.done = False
+
+    def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
+        """Propose the unrelated task once; afterwards wait."""
+        if not self.proposed:
+            self.proposed = True
+            return Action(SEND_MESSAGE, {"content": self.proposal})
+        return Action(ASSISTANT_WAIT)
+
+    def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
+        """Do the unrelated task, then report."""
+        if not self.done:
+            self.done = True
+            return Action(self.tool, dict(self.args))
+        return Action(SEND_MESSAGE, {"content": "Done."})

@@ -1,0 +1,104 @@
+"""Matching action-log entries against the action patterns of scenario files."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from datetime import datetime
+
+from pare.scenarios.matchers import Matcher, compile_matcher
+from pare.scenarios.model import ActionPattern
+from pare.sim.log import LogEntry
+
+
+def event_positions(log: Iterable[LogEntry]) -> dict[str, int]:
+    """Log index at which each scheduled event fired (its first successful call)."""
+    positions: dict[str, int] = {}
+    for entry in log:
+        if entry.actor == "env" and entry.event_id and entry.ok and entry.event_id not in positions:
+            positions[entry.event_id] = entry.index
+    return positions
+
+
+@dataclass(frozen=True, slots=True)
+class CompiledPattern:
+    """An :class:`ActionPattern` ready to test log entries."""
+
+    pattern: ActionPattern
+    args: tuple[tuple[str, Matcher], ...]
+    result: Matcher | None
+    start: datetime
+
+    @classmethod
+    def of(cls, pattern: ActionPattern, start: datetime) -> CompiledPattern:
+        """Compile ``pattern``; relative times in its matchers resolve against ``start``."""
+        args = tuple((name, compile_matcher(raw)) for name, raw in pattern.args.items())
+        result = compile_matcher(pattern.result) if pattern.result is not None else None
+        return cls(pattern, args, result, start)
+
+    @property
+    def needs_event_positions(self) -> bool:
+        """Whether matching depends on when events fired (``after_event`` / ``before_event``)."""
+        return self.pattern.after_event is not None or self.pattern.before_event is not None
+
+    def matches_call(self, entry: LogEntry) -> bool:
+        """Whether ``entry`` is the kind of call meant: actor, tool, app, kind, mode, outcome."""
+        pattern = self.pattern
+        if pattern.actor != "any" and entry.actor != pattern.actor:
+            return False
+        if pattern.tool is not None and f"{entry.app}__{entry.tool}" != pattern.tool:
+            return False
+        if pattern.app is not None and entry.app != pattern.app:
+            return False
+        if pattern.kind is not None and entry.kind != pattern.kind:
+            return False
+        if pattern.mode is not None and entry.mode != pattern.mode:
+            return False
+        return pattern.ok is None or entry.ok == pattern.ok
+
+    def matches(self, entry: LogEntry, events: Mapping[str, int] | None = None) -> bool:
+        """Whether ``entry`` matches everything: the call, its arguments, its result, its timing."""
+        if not self.matches_call(entry) or not self.matches_args(entry):
+            return False
+        if self.result is not None and not self.result.test(entry.result, self.start):
+            return False
+        if self.needs_event_positions:
+            positions = events or {}
+            after, before = self.pattern.after_event, self.pattern.before_event
+            if after is not None and (after not in positions or entry.index < positions[after]):
+                return False
+            if before is not None and before in positions and entry.index > positions[before]:
+                return False
+        return True
+
+    def matches_args(self, entry: LogEntry) -> bool:
+        """Whether the entry's arguments satisfy every argument matcher."""
+        return all(matcher.test(entry.args.get(name), self.start) for name, matcher in self.args)
+
+    def find(self, log: Sequence[LogEntry]) -> list[LogEntry]:
+        """Every matching entry of ``log``."""
+        events = event_positions(log) if self.needs_event_positions else None
+        return [entry for entry in log if self.matches(entry, events)]
+
+    def describe(self) -> str:
+        """A reading such as ``assistant email__send_email(recipients: contains ['bob'])``."""
+        pattern = self.pattern
+        what = pattern.tool or (f"any {pattern.app} tool" if pattern.app else "any tool")
+        who = "anyone" if pattern.actor == "any" else pattern.actor
+        extras = [f"{name}: {matcher.describe()}" for name, matcher in self.args]
+        qualifiers = [
+            f"{label} {value}"
+            for label, value in (
+                ("kind", pattern.kind),
+                ("mode", pattern.mode),
+                ("after event", pattern.after_event),
+                ("before event", pattern.before_event),
+            )
+            if value is not None
+        ]
+        if self.result is not None:
+            qualifiers.append(f"result {self.result.describe()}")
+        if pattern.ok is False:
+            qualifiers.append("failed")
+        text = f"{who} {what}({', '.join(extras)})"
+        return text + (f" [{', '.join(qualifiers)}]" if qualifiers else "")

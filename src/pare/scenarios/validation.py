@@ -1,0 +1,445 @@
+"""Checking a scenario against the apps: every problem found, each with its place in the document.
+
+Structure (fields, types, matcher syntax) is checked by the pydantic models; this module checks meaning:
+apps and tools exist and take the given arguments, seed data fits each app, ids referred to exist,
+events depend on known events without cycles and never fire before the start, state paths and fields
+exist.
+"""
+
+from __future__ import annotations
+
+import types
+import typing
+from collections.abc import Iterable, Iterator, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from pydantic import BaseModel, ValidationError
+
+from pare.apps.registry import CORE_APPS, get_app_class, phone_apps
+from pare.apps.tools import ToolSpec, describe_argument_errors
+from pare.errors import did_you_mean
+from pare.scenarios.model import ActionPattern, Condition, Scenario, StateCheck, reference
+from pare.scenarios.seed import SeedError, original_location, prepare_seed
+from pare.scenarios.times import parse_time, resolve_relative_times
+from pare.scenarios.yaml_source import Path
+
+SHELL_APPS = ("system", "agent_ui")
+
+
+@dataclass(frozen=True, slots=True)
+class Problem:
+    """One thing wrong with a scenario, at ``path`` in the document."""
+
+    path: Path
+    message: str
+
+
+def format_path(path: Path) -> str:
+    """``('events', 2, 'args')`` as ``events[2].args``."""
+    text = ""
+    for part in path:
+        text += f"[{part}]" if isinstance(part, int) else (f".{part}" if text else str(part))
+    return text or "(top)"
+
+
+class ToolCatalog:
+    """The tools of a scenario's apps, by the names assistants, events and users call them."""
+
+    def __init__(self, apps: Iterable[str]) -> None:
+        self.apps = [*CORE_APPS, *[a for a in apps if a not in CORE_APPS]]
+        self.flat: dict[str, ToolSpec] = {}
+        self.user_actions: dict[str, list[ToolSpec]] = {}
+        """User action name to the specs of every screen (or the shell) offering it."""
+        self.user_qualified: dict[str, list[ToolSpec]] = {}
+        """``app__action`` (as the action log records user actions) to specs."""
+        for name in self.apps:
+            cls = get_app_class(name)
+            for spec in cls.tools.values():
+                self.flat[spec.qualified_name] = spec
+                if "user" in spec.actors:
+                    self.user_actions.setdefault(spec.name, []).append(spec)
+                    self.user_qualified.setdefault(spec.qualified_name, []).append(spec)
+            for screen in cls.screens:
+                for action_name, spec in screen.actions.items():
+                    self.user_actions.setdefault(action_name, []).append(spec)
+                    self.user_qualified.setdefault(f"{name}__{action_name}", []).append(spec)
+
+    def unknown_tool(self, tool: str, choices: Iterable[str]) -> str:
+        """The message for a tool name not among ``choices``."""
+        app, _, rest = tool.partition("__")
+        if not rest:
+            return f"'{tool}' is not a tool name; write app__tool, e.g. email__send_email"
+        if app not in self.apps:
+            apps = ", ".join(self.apps)
+            return f"'{tool}' belongs to app '{app}', which is not in this scenario's apps ({apps})"
+        return f"unknown tool '{tool}'.{did_you_mean(tool, list(choices))}"
+
+
+def validate_scenario(scenario: Scenario) -> list[Problem]:
+    """Every problem with ``scenario`` beyond its structure; empty when it is sound."""
+    return list(_Validator(scenario).run())
+
+
+class _Validator:
+    def __init__(self, scenario: Scenario) -> None:
+        self.scenario = scenario
+        self.start = scenario.start
+        self.event_ids = [event.id for event in scenario.events]
+        self.action_ids: list[str] = []
+        self.catalog: ToolCatalog | None = None
+        self.known_ids: set[str] = set()
+
+    def run(self) -> Iterator[Problem]:
+        yield from self._apps()
+        if self.catalog is None:
+            return  # without knowing the apps, every later message would be noise
+        yield from self._seed()
+        yield from self._events()
+        yield from self._oracle()
+        yield from self._goals()
+
+    # -- apps and seed data -----------------------------------------------------------------------------
+    def _apps(self) -> Iterator[Problem]:
+        known = phone_apps()
+        bad = False
+        for index, app in enumerate(self.scenario.apps):
+            if app in SHELL_APPS:
+                yield Problem(("apps", index), f"'{app}' is part of every phone; do not list it")
+                bad = True
+            elif app not in known:
+                hint = did_you_mean(app, known)
+                yield Problem(("apps", index), f"unknown app '{app}'.{hint} Apps: {', '.join(known)}")
+                bad = True
+        if not bad:
+            self.catalog = ToolCatalog(self.scenario.all_apps)
+
+    def _seed(self) -> Iterator[Problem]:
+        for app, data in self.scenario.seed.items():
+            if app not in self.scenario.all_apps:
+                yield Problem(
+                    ("seed", app), f"seed data for app '{app}', which is not in apps {self.scenario.apps}"
+                )
+                continue
+            try:
+                prepared, moved = prepare_seed(app, data, self.start)
+            except SeedError as error:
+                yield Problem(("seed", app, *error.location), str(error))
+                continue
+            try:
+                get_app_class(app).State.model_validate(prepared)
+            except ValidationError as error:
+                for item in error.errors():
+                    loc = tuple(part for part in item["loc"] if isinstance(part, str | int))
+                    yield Problem(("seed", app, *original_location(loc, moved)), _pydantic_message(item))
+            _collect_ids(prepared, self.known_ids)
+
+    # -- events ----------------------------------------------------------------------------------------
+    def _events(self) -> Iterator[Problem]:
+        catalog = self._catalog()
+        seen: set[str] = set()
+        for index, event in enumerate(self.scenario.events):
+            where: Path = ("events", index)
+            if event.id in seen:
+                yield Problem((*where, "id"), f"two events share the id '{event.id}'")
+            seen.add(event.id)
+            if event.id.startswith("noise-"):
+                yield Problem((*where, "id"), "ids starting with 'noise-' are reserved for noise events")
+            for key, value in event.args.items():
+                if key.endswith("_id") and isinstance(value, str):
+                    self.known_ids.add(value)
+            if event.at is not None and parse_time(event.at, self.start) < self.start:
+                yield Problem(
+                    (*where, "at"),
+                    f"'{event.at}' is before the scenario starts ({self.start.isoformat()})",
+                )
+            if event.after is not None and event.after not in self.event_ids:
+                hint = did_you_mean(event.after, self.event_ids)
+                yield Problem((*where, "after"), f"waits for unknown event '{event.after}'.{hint}")
+            if event.when is not None:
+                yield from self._pattern(event.when, (*where, "when"))
+            spec = catalog.flat.get(event.tool)
+            if spec is None:
+                yield Problem((*where, "tool"), catalog.unknown_tool(event.tool, catalog.flat))
+            else:
+                yield from self._args(spec, event.args, (*where, "args"), refs_allowed=False)
+        yield from self._cycles()
+
+    def _cycles(self) -> Iterator[Problem]:
+        parents = {event.id: event.after for event in self.scenario.events if event.after is not None}
+        reported: set[frozenset[str]] = set()
+        for index, event in enumerate(self.scenario.events):
+            chain = [event.id]
+            current = parents.get(event.id)
+            while current is not None and current not in chain:
+                chain.append(current)
+                current = parents.get(current)
+            if current is not None and current == event.id and frozenset(chain) not in reported:
+                reported.add(frozenset(chain))
+                cycle = " -> ".join([*chain, event.id])
+                yield Problem(("events", index, "after"), f"events wait for each other in a cycle: {cycle}")
+
+    # -- the oracle ------------------------------------------------------------------------------------
+    def _oracle(self) -> Iterator[Problem]:
+        catalog = self._catalog()
+        oracle = self.scenario.oracle
+        for index, step in enumerate(oracle.user):
+            where: Path = ("oracle", "user", index)
+            if step.when is not None:
+                yield from self._condition(step.when, (*where, "when"))
+            if step.tool in ("accept_proposal", "reject_proposal"):
+                yield Problem(
+                    (*where, "tool"),
+                    "the oracle user answers proposals by itself; "
+                    "give the answer as the intervention's 'answer'",
+                )
+                continue
+            specs = catalog.user_actions.get(step.tool)
+            if not specs:
+                hint = did_you_mean(step.tool, catalog.user_actions)
+                yield Problem(
+                    (*where, "tool"), f"no screen of this scenario's apps offers '{step.tool}'.{hint}"
+                )
+                continue
+            problems = [
+                list(self._args(spec, step.args, (*where, "args"), refs_allowed=True)) for spec in specs
+            ]
+            if all(problems):
+                yield from problems[0]
+        for number, intervention in enumerate(oracle.interventions):
+            where = ("oracle", "interventions", number)
+            if intervention.when is not None:
+                yield from self._condition(intervention.when, (*where, "when"))
+            for index, action in enumerate(intervention.actions):
+                place: Path = (*where, "actions", index)
+                spec = catalog.flat.get(action.tool)
+                if spec is None:
+                    yield Problem((*place, "tool"), catalog.unknown_tool(action.tool, catalog.flat))
+                elif "assistant" not in spec.actors or spec.kind == "env":
+                    yield Problem((*place, "tool"), f"'{action.tool}' is not a tool the assistant may call")
+                else:
+                    yield from self._args(spec, action.args, (*place, "args"), refs_allowed=True)
+                if action.id is not None:
+                    if action.id in self.action_ids:
+                        yield Problem((*place, "id"), f"two oracle actions share the id '{action.id}'")
+                    self.action_ids.append(action.id)
+
+    def _condition(self, condition: Condition, where: Path) -> Iterator[Problem]:
+        if condition.event is not None and condition.event not in self.event_ids:
+            hint = did_you_mean(condition.event, self.event_ids)
+            yield Problem((*where, "event"), f"unknown event '{condition.event}'.{hint}")
+        if condition.action is not None:
+            yield from self._pattern(condition.action, (*where, "action"))
+
+    # -- goals -----------------------------------------------------------------------------------------
+    def _goals(self) -> Iterator[Problem]:
+        seen: set[str] = set()
+        for number, goal in enumerate(self.scenario.goals):
+            if goal.id in seen:
+                yield Problem(("goals", number, "id"), f"two goals share the id '{goal.id}'")
+            seen.add(goal.id)
+            for index, check in enumerate(goal.checks):
+                where: Path = ("goals", number, "checks", index, check.form)
+                if check.action is not None:
+                    yield from self._pattern(check.action, where)
+                elif check.no_action is not None:
+                    yield from self._pattern(check.no_action, where)
+                elif check.judge is not None:
+                    yield from self._pattern(check.judge.action, (*where, "action"))
+                    spec = self._pattern_spec(check.judge.action)
+                    if spec is not None and check.judge.field not in spec.params.model_fields:
+                        yield Problem(
+                            (*where, "field"),
+                            f"'{check.judge.field}' is not an argument of {check.judge.action.tool} "
+                            f"({', '.join(spec.params.model_fields)})",
+                        )
+                elif check.state is not None:
+                    yield from self._state(check.state, where)
+
+    def _state(self, check: StateCheck, where: Path) -> Iterator[Problem]:
+        parts = check.path.split(".")
+        app = parts[0]
+        apps = [*self.scenario.all_apps, "files", "agent_ui"]
+        if app not in apps:
+            hint = did_you_mean(app, apps)
+            yield Problem(
+                (*where, "path"), f"'{check.path}' starts with '{app}', not an app of this scenario.{hint}"
+            )
+            return
+        model: Any = get_app_class(app).State
+        for depth, part in enumerate(parts[1:], start=1):
+            fields = _model_fields(model)
+            if fields is None:
+                break  # inside a dict keyed by ids or free data: cannot check further statically
+            if part not in fields:
+                shown = ".".join(parts[:depth])
+                yield Problem(
+                    (*where, "path"),
+                    f"'{part}' is not a field of {shown}.{did_you_mean(part, fields)} "
+                    f"Fields: {', '.join(fields)}",
+                )
+                return
+            model = fields[part]
+        if check.where:
+            item_fields = _model_fields(_item_type(model))
+            if item_fields is not None:
+                for name in check.where:
+                    if name not in item_fields:
+                        hint = did_you_mean(name, item_fields)
+                        yield Problem(
+                            (*where, "where", name),
+                            f"items of {check.path} have no field '{name}'.{hint} "
+                            f"Fields: {', '.join(item_fields)}",
+                        )
+            for name, raw in check.where.items():
+                yield from self._id_reference(name, raw, (*where, "where", name))
+
+    # -- shared pieces ---------------------------------------------------------------------------------
+    def _pattern(self, pattern: ActionPattern, where: Path) -> Iterator[Problem]:
+        catalog = self._catalog()
+        for key in ("after_event", "before_event"):
+            event = getattr(pattern, key)
+            if event is not None and event not in self.event_ids:
+                yield Problem((*where, key), f"unknown event '{event}'.{did_you_mean(event, self.event_ids)}")
+        if pattern.app is not None and pattern.app not in catalog.apps:
+            yield Problem(
+                (*where, "app"), f"'{pattern.app}' is not an app of this scenario ({', '.join(catalog.apps)})"
+            )
+        if pattern.tool is None:
+            if pattern.args:
+                yield Problem(
+                    (*where, "args"), "argument matchers need a 'tool' to say whose arguments they are"
+                )
+            return
+        specs = self._pattern_specs(pattern)
+        if not specs:
+            choices: list[str] = {
+                "user": list(catalog.user_qualified),
+                "assistant": list(catalog.flat),
+                "env": list(catalog.flat),
+                "any": [*catalog.flat, *catalog.user_qualified],
+            }[pattern.actor]
+            message = catalog.unknown_tool(pattern.tool, choices)
+            if pattern.actor == "user" and pattern.tool in catalog.flat:
+                message += (
+                    " (the user acts through screen actions, logged as app__action, e.g. email__open_email)"
+                )
+            yield Problem((*where, "tool"), message)
+            return
+        parameters = {name for spec in specs for name in spec.params.model_fields}
+        for name, raw in pattern.args.items():
+            if name not in parameters:
+                hint = did_you_mean(name, parameters)
+                yield Problem(
+                    (*where, "args", name),
+                    f"{pattern.tool} has no argument '{name}'.{hint} "
+                    f"Arguments: {', '.join(sorted(parameters)) or 'none'}",
+                )
+            else:
+                yield from self._id_reference(name, raw, (*where, "args", name))
+
+    def _pattern_specs(self, pattern: ActionPattern) -> list[ToolSpec]:
+        catalog = self._catalog()
+        tool = pattern.tool or ""
+        specs: list[ToolSpec] = []
+        if pattern.actor in ("user", "any"):
+            specs.extend(catalog.user_qualified.get(tool, []))
+        if pattern.actor in ("assistant", "env", "any") and tool in catalog.flat:
+            specs.append(catalog.flat[tool])
+        return specs
+
+    def _pattern_spec(self, pattern: ActionPattern) -> ToolSpec | None:
+        specs = self._pattern_specs(pattern)
+        return specs[0] if specs else None
+
+    def _args(
+        self, spec: ToolSpec, args: Mapping[str, Any], where: Path, *, refs_allowed: bool
+    ) -> Iterator[Problem]:
+        refs = {name for name, value in args.items() if reference(value) is not None}
+        for name in sorted(refs):
+            if not refs_allowed:
+                yield Problem((*where, name), "values written ${...} can only be used in oracle steps")
+                continue
+            step, _ = reference(args[name]) or ("", "")
+            if step not in self.action_ids and step not in self.event_ids:
+                hint = did_you_mean(step, [*self.action_ids, *self.event_ids])
+                yield Problem(
+                    (*where, name), f"'${{{step}...}}' names no earlier oracle action id or event id.{hint}"
+                )
+        concrete = {name: value for name, value in args.items() if name not in refs}
+        try:
+            spec.params.model_validate(resolve_relative_times(concrete, self.start))
+        except ValidationError as error:
+            kept = [
+                item for item in error.errors() if not (item["type"] == "missing" and item["loc"][0] in refs)
+            ]
+            if kept:
+                yield Problem(where, describe_argument_errors(spec, kept))
+        for name, value in concrete.items():
+            yield from self._id_reference(name, value, (*where, name))
+
+    def _id_reference(self, name: str, raw: Any, where: Path) -> Iterator[Problem]:
+        """An argument or field named ``*_id`` / ``*_ids`` must name ids that exist in the seed data or
+        are created by events.
+        """
+        if not (name.endswith("_id") or name.endswith("_ids")):
+            return
+        values = raw if isinstance(raw, list) else [raw]
+        for value in values:
+            if isinstance(value, str) and reference(value) is None and value not in self.known_ids:
+                hint = did_you_mean(value, self.known_ids)
+                yield Problem(where, f"'{value}' is not an id in the seed data or created by an event.{hint}")
+
+    def _catalog(self) -> ToolCatalog:
+        assert self.catalog is not None
+        return self.catalog
+
+
+def _collect_ids(data: Any, into: set[str]) -> None:
+    """Every id in seed data: keys of mappings, values of ``*_id`` fields, members of ``*_ids`` lists."""
+    if isinstance(data, Mapping):
+        for key, value in data.items():
+            into.add(str(key))
+            if isinstance(value, str) and str(key).endswith("_id"):
+                into.add(value)
+            elif isinstance(value, list) and (str(key).endswith("_ids") or str(key) == "saved"):
+                into.update(v for v in value if isinstance(v, str))
+            _collect_ids(value, into)
+    elif isinstance(data, list):
+        for value in data:
+            _collect_ids(value, into)
+
+
+def _model_fields(model: Any) -> dict[str, Any] | None:
+    """Field name to annotation for a pydantic model class (unwrapping ``X | None``), else ``None``."""
+    model = _strip_optional(model)
+    if isinstance(model, type) and issubclass(model, BaseModel):
+        return {name: info.annotation for name, info in model.model_fields.items()}
+    return None
+
+
+def _item_type(annotation: Any) -> Any:
+    """The item type of ``dict[str, X]`` or ``list[X]``; ``None`` for anything else."""
+    annotation = _strip_optional(annotation)
+    origin = typing.get_origin(annotation)
+    args = typing.get_args(annotation)
+    if origin is dict and len(args) == 2:
+        return args[1]
+    if origin is list and args:
+        return args[0]
+    return None
+
+
+def _strip_optional(annotation: Any) -> Any:
+    args = [arg for arg in typing.get_args(annotation) if arg is not type(None)]
+    if typing.get_origin(annotation) in (typing.Union, types.UnionType) and len(args) == 1:
+        return args[0]
+    return annotation
+
+
+def _pydantic_message(item: Any) -> str:
+    if item["type"] == "missing":
+        return "required field missing"
+    if item["type"] == "extra_forbidden":
+        return "unknown field"
+    return str(item["msg"])

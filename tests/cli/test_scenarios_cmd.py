@@ -1,0 +1,110 @@
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from pare.cli import main
+from pare.scenarios import library
+from tests.scenarios.helpers import base, to_yaml
+
+
+@pytest.fixture
+def wide_console(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("COLUMNS", "200")
+
+
+def _write(folder: Path, data: dict[str, object]) -> Path:
+    path = folder / f"{data['id']}.yaml"
+    path.write_text(to_yaml(data))
+    return path
+
+
+def test_check_passes_a_sound_scenario(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
+) -> None:
+    _write(tmp_path, base())
+    assert main(["scenarios", "check", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "tiny_reply" in out and "all 1 scenarios pass the gate" in out
+
+
+def test_check_fails_a_scenario_whose_checks_prove_nothing(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
+) -> None:
+    weak = base()
+    weak["id"] = "weak_checks"
+    weak["goals"][0]["checks"] = [
+        {"no_action": {"tool": "email__delete_email"}}
+    ]  # holds when nothing happens
+    _write(tmp_path, weak)
+    assert main(["scenarios", "check", str(tmp_path / "weak_checks.yaml")]) == 1
+    out = capsys.readouterr().out
+    assert "weak_checks [nothing]: should fail but did not" in out
+    assert "weak_checks [user_alone]: should fail but did not" in out
+
+
+def test_check_reports_a_broken_oracle(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
+) -> None:
+    broken = base()
+    broken["id"] = "late_oracle"
+    broken["oracle"]["interventions"][0]["when"] = {
+        "event": "ann_asks",
+        "action": {"actor": "user", "tool": "email__reply"},
+    }
+    _write(tmp_path, broken)
+    assert main(["scenarios", "check", str(tmp_path)]) == 1
+    assert "the oracle assistant never proposed" in capsys.readouterr().out
+
+
+def test_check_refuses_a_broken_file_with_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    data = base()
+    data["apps"] = ["emial", "calendar"]
+    _write(tmp_path, data)
+    assert main(["scenarios", "check", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert "tiny_reply.yaml:" in err and "did you mean 'email'" in err.lower()
+
+
+def test_list_filters(capsys: pytest.CaptureFixture[str], wide_console: None) -> None:
+    assert main(["scenarios", "list", "--app", "email"]) == 0
+    out = capsys.readouterr().out
+    with_email = [s.id for s in library().values() if "email" in s.apps]
+    assert f"{len(with_email)} scenarios" in out and with_email[0] in out
+    assert (
+        main(
+            ["scenarios", "list", "--split", "smoke", "--difficulty", "easy", "--tag", "context_observation"]
+        )
+        == 0
+    )
+    assert main(["scenarios", "list", "--split", "smok"]) == 2
+    assert "did you mean 'smoke'" in capsys.readouterr().err.lower()
+
+
+def test_show_by_id_and_by_path(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
+) -> None:
+    assert main(["scenarios", "show", "dentist_moves_checkup"]) == 0
+    out = capsys.readouterr().out
+    assert "Thursday" in out and "calendar__edit_calendar_event" in out and "calendar_moved" in out
+    path = _write(tmp_path, base())
+    assert main(["scenarios", "show", str(path)]) == 0
+    assert "tiny_reply" in capsys.readouterr().out
+    assert main(["scenarios", "show", "dentist_moves"]) == 2
+    assert "did you mean 'dentist_moves_checkup'" in capsys.readouterr().err.lower()
+
+
+def test_schema(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["scenarios", "schema"]) == 0
+    schema = json.loads(capsys.readouterr().out)
+    assert schema["title"] == "Scenario" and "oracle" in schema["required"]
+    target = tmp_path / "scenario.schema.json"
+    assert main(["scenarios", "schema", "-o", str(target)]) == 0
+    assert json.loads(target.read_text()) == schema
+
+
+def test_check_the_whole_library(capsys: pytest.CaptureFixture[str], wide_console: None) -> None:
+    assert main(["scenarios", "check"]) == 0
+    assert f"all {len(library())} scenarios pass the gate" in capsys.readouterr().out

@@ -1,0 +1,101 @@
+"""A small valid scenario for unit tests, and ways to break it."""
+
+from __future__ import annotations
+
+import copy
+from typing import Any
+
+import yaml
+
+from pare.scenarios import Scenario, parse_scenario
+
+BASE: dict[str, Any] = {
+    "id": "tiny_reply",
+    "title": "Reply to Ann",
+    "story": "Ann asks whether Thursday works; the assistant should reply yes.",
+    "tags": ["context_observation"],
+    "difficulty": "easy",
+    "apps": ["email", "calendar"],
+    "start": "2025-03-03T09:00:00Z",
+    "seed": {
+        "email": {
+            "user_email": "me@pare.example",
+            "emails": [
+                {
+                    "email_id": "e1",
+                    "sender": "bob@x.example",
+                    "subject": "Lunch",
+                    "content": "Lunch on Friday?",
+                    "timestamp": "-1h",
+                }
+            ],
+        },
+        "calendar": {
+            "events": [
+                {
+                    "event_id": "ev1",
+                    "title": "Standup",
+                    "start_datetime": "day+1 09:30",
+                    "end_datetime": "day+1 09:45",
+                }
+            ]
+        },
+    },
+    "events": [
+        {
+            "id": "ann_asks",
+            "at": "+5m",
+            "tool": "email__receive_email",
+            "args": {
+                "email_id": "e_ann",
+                "sender": "ann@x.example",
+                "subject": "Thursday?",
+                "content": "Does Thursday work?",
+            },
+        }
+    ],
+    "oracle": {
+        "user": [
+            {"tool": "open_app", "args": {"app_name": "email"}, "when": {"event": "ann_asks"}},
+            {"tool": "open_email", "args": {"email_id": "e_ann"}},
+        ],
+        "interventions": [
+            {
+                "when": {"action": {"actor": "user", "tool": "email__open_email"}},
+                "proposal": "Reply to Ann that Thursday works.",
+                "actions": [
+                    {
+                        "tool": "email__reply_to_email",
+                        "args": {"email_id": "e_ann", "content": "Thursday works!"},
+                    }
+                ],
+            }
+        ],
+    },
+    "goals": [
+        {
+            "id": "replied",
+            "description": "Ann has a yes.",
+            "checks": [
+                {
+                    "action": {
+                        "tool": "email__reply_to_email",
+                        "args": {"email_id": "e_ann", "content": {"contains": "thursday"}},
+                    }
+                }
+            ],
+        }
+    ],
+}
+
+
+def base() -> dict[str, Any]:
+    return copy.deepcopy(BASE)
+
+
+def to_yaml(data: dict[str, Any]) -> str:
+    return yaml.safe_dump(data, sort_keys=False)
+
+
+def parse(data: dict[str, Any]) -> Scenario:
+    return parse_scenario(to_yaml(data), source="tiny.yaml")

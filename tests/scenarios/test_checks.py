@@ -1,0 +1,138 @@
+"""Checks evaluated on real episodes of the tiny scenario."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from pare.agents import SilentAssistant, SilentUser
+from pare.bench import run_episode
+from pare.scenarios import OracleAssistant, OracleUser, evaluate
+from tests.scenarios.helpers import base, parse
+
+
+def _oracle_run(data: dict[str, Any]) -> Any:
+    scenario = parse(data)
+    return scenario, run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
+
+
+def _with_checks(*checks: dict[str, Any]) -> dict[str, Any]:
+    data = base()
+    data["goals"] = [{"id": "g", "description": "goal", "checks": list(checks)}]
+    return data
+
+
+def test_oracle_meets_the_goal_and_silence_does_not() -> None:
+    scenario, result = _oracle_run(base())
+    assert result.success
+    silent = run_episode(scenario, SilentUser(), SilentAssistant())
+    assert not silent.success
+    (failure,) = silent.outcome.failures()
+    assert "wanted at least 1 assistant email__reply_to_email" in failure.detail
+
+
+def test_action_count_and_near_misses_are_reported() -> None:
+    data = _with_checks({"action": {"tool": "email__reply_to_email", "count": 2}})
+    _, result = _oracle_run(data)
+    (failure,) = result.outcome.failures()
+    assert "wanted exactly 2" in failure.detail and "found 1" in failure.detail
+    data = _with_checks(
+        {"action": {"tool": "email__reply_to_email", "args": {"content": {"contains": "friday"}}}}
+    )
+    _, result = _oracle_run(data)
+    assert "other calls to that tool: #" in result.outcome.failures()[0].detail
+
+
+def test_no_action_names_the_forbidden_call() -> None:
+    data = _with_checks({"no_action": {"app": "email", "kind": "write"}})
+    _, result = _oracle_run(data)
+    (failure,) = result.outcome.failures()
+    assert (
+        failure.form == "no_action" and "forbidden" in failure.detail and "reply_to_email" in failure.detail
+    )
+
+
+def test_actor_any_and_user_actions() -> None:
+    data = _with_checks(
+        {"action": {"actor": "user", "tool": "email__open_email", "args": {"email_id": "e_ann"}}},
+        {"action": {"actor": "any", "tool": "system__open_app"}},
+        {"action": {"actor": "env", "tool": "email__receive_email", "result": "e_ann"}},
+    )
+    _, result = _oracle_run(data)
+    assert result.success, result.outcome.failures()
+
+
+def test_after_and_before_event() -> None:
+    data = _with_checks(
+        {"action": {"tool": "email__reply_to_email", "after_event": "ann_asks"}},
+        {"no_action": {"actor": "user", "tool": "system__open_app", "before_event": "ann_asks"}},
+    )
+    _, result = _oracle_run(data)
+    assert result.success, result.outcome.failures()
+    data = _with_checks({"action": {"tool": "email__reply_to_email", "before_event": "ann_asks"}})
+    _, result = _oracle_run(data)
+    assert not result.success
+
+
+def test_state_checks_with_where_count_and_value() -> None:
+    data = _with_checks(
+        {
+            "state": {
+                "path": "email.emails",
+                "where": {"folder": "SENT", "recipients": {"contains": "ann@x.example"}},
+                "count": 1,
+            }
+        },
+        {"state": {"path": "email.user_email", "value": "me@pare.example"}},
+        {"state": {"path": "calendar.events", "where": {"title": "Standup"}, "count": {"min": 1, "max": 1}}},
+    )
+    _, result = _oracle_run(data)
+    assert result.success, result.outcome.failures()
+    data = _with_checks({"state": {"path": "email.emails", "where": {"folder": "SENT"}, "count": 0}})
+    _, result = _oracle_run(data)
+    (failure,) = result.outcome.failures()
+    assert "1 of 3 items match" in failure.detail and "wanted exactly 0" in failure.detail
+
+
+def test_state_check_on_missing_path_and_non_collection() -> None:
+    _, result = _oracle_run(base())
+    data = _with_checks({"state": {"path": "email.emails.nope"}})
+    outcome = evaluate(parse(data), result.env.log.entries, result.env.snapshot())
+    assert "does not exist" in outcome.failures()[0].detail
+    data = _with_checks({"state": {"path": "email.user_email", "where": {"x": 1}}})
+    outcome = evaluate(parse(data), result.env.log.entries, result.env.snapshot())
+    assert "not a collection" in outcome.failures()[0].detail
+
+
+def test_judge_uses_the_model_when_given_and_the_fallback_otherwise() -> None:
+    data = _with_checks(
+        {
+            "judge": {
+                "criterion": "says yes to Thursday",
+                "action": {"tool": "email__reply_to_email"},
+                "fallback": {"contains": "thursday"},
+            }
+        }
+    )
+    scenario, result = _oracle_run(data)
+    assert result.success
+    assert "no judge model; fallback" in result.outcome.goals[0].checks[0].detail
+    seen: list[tuple[str, str]] = []
+
+    def strict_judge(criterion: str, text: str) -> bool:
+        seen.append((criterion, text))
+        return False
+
+    outcome = evaluate(scenario, result.env.log.entries, result.env.snapshot(), judge=strict_judge)
+    assert not outcome.success and seen == [("says yes to Thursday", "Thursday works!")]
+
+
+def test_per_goal_results_and_goal_rate() -> None:
+    data = base()
+    data["goals"].append(
+        {"id": "never", "description": "impossible", "checks": [{"action": {"tool": "email__delete_email"}}]}
+    )
+    _, result = _oracle_run(data)
+    assert not result.success
+    assert [goal.passed for goal in result.outcome.goals] == [True, False]
+    assert result.outcome.goal_rate == 0.5
+    assert result.outcome.to_dict()["goals"][1]["id"] == "never"

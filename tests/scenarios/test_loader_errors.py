@@ -1,0 +1,325 @@
+"""Broken scenario files: each kind of mistake gets a message naming the file, the line and the place."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from pare.scenarios import ScenarioError, load_scenario, parse_scenario
+from tests.scenarios.helpers import base, parse, to_yaml
+
+Edit = Callable[[dict[str, Any]], None]
+
+
+def problems_of(data: dict[str, Any]) -> list[str]:
+    with pytest.raises(ScenarioError) as caught:
+        parse(data)
+    return [str(problem) for problem in caught.value.problems]
+
+
+def test_the_base_scenario_is_valid() -> None:
+    assert parse(base()).id == "tiny_reply"
+
+
+def _set(path: str, value: Any) -> Edit:
+    def edit(data: dict[str, Any]) -> None:
+        *parents, last = path.split("/")
+        target: Any = data
+        for part in parents:
+            target = target[int(part)] if part.isdigit() else target[part]
+        if value is _DELETE:
+            del target[last]
+        elif isinstance(target, list):
+            target[int(last)] = value
+        else:
+            target[last] = value
+
+    return edit
+
+
+_DELETE = object()
+
+
+CASES: list[tuple[str, Edit, str, str]] = [
+    ("unknown field", _set("colour", "red"), "colour", "unknown field 'colour'. Fields here: format, id"),
+    ("misspelt field", _set("events/0/tol", "x"), "events[0].tol", "did you mean 'tool'"),
+    ("field of the wrong level", _set("goals/0/checks/0/count", 1), "goals[0].checks[0].count", "Fields here: action"),
+    ("missing field", _set("story", _DELETE), "story", "required field missing"),
+    ("bad tag", _set("tags", ["goal_infrence"]), "tags[0]", "goal_inference"),
+    ("bad id", _set("id", "Tiny Reply"), "id", "pattern"),
+    ("unknown app", _set("apps", ["email", "calender"]), "apps", "did you mean 'calendar'"),
+    ("core app listed", _set("apps", ["email", "calendar", "agent_ui"]), "apps", "part of every phone"),
+    (
+        "unknown event tool",
+        _set("events/0/tool", "email__recieve_email"),
+        "events[0].tool",
+        "did you mean 'email__receive_email'",
+    ),
+    (
+        "tool of an absent app",
+        _set("events/0/tool", "shopping__add_product"),
+        "events[0].tool",
+        "not in this scenario's apps",
+    ),
+    ("unqualified tool", _set("events/0/tool", "receive_email"), "events[0].tool", "write app__tool"),
+    (
+        "argument of wrong type",
+        _set("events/0/args/subject", ["a", "list"]),
+        "events[0].args",
+        "argument 'subject'",
+    ),
+    (
+        "unexpected argument",
+        _set("events/0/args/colour", "red"),
+        "events[0].args",
+        "unexpected argument 'colour'",
+    ),
+    (
+        "missing argument",
+        _set("events/0/args/sender", _DELETE),
+        "events[0].args",
+        "missing required argument 'sender'",
+    ),
+    ("bad time", _set("events/0/at", "soonish"), "events[0].at", "not a time"),
+    ("time before start", _set("events/0/at", "-5m"), "events[0].at", "before the scenario starts"),
+    (
+        "two triggers",
+        _set("events/0/after", "ann_asks"),
+        "events[0]",
+        "exactly one of 'at', 'after' or 'when'",
+    ),
+    (
+        "unknown id in oracle",
+        _set("oracle/interventions/0/actions/0/args/email_id", "e_anne"),
+        "oracle.interventions[0].actions[0].args.email_id",
+        "not an id in the seed data",
+    ),
+    (
+        "unknown id in user step",
+        _set("oracle/user/1/args/email_id", "e9"),
+        "oracle.user[1].args.email_id",
+        "not an id",
+    ),
+    (
+        "unknown user action",
+        _set("oracle/user/1/tool", "open_mail"),
+        "oracle.user[1].tool",
+        "did you mean 'open_email'",
+    ),
+    (
+        "user answers by itself",
+        _set("oracle/user/1/tool", "accept_proposal"),
+        "oracle.user[1].tool",
+        "answers proposals by itself",
+    ),
+    (
+        "oracle calls env tool",
+        _set("oracle/interventions/0/actions/0/tool", "email__receive_email"),
+        "oracle.interventions[0].actions[0].tool",
+        "not a tool the assistant may call",
+    ),
+    (
+        "condition on unknown event",
+        _set("oracle/user/0/when/event", "ann_ask"),
+        "oracle.user[0].when.event",
+        "did you mean 'ann_asks'",
+    ),
+    (
+        "unknown check tool",
+        _set("goals/0/checks/0/action/tool", "email__reply"),
+        "goals[0].checks[0].action.tool",
+        "unknown tool",
+    ),
+    (
+        "check argument the tool lacks",
+        _set("goals/0/checks/0/action/args/body", "x"),
+        "goals[0].checks[0].action.args.body",
+        "has no argument 'body'",
+    ),
+    (
+        "user tool under the assistant's name",
+        _set("goals/0/checks/0/action", {"actor": "user", "tool": "email__reply_to_email"}),
+        "goals[0].checks[0].action.tool",
+        "screen actions",
+    ),
+    (
+        "bad matcher",
+        _set("goals/0/checks/0/action/args/content", {"contains": "x", "colour": "y"}),
+        "goals[0].checks[0].action.args",
+        "mixes operators",
+    ),
+    (
+        "two forms in one check",
+        _set("goals/0/checks/0/no_action", {"tool": "email__delete_email"}),
+        "goals[0].checks[0]",
+        "exactly one of action",
+    ),
+    (
+        "state path of unknown field",
+        _set("goals/0/checks/0", {"state": {"path": "calendar.event"}}),
+        "goals[0].checks[0].state.path",
+        "did you mean 'events'",
+    ),
+    (
+        "state path of absent app",
+        _set("goals/0/checks/0", {"state": {"path": "shopping.cart"}}),
+        "goals[0].checks[0].state.path",
+        "not an app of this scenario",
+    ),
+    (
+        "where field items lack",
+        _set("goals/0/checks/0", {"state": {"path": "calendar.events", "where": {"titel": "x"}}}),
+        "goals[0].checks[0].state.where.titel",
+        "did you mean 'title'",
+    ),
+    (
+        "judge field not an argument",
+        _set(
+            "goals/0/checks/0",
+            {
+                "judge": {
+                    "criterion": "polite",
+                    "action": {"tool": "email__reply_to_email"},
+                    "field": "body",
+                    "fallback": {"contains": "x"},
+                }
+            },
+        ),
+        "goals[0].checks[0].judge.field",
+        "not an argument",
+    ),
+    (
+        "seed data error",
+        _set("seed/email/emails/0/timestamp", "yesterday-ish"),
+        "seed.email.emails[0].timestamp",
+        "datetime",
+    ),
+    ("seed for an absent app", _set("seed/notes", {"notes": []}), "seed.notes", "not in apps"),
+    (
+        "reference to unknown step",
+        _set("oracle/interventions/0/actions/0/args/email_id", "${nothing.email_id}"),
+        "oracle.interventions[0].actions[0].args.email_id",
+        "names no earlier oracle action",
+    ),
+    (
+        "reference outside the oracle",
+        _set("events/0/args/subject", "${ann_asks.email_id}"),
+        "events[0].args.subject",
+        "only be used in oracle steps",
+    ),
+    ("empty interventions", _set("oracle/interventions", []), "oracle.interventions", "at least 1"),
+]
+
+
+@pytest.mark.parametrize(("name", "edit", "place", "message"), CASES, ids=[case[0] for case in CASES])
+def test_each_mistake_is_named_with_its_place(name: str, edit: Edit, place: str, message: str) -> None:
+    data = base()
+    edit(data)
+    problems = problems_of(data)
+    assert any(f": {place}: " in p and message.lower() in p.lower() for p in problems), problems
+    assert all(p.startswith("tiny.yaml:") for p in problems)
+
+
+def test_event_dependencies() -> None:
+    data = base()
+    data["events"].append(
+        {
+            "id": "a",
+            "after": "b",
+            "tool": "email__receive_email",
+            "args": {"sender": "a@x.example", "subject": "a", "content": "a"},
+        }
+    )
+    data["events"].append(
+        {
+            "id": "b",
+            "after": "a",
+            "delay": "5m",
+            "tool": "email__receive_email",
+            "args": {"sender": "b@x.example", "subject": "b", "content": "b"},
+        }
+    )
+    data["events"].append(
+        {
+            "id": "c",
+            "after": "zz",
+            "tool": "email__receive_email",
+            "args": {"sender": "c@x.example", "subject": "c", "content": "c"},
+        }
+    )
+    data["events"].append(
+        {
+            "id": "a",
+            "at": "+1m",
+            "tool": "email__receive_email",
+            "args": {"sender": "d@x.example", "subject": "d", "content": "d"},
+        }
+    )
+    problems = "\n".join(problems_of(data))
+    assert "cycle: a -> b -> a" in problems
+    assert "waits for unknown event 'zz'" in problems
+    assert "two events share the id 'a'" in problems
+
+
+def test_every_problem_is_reported_at_once_with_lines() -> None:
+    data = base()
+    data["events"][0]["tool"] = "email__recieve_email"
+    data["oracle"]["user"][1]["tool"] = "open_mail"
+    data["goals"][0]["checks"][0]["action"]["args"]["body"] = "x"
+    text = to_yaml(data)
+    with pytest.raises(ScenarioError) as caught:
+        parse_scenario(text, source="tiny.yaml")
+    problems = caught.value.problems
+    assert len(problems) == 3
+    lines = text.splitlines()
+    for problem, needle in zip(problems, ["email__recieve_email", "open_mail", "body:"], strict=True):
+        assert problem.line is not None
+        assert needle in lines[problem.line - 1], (problem, lines[problem.line - 1])
+    assert str(caught.value).startswith("tiny.yaml: 3 problems:")
+
+
+def test_structure_errors_point_at_their_line() -> None:
+    text = to_yaml(base()).replace("difficulty: easy", "difficulty: trivial")
+    with pytest.raises(ScenarioError) as caught:
+        parse_scenario(text, source="tiny.yaml")
+    (problem,) = caught.value.problems
+    assert text.splitlines()[problem.line - 1].startswith("difficulty:")  # type: ignore[operator]
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("id: [unclosed\n", "not valid YAML"),
+        ("id: a\ntitle: b\nid: c\n", "broken.yaml:3: id: 'id' is written twice"),
+        ("", "this file is empty"),
+        ("- a\n- b\n", "this file is a list"),
+    ],
+)
+def test_not_a_scenario_at_all(text: str, message: str) -> None:
+    with pytest.raises(ScenarioError, match=message):
+        parse_scenario(text, source="broken.yaml")
+
+
+def test_file_name_must_be_the_id(tmp_path: Path) -> None:
+    path = tmp_path / "other_name.yaml"
+    path.write_text(to_yaml(base()))
+    with pytest.raises(ScenarioError, match="differs from the file name 'other_name'"):
+        load_scenario(path)
+    good = tmp_path / "tiny_reply.yaml"
+    good.write_text(to_yaml(base()))
+    assert load_scenario(good).id == "tiny_reply"
+
+
+def test_missing_file_is_a_clear_error(tmp_path: Path) -> None:
+    with pytest.raises(Exception, match="no such scenario file"):
+        load_scenario(tmp_path / "nope.yaml")
+
+
+def test_seed_lists_become_keyed_collections_and_ids_are_known() -> None:
+    data = base()
+    data["seed"]["email"]["emails"].append(dict(data["seed"]["email"]["emails"][0]))  # duplicate id
+    problems = "\n".join(problems_of(data))
+    assert "seed.email.emails[1].email_id: two items of 'emails' have the id 'e1'" in problems

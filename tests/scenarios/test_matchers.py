@@ -1,0 +1,88 @@
+from __future__ import annotations
+
+from datetime import UTC, datetime
+from typing import Any
+
+import pytest
+
+from pare.scenarios.matchers import MatcherError, compile_matcher
+
+START = datetime(2025, 3, 3, 9, 0, tzinfo=UTC)
+
+
+def holds(raw: Any, value: Any) -> bool:
+    return compile_matcher(raw).test(value, START)
+
+
+def test_plain_value_is_equality() -> None:
+    assert holds("email-1", "email-1")
+    assert not holds("email-1", "email-2")
+    assert holds(3, 3.0) and holds(3, "3")
+    assert holds(["a", "b"], ["a", "b"]) and not holds(["a", "b"], ["b", "a"])
+
+
+def test_times_compare_as_times_whatever_the_format() -> None:
+    assert holds("day+1 10:00", "2025-03-04T10:00:00+00:00")
+    assert holds("day+1 10:00", "2025-03-04 10:00")
+    assert holds("2025-03-04T10:00:00Z", "2025-03-04T11:00:00+01:00")
+    assert not holds("day+1 10:00", "2025-03-04 10:30")
+
+
+@pytest.mark.parametrize(
+    ("raw", "value", "expected"),
+    [
+        ({"contains": "Thursday"}, "see you THURSDAY at 8", True),
+        ({"contains": ["thursday", "8"]}, "thursday at 8", True),
+        ({"contains": ["thursday", "9"]}, "thursday at 8", False),
+        ({"contains": "bob@x.org"}, ["ann@x.org", "bob@x.org"], True),
+        ({"contains_any": ["2pm", "14:00"]}, "at 14:00 sharp", True),
+        ({"contains_any": ["2pm", "14:00"]}, "at noon", False),
+        ({"regex": r"\b8(:00)?\s*am\b"}, "Thursday 8 AM works", True),
+        ({"one_of": ["a", "b"]}, "b", True),
+        ({"one_of": ["a", "b"]}, "c", False),
+        ({"same_set": ["Bob", "ann"]}, ["ANN", "bob"], True),
+        ({"same_set": ["Bob", "ann"]}, ["ann"], False),
+        ({"same_set": ["Bob"]}, "Bob", False),
+        ({"min": 2, "max": 5}, 3, True),
+        ({"min": 2, "max": 5}, "6", False),
+        ({"max": 100}, "cheap", False),
+        ({"after": "day+1 00:00", "before": "day+1 23:59"}, "2025-03-04T12:00:00Z", True),
+        ({"after": "day+1 00:00"}, "2025-03-03T12:00:00Z", False),
+        ({"after": "+0m"}, "not a time", False),
+        ({"present": True}, "x", True),
+        ({"present": True}, None, False),
+        ({"present": False}, None, True),
+        ({"not": {"contains": "cancel"}}, "confirmed", True),
+        ({"not": "ev1"}, "ev1", False),
+        ({"any_of": [{"contains": "2pm"}, {"regex": "14[:.]00"}]}, "14.00", True),
+        ({"start": "day+1 10:00"}, {"start": "2025-03-04T10:00:00Z", "title": "x"}, True),
+        ({"start": "day+1 10:00"}, "not a mapping", False),
+        ({"contains": "x"}, None, False),
+    ],
+)
+def test_operators(raw: Any, value: Any, expected: bool) -> None:
+    assert holds(raw, value) is expected
+
+
+@pytest.mark.parametrize(
+    ("raw", "message"),
+    [
+        ({"contains": "x", "title": "y"}, "mixes operators"),
+        ({"regex": "("}, "not a valid regular expression"),
+        ({"min": "three"}, "needs a number"),
+        ({"after": "soon"}, "'after'"),
+        ({"contains_any": "x"}, "needs a list"),
+        ({"one_of": "x"}, "needs a list"),
+        ({"any_of": []}, "non-empty list"),
+        ({"present": "yes"}, "true or false"),
+        ({}, "empty mapping"),
+    ],
+)
+def test_bad_matchers_are_refused(raw: Any, message: str) -> None:
+    with pytest.raises(MatcherError, match=message):
+        compile_matcher(raw)
+
+
+def test_describe_reads_like_the_file() -> None:
+    text = compile_matcher({"contains": ["a", "b"], "not": {"one_of": [1]}}).describe()
+    assert "contains" in text and "not (" in text

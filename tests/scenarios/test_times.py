@@ -1,0 +1,82 @@
+from __future__ import annotations
+
+from datetime import UTC, datetime, timedelta
+
+import pytest
+
+from pare.scenarios.times import (
+    TimeFormatError,
+    is_relative_time,
+    parse_duration,
+    parse_time,
+    resolve_relative_times,
+)
+
+START = datetime(2025, 3, 3, 9, 0, tzinfo=UTC)
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("+15m", START + timedelta(minutes=15)),
+        ("-2h", START - timedelta(hours=2)),
+        ("+1d2h30m", START + timedelta(days=1, hours=2, minutes=30)),
+        ("+45s", START + timedelta(seconds=45)),
+        ("day+1 09:30", datetime(2025, 3, 4, 9, 30, tzinfo=UTC)),
+        ("day-2 18:00", datetime(2025, 3, 1, 18, 0, tzinfo=UTC)),
+        ("day 14:00", datetime(2025, 3, 3, 14, 0, tzinfo=UTC)),
+        ("day+1 7:05:30", datetime(2025, 3, 4, 7, 5, 30, tzinfo=UTC)),
+        ("2025-03-05T10:00:00Z", datetime(2025, 3, 5, 10, 0, tzinfo=UTC)),
+        ("2025-03-05 10:00", datetime(2025, 3, 5, 10, 0, tzinfo=UTC)),
+        ("2025-03-05T10:00:00+01:00", datetime(2025, 3, 5, 9, 0, tzinfo=UTC)),
+    ],
+)
+def test_time_forms(text: str, expected: datetime) -> None:
+    assert parse_time(text, START) == expected
+
+
+@pytest.mark.parametrize("text", ["tomorrow", "+15", "day+1", "day+1 25:00", "+1x", "15m"])
+def test_bad_times_say_which_forms_work(text: str) -> None:
+    with pytest.raises(TimeFormatError):
+        parse_time(text, START)
+
+
+def test_bad_time_message_lists_the_forms() -> None:
+    with pytest.raises(TimeFormatError, match=r"\+15m.*day\+1 09:00"):
+        parse_time("next tuesday", START)
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("10m", timedelta(minutes=10)),
+        ("1h30m", timedelta(minutes=90)),
+        ("2d", timedelta(days=2)),
+        ("0", timedelta(0)),
+        (90, timedelta(seconds=90)),
+    ],
+)
+def test_durations(text: str | int, expected: timedelta) -> None:
+    assert parse_duration(text) == expected
+
+
+@pytest.mark.parametrize("text", ["ten minutes", "-5m", "5", -3])
+def test_bad_durations(text: str | int) -> None:
+    with pytest.raises(TimeFormatError):
+        parse_duration(text)
+
+
+def test_only_whole_relative_strings_are_resolved() -> None:
+    data = {
+        "timestamp": "-2h",
+        "nested": [{"due": "day+1 08:00"}],
+        "content": "see you at +15m past",
+        "subject": "+15m",  # a whole string in relative form is a time, by design
+        "count": 3,
+    }
+    resolved = resolve_relative_times(data, START)
+    assert resolved["timestamp"] == "2025-03-03T07:00:00+00:00"
+    assert resolved["nested"][0]["due"] == "2025-03-04T08:00:00+00:00"
+    assert resolved["content"] == "see you at +15m past"
+    assert resolved["count"] == 3
+    assert is_relative_time(" +15m ") and not is_relative_time("15m")
