@@ -31,7 +31,7 @@ class Answering(UserPolicy):
         self.answer = answer
         self.views: list[UserView] = []
 
-    def step(self, view: UserView, previous: ToolResult | None) -> Action:
+    async def step(self, view: UserView, previous: ToolResult | None) -> Action:
         self.views.append(view)
         if view.pending_proposal is not None and self.answer is not None:
             return Action(self.answer, {"reason": "because"})
@@ -48,7 +48,7 @@ class Proposer(AssistantPolicy):
         self.tasks: list[Task] = []
         self.observations: list[AssistantObservation] = []
 
-    def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
+    async def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
         if observation is not None:
             self.observations.append(observation)
         if not self.proposed:
@@ -56,7 +56,7 @@ class Proposer(AssistantPolicy):
             return Action(SEND_MESSAGE, {"content": "Reply to Ann that Thursday works."})
         return Action(ASSISTANT_WAIT)
 
-    def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
+    async def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
         if task is not None:
             self.tasks.append(task)
         if self.execute_actions:
@@ -119,12 +119,12 @@ def test_execute_stops_at_its_step_limit() -> None:
 class Reader(AssistantPolicy):
     """Reads forever in observe mode, and tries to write once."""
 
-    def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
+    async def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
         if observation is not None:
             return Action("email__delete_email", {"email_id": "e1"})
         return Action("email__list_emails")
 
-    def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
+    async def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
         return Action(SEND_MESSAGE, {"content": "-"})
 
 
@@ -172,3 +172,17 @@ def test_same_seed_same_trajectory_byte_for_byte() -> None:
         return json.dumps(result.to_dict(), sort_keys=True)
 
     assert trajectory() == trajectory()
+
+
+def test_jumps_over_idle_time_bring_no_pile_of_noise() -> None:
+    data = base()
+    data["events"][0]["at"] = "day+2 09:00"  # two idle days until Ann writes
+    scenario = parse(data)
+    settings = EpisodeSettings(env=EnvConfig(seed=3, noise_rate_per_minute=2.0))
+    result = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario), settings)
+    assert result.success
+    noise = [e for e in result.env.log.entries if e.event_id and e.event_id.startswith("noise-")]
+    active_minutes = result.turns  # about one simulated minute per active turn
+    assert len(noise) < 10 * active_minutes  # not the ~5,760 two idle days would bring
+    arrival = next(e for e in result.env.log.entries if e.event_id == "ann_asks")
+    assert arrival.time == scenario.start + timedelta(days=2)

@@ -56,6 +56,7 @@ def test_actor_any_and_user_actions() -> None:
         {"action": {"actor": "user", "tool": "email__open_email", "args": {"email_id": "e_ann"}}},
         {"action": {"actor": "any", "tool": "system__open_app"}},
         {"action": {"actor": "env", "tool": "email__receive_email", "result": "e_ann"}},
+        {"action": {"app": "email", "kind": "write", "args": {"email_id": "e_ann"}}},
     )
     _, result = _oracle_run(data)
     assert result.success, result.outcome.failures()

@@ -44,9 +44,14 @@ _DELETE = object()
 
 
 CASES: list[tuple[str, Edit, str, str]] = [
-    ("unknown field", _set("colour", "red"), "colour", "unknown field 'colour'. Fields here: format, id"),
+    ("unknown field", _set("colour", "red"), "colour", "unknown field 'colour'. Fields here: format"),
     ("misspelt field", _set("events/0/tol", "x"), "events[0].tol", "did you mean 'tool'"),
-    ("field of the wrong level", _set("goals/0/checks/0/count", 1), "goals[0].checks[0].count", "Fields here: action"),
+    (
+        "field of the wrong level",
+        _set("goals/0/checks/0/count", 1),
+        "goals[0].checks[0].count",
+        "Fields here: action",
+    ),
     ("missing field", _set("story", _DELETE), "story", "required field missing"),
     ("bad tag", _set("tags", ["goal_infrence"]), "tags[0]", "goal_inference"),
     ("bad id", _set("id", "Tiny Reply"), "id", "pattern"),
@@ -323,3 +328,27 @@ def test_seed_lists_become_keyed_collections_and_ids_are_known() -> None:
     data["seed"]["email"]["emails"].append(dict(data["seed"]["email"]["emails"][0]))  # duplicate id
     problems = "\n".join(problems_of(data))
     assert "seed.email.emails[1].email_id: two items of 'emails' have the id 'e1'" in problems
+
+
+def test_state_paths_step_through_id_keyed_collections() -> None:
+    data = base()
+    data["apps"].append("messaging")
+    data["seed"]["messaging"] = {
+        "current_user_id": "user-me",
+        "users": {"user-me": "Me", "user-jo": "Jo Park"},
+        "conversations": [
+            {"conversation_id": "conv-jo", "participant_ids": ["user-me", "user-jo"], "messages": []},
+        ],
+    }
+    path = "messaging.conversations.conv-jo.messages"
+    data["goals"][0]["checks"].append(
+        {"state": {"path": path, "where": {"sender_id": "user-me"}, "count": 0}}
+    )
+    parse(data)  # message fields are known through the conversation's id key
+    data["goals"][0]["checks"][-1]["state"]["where"] = {"sender": "user-me"}
+    problems = "\n".join(problems_of(data))
+    assert (
+        "state.where.sender: items of messaging.conversations.conv-jo.messages have no field 'sender'"
+        in problems
+    )
+    assert "did you mean 'sender_id'" in problems.lower()

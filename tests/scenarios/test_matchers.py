@@ -57,7 +57,16 @@ def test_times_compare_as_times_whatever_the_format() -> None:
         ({"any_of": [{"contains": "2pm"}, {"regex": "14[:.]00"}]}, "14.00", True),
         ({"start": "day+1 10:00"}, {"start": "2025-03-04T10:00:00Z", "title": "x"}, True),
         ({"start": "day+1 10:00"}, "not a mapping", False),
+        (
+            {"item_id": "a", "quantity": 2},
+            [{"item_id": "b", "quantity": 2}, {"item_id": "a", "quantity": 2}],
+            True,
+        ),
+        ({"item_id": "a", "quantity": 2}, [{"item_id": "a", "quantity": 1}], False),
         ({"contains": "x"}, None, False),
+        ({"contains": "tent"}, [{"content": "hello", "sender_id": "u1"}], False),
+        ({"contains": "hello"}, [{"content": "hello", "sender_id": "u1"}], True),
+        ({"regex": "^u1 "}, {"sender_id": "u1 ", "x": 1}, True),
     ],
 )
 def test_operators(raw: Any, value: Any, expected: bool) -> None:

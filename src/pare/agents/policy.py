@@ -31,10 +31,22 @@ class Action:
     args: dict[str, Any] = field(default_factory=dict)
     raw: str | None = None
     """What a model wrote to produce this action, when a model did."""
+    error: str | None = None
+    """Set when the actor could not produce a valid action (a model's answers stayed malformed); the
+    loop records the step as failed without calling the environment."""
+    usage: dict[str, Any] | None = None
+    """For model-backed actors: calls, prompt / completion / cached tokens, cost and format errors of the
+    model calls behind this action."""
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready form."""
-        return {"tool": self.tool, "args": self.args, "raw": self.raw}
+        return {
+            "tool": self.tool,
+            "args": self.args,
+            "raw": self.raw,
+            "error": self.error,
+            "usage": self.usage,
+        }
 
 
 @dataclass(frozen=True, slots=True)
@@ -55,7 +67,7 @@ class UserPolicy(ABC):
         """Called once before the episode's first turn."""
 
     @abstractmethod
-    def step(self, view: UserView, previous: ToolResult | None) -> Action:
+    async def step(self, view: UserView, previous: ToolResult | None) -> Action:
         """The next action, given what the user sees and the result of the previous action."""
 
 
@@ -68,13 +80,13 @@ class AssistantPolicy(ABC):
         """Called once before the episode's first turn."""
 
     @abstractmethod
-    def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
+    async def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
         """Observe mode: ``observation`` is given on the turn's first step (then ``None``); read tools,
         ``system__wait`` or a proposal through ``agent_ui__send_message_to_user``.
         """
 
     @abstractmethod
-    def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
+    async def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
         """Execute mode: ``task`` is given on the first step (then ``None``); any app tool, ending with
         a report through ``agent_ui__send_message_to_user``.
         """
@@ -85,7 +97,7 @@ class SilentUser(UserPolicy):
 
     name = "silent_user"
 
-    def step(self, view: UserView, previous: ToolResult | None) -> Action:
+    async def step(self, view: UserView, previous: ToolResult | None) -> Action:
         """Always wait."""
         return Action(WAIT)
 
@@ -95,10 +107,10 @@ class SilentAssistant(AssistantPolicy):
 
     name = "silent_assistant"
 
-    def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
+    async def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
         """Always wait."""
         return Action(ASSISTANT_WAIT)
 
-    def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
+    async def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
         """Never reached (it never proposes); reports at once if it is."""
         return Action(SEND_MESSAGE, {"content": "I did nothing."})

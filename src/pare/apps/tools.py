@@ -13,6 +13,7 @@ import inspect
 import re
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
+from enum import Enum
 from functools import cached_property
 from types import UnionType
 from typing import Annotated, Any, Literal, TypeVar, Union, get_args, get_origin, get_type_hints
@@ -198,6 +199,8 @@ def _type_name(annotation: Any) -> str:
         return f"{name}[{', '.join(_type_name(arg) for arg in get_args(annotation))}]"
     if annotation is type(None):
         return "None"
+    if isinstance(annotation, type) and issubclass(annotation, Enum):
+        return " | ".join(repr(member.value) for member in annotation)  # models need the choices
     if isinstance(annotation, type):
         return annotation.__name__
     return re.sub(r"\b(?:[A-Za-z_]\w*\.)+([A-Za-z_]\w*)", r"\1", str(annotation))

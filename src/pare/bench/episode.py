@@ -4,13 +4,15 @@ Each turn: events due by now are delivered, the user acts (``user_steps`` action
 acts: in observe mode up to ``observe_steps`` actions, ending at ``wait`` or a proposal; while a proposal
 waits for an answer it holds back (the proposal expires after ``proposal_ttl_turns`` turns); once the user
 accepts, execute mode runs up to ``execute_steps`` actions, ending with a report. Then simulated time
-moves on: by ``turn_duration``, or straight to the next scheduled event when everyone waited. The episode
+moves on: by ``turn_duration``, or straight to the next scheduled event when everyone waited (no noise
+arrives across such a jump: distractors come while someone is active). The episode
 ends after ``max_turns`` turns, or earlier when nothing can happen any more (no event to come, no proposal
 pending, both actors waiting).
 """
 
 from __future__ import annotations
 
+import asyncio
 from dataclasses import dataclass, field
 from datetime import timedelta
 from typing import Any, Literal
@@ -109,6 +111,20 @@ class EpisodeResult:
         }
 
 
+async def arun_episode(
+    scenario: Scenario,
+    user: UserPolicy,
+    assistant: AssistantPolicy,
+    settings: EpisodeSettings | None = None,
+    *,
+    judge: Judge | None = None,
+) -> EpisodeResult:
+    """Play ``scenario`` with ``user`` and ``assistant`` and evaluate its goals (in a running event loop,
+    so many episodes can wait on model calls at once).
+    """
+    return await _Episode(scenario, user, assistant, settings or EpisodeSettings()).run(judge)
+
+
 def run_episode(
     scenario: Scenario,
     user: UserPolicy,
@@ -117,8 +133,8 @@ def run_episode(
     *,
     judge: Judge | None = None,
 ) -> EpisodeResult:
-    """Play ``scenario`` with ``user`` and ``assistant`` and evaluate its goals."""
-    return _Episode(scenario, user, assistant, settings or EpisodeSettings()).run(judge)
+    """Play ``scenario`` with ``user`` and ``assistant`` and evaluate its goals (outside an event loop)."""
+    return asyncio.run(arun_episode(scenario, user, assistant, settings, judge=judge))
 
 
 class _Episode:
@@ -136,29 +152,33 @@ class _Episode:
         self.proposed_at: dict[str, int] = {}
         self.expired: list[str] = []
         self.user_previous: ToolResult | None = None
+        self.assistant_previous: ToolResult | None = None
 
-    def run(self, judge: Judge | None) -> EpisodeResult:
+    async def run(self, judge: Judge | None) -> EpisodeResult:
         env = self.env
         self.user.start(env)
         self.assistant.start(env)
         ended: EndReason = "max_turns"
         turn = 0
         resume_at = env.clock.now
+        jumped = False
         for turn in range(1, self.settings.max_turns + 1):
             env.begin_turn()
             # time passes at the start of the turn, so what it brings is logged under the turn that sees it
-            env.advance_to(resume_at)
-            user_waited = self._user_turn(turn)
+            env.advance_to(resume_at, quiet=jumped)
+            user_waited = await self._user_turn(turn)
             self._expire_stale(turn)
-            assistant_waited = self._assistant_turn(turn)
+            assistant_waited = await self._assistant_turn(turn)
             if user_waited and assistant_waited and env.agent_ui.pending is None:
                 upcoming = env.next_event_time()
                 if upcoming is None:
                     ended = "idle"
                     break
                 resume_at = max(upcoming, env.clock.now)
+                jumped = True
             else:
                 resume_at = env.clock.now + self.settings.turn_duration
+                jumped = False
         outcome = evaluate(self.scenario, env.log.entries, env.snapshot(), judge=judge)
         return EpisodeResult(
             scenario_id=self.scenario.id,
@@ -173,13 +193,13 @@ class _Episode:
         )
 
     # -- the user --------------------------------------------------------------------------------------
-    def _user_turn(self, turn: int) -> bool:
+    async def _user_turn(self, turn: int) -> bool:
         """The user's steps; True when the user only waited."""
         waited = True
         for _ in range(self.settings.user_steps):
             view = self.env.user_view()
-            action = self.user.step(view, self.user_previous)
-            result = self.env.call("user", action.tool, action.args)
+            action = await self.user.step(view, self.user_previous)
+            result = self._perform("user", action, None)
             self._record(turn, "user", None, action, result)
             self.user_previous = result
             if action.tool == WAIT:
@@ -198,15 +218,16 @@ class _Episode:
             self.expired.append(pending.proposal_id)
 
     # -- the assistant ---------------------------------------------------------------------------------
-    def _assistant_turn(self, turn: int) -> bool:
+    async def _assistant_turn(self, turn: int) -> bool:
         """The assistant's steps this turn; True when it only waited (or awaits an answer)."""
         accepted = self._accepted_task()
         if accepted is not None:
-            self._execute(turn, accepted)
+            await self._execute(turn, accepted)
+            self.assistant_previous = None  # the observe conversation did not make the execute calls
             return False
         if self.env.agent_ui.pending is not None:
             return True  # awaiting confirmation
-        return self._observe(turn)
+        return await self._observe(turn)
 
     def _accepted_task(self) -> Task | None:
         for proposal in self.env.agent_ui.state.proposals:
@@ -215,12 +236,13 @@ class _Episode:
                 return Task(proposal.content, proposal.reason, proposal.proposal_id)
         return None
 
-    def _observe(self, turn: int) -> bool:
+    async def _observe(self, turn: int) -> bool:
         observation = self.env.assistant_observation()
-        previous: ToolResult | None = None
+        previous = self.assistant_previous  # the result of its last action, which ended its last turn
         for step in range(self.settings.observe_steps):
-            action = self.assistant.observe(observation if step == 0 else None, previous)
-            previous = self.env.call("assistant", action.tool, action.args, mode="observe")
+            action = await self.assistant.observe(observation if step == 0 else None, previous)
+            previous = self._perform("assistant", action, "observe")
+            self.assistant_previous = previous
             self._record(turn, "assistant", "observe", action, previous)
             if action.tool == ASSISTANT_WAIT:
                 return step == 0
@@ -231,14 +253,22 @@ class _Episode:
                 return False
         return False
 
-    def _execute(self, turn: int, task: Task) -> None:
+    async def _execute(self, turn: int, task: Task) -> None:
         previous: ToolResult | None = None
         for step in range(self.settings.execute_steps):
-            action = self.assistant.execute(task if step == 0 else None, previous)
-            previous = self.env.call("assistant", action.tool, action.args, mode="execute")
+            action = await self.assistant.execute(task if step == 0 else None, previous)
+            previous = self._perform("assistant", action, "execute")
             self._record(turn, "assistant", "execute", action, previous)
             if action.tool == SEND_MESSAGE and previous.ok:
                 return
+
+    def _perform(self, actor: StepActor, action: Action, mode: AssistantMode | None) -> ToolResult:
+        """Hand a valid action to the environment; an actor's failure to produce one is its own result."""
+        if action.error is not None:
+            return ToolResult(ok=False, error=action.error)
+        if actor == "user":
+            return self.env.call("user", action.tool, action.args)
+        return self.env.call("assistant", action.tool, action.args, mode=mode)
 
     def _record(
         self, turn: int, actor: StepActor, mode: AssistantMode | None, action: Action, result: ToolResult

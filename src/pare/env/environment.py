@@ -438,10 +438,16 @@ class Environment:
         """Let ``delta`` of simulated time pass, firing events at their own times on the way."""
         self.advance_to(self.clock.now + delta)
 
-    def advance_to(self, moment: datetime) -> None:
+    def advance_to(self, moment: datetime, *, quiet: bool = False) -> None:
         """Move the clock to ``moment``, firing every event, app wakeup and noise arrival due on the way,
         in time order (scheduled events first, then wakeups, then noise, at equal times).
+
+        ``quiet`` marks a jump over idle time (every actor waited): scheduled events and wakeups still
+        fire, but no distractors arrive on the way, so jumping to tomorrow's reminder does not bury the
+        phone under a day of noise. Noise resumes from ``moment``.
         """
+        if quiet:
+            self.noise.skip_until(moment)
         while True:
             due = self.scheduler.next_time()
             wakeup, waking_app = self._next_wakeup()

@@ -42,6 +42,8 @@ def scenario_files(paths: Iterable[str | Path] | None = None) -> list[Path]:
     for path in [BENCH_DIR] if paths is None else [Path(p) for p in paths]:
         if path.is_dir():
             found.extend(p for p in path.glob("*.yaml") if p.name != SPLITS_FILE.name)
+        elif path.name == SPLITS_FILE.name:
+            continue  # a glob over the library folder names the splits file too
         elif path.exists():
             found.append(path)
         else:

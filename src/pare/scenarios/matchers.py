@@ -9,7 +9,7 @@ hold::
     updates: {start_datetime: day+1 10:00}        # a mapping of fields: each listed field must match
 
 A mapping whose keys are not operators matches a mapping value field by field (unlisted fields are
-ignored). Operators are listed in :data:`OPERATORS`.
+ignored), or a list value holding at least one such mapping. Operators are listed in :data:`OPERATORS`.
 """
 
 from __future__ import annotations
@@ -57,6 +57,8 @@ class Matcher:
     def test(self, value: Any, start: datetime) -> bool:
         """Whether ``value`` is accepted; relative times are resolved against ``start``."""
         if self.fields:
+            if isinstance(value, list):  # a list holds such an item
+                return any(self.test(item, start) for item in value)
             if not isinstance(value, Mapping):
                 return False
             return all(matcher.test(value.get(key), start) for key, matcher in self.fields)
@@ -180,7 +182,16 @@ def _apply(name: str, expected: Any, value: Any, start: datetime) -> bool:
 
 
 def _text(value: Any) -> str:
-    return value if isinstance(value, str) else str(value)
+    """Text to search in: a mapping's values only (never its field names, so 'content' does not
+    contain 'tent'), a list's items, anything else as written.
+    """
+    if isinstance(value, str):
+        return value
+    if isinstance(value, Mapping):
+        return " ".join(_text(item) for item in value.values())
+    if isinstance(value, list):
+        return " ".join(_text(item) for item in value)
+    return str(value)
 
 
 def _contains(value: Any, piece: str) -> bool:

@@ -88,7 +88,7 @@ class OracleUser(UserPolicy):
         """Remember the environment (the oracle may look at the log to time its steps)."""
         self.env = env
 
-    def step(self, view: UserView, previous: ToolResult | None) -> Action:
+    async def step(self, view: UserView, previous: ToolResult | None) -> Action:
         """Accept a pending proposal, else the next scripted step whose condition holds, else wait."""
         env = self._env()
         if view.pending_proposal is not None:
@@ -130,7 +130,7 @@ class OracleAssistant(AssistantPolicy):
         """Remember the environment (conditions are checked against its log)."""
         self.env = env
 
-    def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
+    async def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
         """Propose the next intervention once its condition holds; otherwise wait."""
         env = self._env()
         interventions = self.scenario.oracle.interventions
@@ -141,7 +141,7 @@ class OracleAssistant(AssistantPolicy):
                 return Action(SEND_MESSAGE, {"content": intervention.proposal})
         return Action(ASSISTANT_WAIT)
 
-    def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
+    async def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
         """Carry out the accepted intervention's actions in order, then report."""
         env = self._env()
         if task is not None:
@@ -220,14 +220,14 @@ class UnrelatedAssistant(AssistantPolicy):
         self.proposed = False
         self.done = False
 
-    def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
+    async def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
         """Propose the unrelated task once; afterwards wait."""
         if not self.proposed:
             self.proposed = True
             return Action(SEND_MESSAGE, {"content": self.proposal})
         return Action(ASSISTANT_WAIT)
 
-    def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
+    async def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
         """Do the unrelated task, then report."""
         if not self.done:
             self.done = True

@@ -4,7 +4,7 @@ Two conveniences over the raw state format:
 
 * relative times (``-2h``, ``day+1 09:00``) anywhere in the data become ISO times;
 * a collection the app keys by id (``emails``, ``events``, ``contacts`` ...) may be written as a list;
-  each item's id field (``email_id``, ``event_id`` ...) becomes its key.
+  each item's id field (``email_id``, ``event_id`` ...; ``code`` for discount codes) becomes its key.
 """
 
 from __future__ import annotations
@@ -76,4 +76,5 @@ def _keyed_by(annotation: Any) -> str | None:
     item = typing.get_args(annotation)[1]
     if not (isinstance(item, type) and issubclass(item, BaseModel)):
         return None
-    return next((name for name in item.model_fields if name.endswith("_id")), None)
+    fields = list(item.model_fields)
+    return next((name for name in fields if name.endswith("_id")), "code" if "code" in fields else None)

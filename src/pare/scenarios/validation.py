@@ -270,7 +270,11 @@ class _Validator:
         for depth, part in enumerate(parts[1:], start=1):
             fields = _model_fields(model)
             if fields is None:
-                break  # inside a dict keyed by ids or free data: cannot check further statically
+                # a key of a dict keyed by ids, or an index of a list: step into the item type
+                model = _item_type(model)
+                if model is None:
+                    break  # free data: cannot check further statically
+                continue
             if part not in fields:
                 shown = ".".join(parts[:depth])
                 yield Problem(
@@ -280,7 +284,7 @@ class _Validator:
                 )
                 return
             model = fields[part]
-        if check.where:
+        if check.where and model is not None:
             item_fields = _model_fields(_item_type(model))
             if item_fields is not None:
                 for name in check.where:
@@ -306,10 +310,20 @@ class _Validator:
                 (*where, "app"), f"'{pattern.app}' is not an app of this scenario ({', '.join(catalog.apps)})"
             )
         if pattern.tool is None:
-            if pattern.args:
-                yield Problem(
-                    (*where, "args"), "argument matchers need a 'tool' to say whose arguments they are"
-                )
+            # any tool (of the app, if given) taking these arguments: e.g. any email write to Bob
+            specs = [
+                spec
+                for spec in [
+                    *catalog.flat.values(),
+                    *(s for group in catalog.user_qualified.values() for s in group),
+                ]
+                if pattern.app is None or spec.app == pattern.app
+            ]
+            parameters = {name for spec in specs for name in spec.params.model_fields}
+            for name in pattern.args:
+                if name not in parameters:
+                    owner = f"tool of {pattern.app}" if pattern.app else "tool"
+                    yield Problem((*where, "args", name), f"no {owner} has an argument '{name}'")
             return
         specs = self._pattern_specs(pattern)
         if not specs:

@@ -42,9 +42,12 @@ class YamlSyntaxError(ValueError):
 def parse_yaml(text: str) -> YamlDocument:
     """Parse ``text`` (one YAML document) and record the line of every value."""
     loader = _Loader(text)
+    document = YamlDocument(None)
     try:
         node = loader.get_single_node()
-        data = loader.construct_document(node) if node is not None else None
+        if node is not None:
+            _walk(node, (), document)  # before constructing: that expands merge keys (<<) in place
+            document.data = loader.construct_document(node)
     except yaml.YAMLError as error:
         mark = getattr(error, "problem_mark", None)
         line = mark.line + 1 if mark is not None else None
@@ -52,9 +55,6 @@ def parse_yaml(text: str) -> YamlDocument:
         raise YamlSyntaxError(f"not valid YAML: {problem}", line) from None
     finally:
         loader.dispose()
-    document = YamlDocument(data)
-    if node is not None:
-        _walk(node, (), document)
     return document
 
 

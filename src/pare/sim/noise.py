@@ -114,6 +114,16 @@ class NoiseStream:
         """When the next distractor arrives, or ``None`` when noise is off."""
         return self._next
 
+    def skip_until(self, moment: datetime) -> None:
+        """Let no distractor arrive before ``moment``: the stream restarts there.
+
+        For jumps over idle time. Arrivals are a Poisson process, so restarting at ``moment`` draws the
+        same kind of future as carrying on, without materialising hours of distractors nobody was around
+        to see.
+        """
+        if self._next is not None and self._next < moment:
+            self._next = moment + self._gap()
+
     def pop(self) -> NoiseArrival:
         """The next distractor; the stream moves on to the one after."""
         if self._next is None:

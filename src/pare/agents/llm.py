@@ -1,0 +1,204 @@
+"""Model-backed actors: the user simulator and the proactive assistant (observe and execute modes).
+
+Each keeps its conversation with its model: the system prompt of its role, then one message per
+observation and one per answer. An answer is parsed into one tool call (the paper's Thought / Action
+format, or native tool calling when configured); a malformed answer is sent back to the model with what
+was wrong and how to answer, at most ``max_format_retries`` times per step, after which the step fails and
+the loop records it. Execute mode starts a fresh conversation for each accepted task.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from typing import Any, Protocol
+
+from pare.agents.actions import parse_action
+from pare.agents.models.types import ChatMessage, Completion
+from pare.agents.policy import Action, AssistantPolicy, Task, UserPolicy
+from pare.agents.prompts import execute_system_prompt, observe_system_prompt, user_system_prompt
+from pare.env import AssistantObservation, Environment, ToolResult, UserView
+from pare.errors import ActionFormatError
+
+
+class ChatModel(Protocol):
+    """What an actor needs from a model: one completion for a conversation (``ModelClient`` has it)."""
+
+    async def complete(
+        self, messages: list[ChatMessage], tools: list[dict[str, Any]] | None = None
+    ) -> Completion:
+        """The model's answer to ``messages`` (with ``tools`` as function schemas, when given)."""
+        ...
+
+
+@dataclass
+class Conversation:
+    """One role's running conversation with its model, and how answers become actions."""
+
+    model: ChatModel
+    native_tools: bool = False
+    max_format_retries: int = 2
+    messages: list[ChatMessage] = field(default_factory=list)
+    _pending_call_id: str | None = None
+
+    def reset(self, system_prompt: str) -> None:
+        """Start over with ``system_prompt``."""
+        self.messages = [ChatMessage(role="system", content=system_prompt)]
+        self._pending_call_id = None
+
+    def tell(self, text: str) -> None:
+        """Add what the actor observes; with native tools, a tool result answers the pending call."""
+        if self._pending_call_id is not None:
+            self.messages.append(ChatMessage(role="tool", content=text, tool_call_id=self._pending_call_id))
+            self._pending_call_id = None
+        else:
+            self.messages.append(ChatMessage(role="user", content=text))
+
+    async def decide(self, tools: list[dict[str, Any]] | None = None) -> Action:
+        """Ask the model for its next action; malformed answers are returned to it with a hint."""
+        usage = {"calls": 0, "prompt_tokens": 0, "completion_tokens": 0, "cached_tokens": 0}
+        costs: list[float | None] = []
+        errors: list[str] = []
+        raw = ""
+        for _ in range(self.max_format_retries + 1):
+            completion = await self.model.complete(self.messages, tools if self.native_tools else None)
+            usage["calls"] += 1
+            usage["prompt_tokens"] += completion.usage.prompt_tokens
+            usage["completion_tokens"] += completion.usage.completion_tokens
+            usage["cached_tokens"] += completion.usage.cached_tokens
+            costs.append(completion.cost_usd)
+            raw = completion.text or ""
+            try:
+                tool, args = self._read(completion)
+            except ActionFormatError as error:
+                errors.append(str(error))
+                self._reject(completion, str(error))
+                continue
+            summary = _usage_summary(usage, costs, errors)
+            return Action(tool, args, raw=raw, usage=summary)
+        message = f"No valid action after {len(errors)} answers; last problem: {errors[-1]}"
+        return Action("", {}, raw=raw, error=message, usage=_usage_summary(usage, costs, errors))
+
+    def _read(self, completion: Completion) -> tuple[str, dict[str, Any]]:
+        if self.native_tools and completion.tool_calls:
+            if len(completion.tool_calls) > 1:
+                raise ActionFormatError("Call exactly one tool per answer; you called several.")
+            call = completion.tool_calls[0]
+            try:
+                args = json.loads(call.arguments or "{}")
+            except json.JSONDecodeError as error:
+                raise ActionFormatError(
+                    f"The arguments of {call.name} are not valid JSON ({error})."
+                ) from None
+            if not isinstance(args, dict):
+                raise ActionFormatError(f"The arguments of {call.name} must be a JSON object.")
+            self.messages.append(ChatMessage(role="assistant", content=completion.text, tool_calls=(call,)))
+            self._pending_call_id = call.id
+            return call.name, args
+        parsed = parse_action(completion.text or "")
+        self.messages.append(ChatMessage(role="assistant", content=completion.text or ""))
+        return parsed.tool, parsed.args
+
+    def _reject(self, completion: Completion, error: str) -> None:
+        self.messages.append(ChatMessage(role="assistant", content=completion.text or ""))
+        self.messages.append(ChatMessage(role="user", content=f"Error: {error}"))
+
+
+def _usage_summary(usage: dict[str, int], costs: list[float | None], errors: list[str]) -> dict[str, Any]:
+    known = [cost for cost in costs if cost is not None]
+    return {
+        **usage,
+        "cost_usd": None if len(known) != len(costs) else round(sum(known), 10),
+        "format_errors": list(errors),
+    }
+
+
+def _observation_text(previous: ToolResult | None, body: str = "") -> str:
+    parts = []
+    if previous is not None:
+        parts.append(f"Observation: {previous.observation()}")
+    if body:
+        parts.append(body)
+    return "\n\n".join(parts) or "Nothing new."
+
+
+class LLMUser(UserPolicy):
+    """The user simulator: one model call per user action, from the user's view of the phone."""
+
+    name = "llm_user"
+
+    def __init__(
+        self,
+        model: ChatModel,
+        *,
+        persona: str | None = None,
+        goal: str | None = None,
+        native_tools: bool = False,
+        max_format_retries: int = 2,
+    ) -> None:
+        self.persona = persona
+        self.goal = goal
+        self.conversation = Conversation(model, native_tools, max_format_retries)
+
+    def start(self, env: Environment) -> None:
+        """Write the system prompt for this episode's phone."""
+        prompt = user_system_prompt(
+            env, persona=self.persona, goal=self.goal, native_tools=self.conversation.native_tools
+        )
+        self.conversation.reset(prompt)
+
+    async def step(self, view: UserView, previous: ToolResult | None) -> Action:
+        """Show the model the result of its last action and the current screen; take its next action."""
+        self.conversation.tell(_observation_text(previous, view.render()))
+        return await self.conversation.decide([tool.function_schema() for tool in view.tools])
+
+
+class LLMAssistant(AssistantPolicy):
+    """The proactive assistant: an observe conversation that lasts the episode, and a fresh execute
+    conversation for each accepted task (observe and execute may use different models).
+    """
+
+    name = "llm_assistant"
+
+    def __init__(
+        self,
+        observe_model: ChatModel,
+        execute_model: ChatModel | None = None,
+        *,
+        native_tools: bool = False,
+        max_format_retries: int = 2,
+        execute_steps: int = 10,
+    ) -> None:
+        self.observer = Conversation(observe_model, native_tools, max_format_retries)
+        self.executor = Conversation(execute_model or observe_model, native_tools, max_format_retries)
+        self.execute_steps = execute_steps
+        self.env: Environment | None = None
+
+    def start(self, env: Environment) -> None:
+        """Write the observe-mode system prompt for this episode's phone."""
+        self.env = env
+        self.observer.reset(observe_system_prompt(env, native_tools=self.observer.native_tools))
+
+    async def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
+        """Show the model what happened (and its last action's result); take its next action."""
+        env = self._env()
+        self.observer.tell(_observation_text(previous, observation.render() if observation else ""))
+        return await self.observer.decide([t.function_schema() for t in env.assistant_tools("observe")])
+
+    async def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
+        """Carry out the accepted task in a fresh conversation."""
+        env = self._env()
+        if task is not None:
+            prompt = execute_system_prompt(
+                env, task, max_steps=self.execute_steps, native_tools=self.executor.native_tools
+            )
+            self.executor.reset(prompt)
+            self.executor.tell("The user accepted your proposal. Carry out the task now.")
+        else:
+            self.executor.tell(_observation_text(previous))
+        return await self.executor.decide([t.function_schema() for t in env.assistant_tools("execute")])
+
+    def _env(self) -> Environment:
+        if self.env is None:
+            raise RuntimeError("LLMAssistant.start() was not called")
+        return self.env

@@ -1,0 +1,170 @@
+"""A content-addressed record/replay cache of model calls, in one sqlite file.
+
+The key is the SHA-256 of the canonical JSON of everything that shapes the answer (backend, model,
+sampling parameters, tools sent, messages) and nothing that does not (endpoint, key, timeouts, retries),
+so a run recorded against one server replays anywhere. Several asyncio tasks and several processes may
+share one file: it is in WAL mode with a busy timeout, each operation is one short transaction on its own
+connection, and writes are ``INSERT OR IGNORE`` (the first answer stored for a key is the one kept).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import sqlite3
+import time
+from collections.abc import Iterator, Sequence
+from contextlib import closing, contextmanager
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import Any, Literal
+
+from pare.agents.models.config import ModelConfig
+from pare.agents.models.types import ChatMessage, Completion
+from pare.errors import UserInputError, did_you_mean
+
+CacheMode = Literal["off", "read_write", "replay"]
+"""``off``: always call. ``read_write``: replay what is stored, call and store the rest. ``replay``: replay
+only; a call that is not stored is an error (:class:`pare.errors.CacheMiss`)."""
+
+CACHE_MODES: tuple[CacheMode, ...] = ("off", "read_write", "replay")
+KEY_VERSION = 1
+"""Part of every key: bump it when the key's recipe changes so old entries are not misread."""
+
+_SCHEMA = """
+CREATE TABLE IF NOT EXISTS completions (
+    key TEXT PRIMARY KEY,
+    backend TEXT NOT NULL,
+    model TEXT NOT NULL,
+    role TEXT NOT NULL,
+    created_at TEXT NOT NULL,
+    request TEXT NOT NULL,
+    completion TEXT NOT NULL
+)
+"""
+
+
+def canonical_json(value: Any) -> str:
+    """Serialise ``value`` the same way every time (sorted keys, no spaces, UTF-8 kept)."""
+    return json.dumps(value, sort_keys=True, separators=(",", ":"), ensure_ascii=False, allow_nan=False)
+
+
+def request_record(
+    config: ModelConfig, messages: Sequence[ChatMessage], tools: Sequence[dict[str, Any]] | None
+) -> dict[str, Any]:
+    """Return what identifies a request: the parts of it that can change the model's answer."""
+    return {
+        "version": KEY_VERSION,
+        "backend": config.backend,
+        "model": config.model,
+        "params": config.request_params(),
+        "tools": list(tools) if tools else None,
+        "messages": [message.model_dump(mode="json", exclude_none=True) for message in messages],
+    }
+
+
+def cache_key(record: dict[str, Any]) -> str:
+    """Return the SHA-256 hex digest of the record's canonical JSON."""
+    return hashlib.sha256(canonical_json(record).encode("utf-8")).hexdigest()
+
+
+class ModelCallCache:
+    """The record/replay store of model calls: one sqlite file, shared safely by tasks and processes."""
+
+    def __init__(
+        self, path: str | Path, mode: CacheMode = "read_write", *, busy_timeout_s: float = 30.0
+    ) -> None:
+        if mode not in CACHE_MODES:
+            raise UserInputError(
+                f"unknown cache mode '{mode}'.{did_you_mean(mode, CACHE_MODES)} "
+                f"Choose one of {', '.join(CACHE_MODES)}."
+            )
+        self.path = Path(path)
+        self.mode: CacheMode = mode
+        self.busy_timeout_s = busy_timeout_s
+        if mode != "off":
+            self._initialise()
+
+    def __repr__(self) -> str:
+        return f"ModelCallCache({str(self.path)!r}, mode={self.mode!r})"
+
+    @property
+    def reads(self) -> bool:
+        """Whether stored answers are replayed."""
+        return self.mode != "off"
+
+    @property
+    def writes(self) -> bool:
+        """Whether new answers are stored."""
+        return self.mode == "read_write"
+
+    @contextmanager
+    def _connect(self) -> Iterator[sqlite3.Connection]:
+        # One connection per operation: safe from any thread (asyncio.to_thread) and after fork.
+        connection = sqlite3.connect(self.path, timeout=self.busy_timeout_s, isolation_level=None)
+        with closing(connection):
+            connection.execute(f"PRAGMA busy_timeout = {int(self.busy_timeout_s * 1000)}")
+            yield connection
+
+    def _initialise(self) -> None:
+        if self.mode == "replay" and not self.path.exists():
+            raise UserInputError(
+                f"the model-call cache {self.path} does not exist: replay needs a recorded cache "
+                "(record one with cache mode read_write)"
+            )
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        deadline = time.monotonic() + self.busy_timeout_s
+        while True:
+            try:
+                with self._connect() as connection:
+                    # WAL is a property of the file: once set by any process it stays set.
+                    mode = connection.execute("PRAGMA journal_mode = WAL").fetchone()[0]
+                    connection.execute(_SCHEMA)
+                if str(mode).lower() == "wal" or time.monotonic() > deadline:
+                    return
+            except sqlite3.OperationalError:
+                if time.monotonic() > deadline:
+                    raise
+            time.sleep(0.01)
+
+    def get(self, key: str) -> Completion | None:
+        """Return the stored completion for ``key`` (marked ``from_cache``), or ``None``."""
+        if not self.reads:
+            return None
+        with self._connect() as connection:
+            row = connection.execute("SELECT completion FROM completions WHERE key = ?", (key,)).fetchone()
+        if row is None:
+            return None
+        return Completion.model_validate_json(row[0]).model_copy(update={"from_cache": True})
+
+    def put(self, key: str, completion: Completion, *, request: dict[str, Any], role: str) -> bool:
+        """Store ``completion`` under ``key`` unless an answer is already stored; return whether stored."""
+        if not self.writes:
+            return False
+        stored = completion.model_copy(update={"from_cache": False}).model_dump_json()
+        with self._connect() as connection:
+            cursor = connection.execute(
+                "INSERT OR IGNORE INTO completions "
+                "(key, backend, model, role, created_at, request, completion) VALUES (?, ?, ?, ?, ?, ?, ?)",
+                (
+                    key,
+                    str(request.get("backend", "")),
+                    str(request.get("model", "")),
+                    role,
+                    datetime.now(UTC).isoformat(timespec="seconds"),
+                    canonical_json(request),
+                    stored,
+                ),
+            )
+            return cursor.rowcount == 1
+
+    def __len__(self) -> int:
+        if self.mode == "off":
+            return 0
+        with self._connect() as connection:
+            return int(connection.execute("SELECT COUNT(*) FROM completions").fetchone()[0])
+
+    def integrity_check(self) -> str:
+        """Return sqlite's verdict on the file ('ok' when sound)."""
+        with self._connect() as connection:
+            return str(connection.execute("PRAGMA integrity_check").fetchone()[0])

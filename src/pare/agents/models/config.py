@@ -1,0 +1,199 @@
+"""How one role reaches its model: backend, endpoint, sampling settings, retries, prices."""
+
+from __future__ import annotations
+
+from typing import Any, Literal
+from urllib.parse import urlsplit, urlunsplit
+
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    JsonValue,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
+
+from pare.errors import UserInputError
+
+Backend = Literal["openai", "litellm"]
+"""``openai``: the OpenAI SDK, for OpenAI and every OpenAI-compatible server (vLLM, Ollama, OpenRouter).
+``litellm``: litellm, for providers reached natively (Anthropic, Gemini, Bedrock, ...); an optional extra."""
+
+ROLES: tuple[str, ...] = ("user", "observe", "execute", "judge", "generator")
+"""The roles PARE's actors play; a role is only a name used in messages, the ledger and provenance."""
+
+DEFAULT_API_KEY_ENV: dict[str, str | None] = {"openai": "OPENAI_API_KEY", "litellm": None}
+"""The variable read for the key when a configuration does not name one. litellm with ``None`` finds the
+provider's usual variable itself (``ANTHROPIC_API_KEY``, ``GEMINI_API_KEY``, ...)."""
+
+RESERVED_REQUEST_KEYS = frozenset(
+    {
+        "model",
+        "messages",
+        "tools",
+        "temperature",
+        "max_tokens",
+        "seed",
+        "timeout",
+        "api_key",
+        "api_base",
+        "base_url",
+        "stream",
+        "n",
+        "max_retries",
+        "num_retries",
+    }
+)
+"""Request parameters a configuration sets through its own fields, never through ``extra``."""
+
+
+class Prices(BaseModel):
+    """Prices of one model in US dollars per million tokens."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    input: float = Field(ge=0.0, description="USD per million prompt tokens that were not served from cache.")
+    output: float = Field(ge=0.0, description="USD per million completion tokens.")
+    cached_input: float | None = Field(
+        default=None,
+        ge=0.0,
+        description="USD per million prompt tokens served from the provider's prompt cache "
+        "(defaults to the input price).",
+    )
+
+    def cost(self, prompt_tokens: int, completion_tokens: int, cached_tokens: int = 0) -> float:
+        """Return the price of one call; ``cached_tokens`` are part of ``prompt_tokens``."""
+        cached = min(max(cached_tokens, 0), prompt_tokens)
+        cached_price = self.input if self.cached_input is None else self.cached_input
+        return (
+            (prompt_tokens - cached) * self.input + cached * cached_price + completion_tokens * self.output
+        ) / 1e6
+
+
+class ModelConfig(BaseModel):
+    """Everything needed to call one role's model. Secrets never live here, only their variable's name."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    model: str = Field(
+        min_length=1,
+        description="The model's name as the endpoint knows it ('gpt-4o-mini'; for litellm with the "
+        "provider prefix: 'anthropic/claude-3-5-sonnet-latest', 'openai/<name>' for an OpenAI-compatible "
+        "server).",
+    )
+    backend: Backend = Field(default="openai", description="Which client library makes the call.")
+    api_base: str | None = Field(
+        default=None, description="The endpoint's base URL, e.g. 'http://localhost:8000/v1' for vLLM."
+    )
+    api_key_env: str | None = Field(
+        default=None,
+        description="Name of the environment variable holding the API key (default 'OPENAI_API_KEY' for "
+        "the openai backend). None: no key (a local server; a dummy key is sent) or, with litellm, the "
+        "provider's usual variable.",
+    )
+    temperature: float = Field(default=0.0, ge=0.0)
+    max_tokens: int | None = Field(default=None, gt=0, description="Most tokens the model may generate.")
+    seed: int | None = Field(default=None, description="Sampling seed, for providers that honour one.")
+    extra: dict[str, JsonValue] = Field(
+        default_factory=dict, description="Further request parameters, sent as they are (top_p, stop, ...)."
+    )
+    timeout_s: float = Field(default=60.0, gt=0.0, description="Seconds one request may take.")
+    max_retries: int = Field(default=5, ge=0, description="Retries of a transient failure before giving up.")
+    retry_initial_s: float = Field(default=1.0, ge=0.0, description="First wait before a retry.")
+    retry_max_s: float = Field(default=30.0, ge=0.0, description="Longest wait between two attempts.")
+    max_concurrency: int = Field(
+        default=16, ge=1, description="Most requests in flight at once to this endpoint (from one process)."
+    )
+    prices: Prices | None = Field(
+        default=None, description="Prices to use instead of litellm's price table (USD per million tokens)."
+    )
+    native_tools: bool = Field(
+        default=False, description="Send tool schemas through the provider's function-calling API."
+    )
+
+    @model_validator(mode="before")
+    @classmethod
+    def _default_api_key_env(cls, data: Any) -> Any:
+        if isinstance(data, dict) and "api_key_env" not in data:
+            backend = data.get("backend", "openai")
+            if isinstance(backend, str) and backend in DEFAULT_API_KEY_ENV:
+                return {**data, "api_key_env": DEFAULT_API_KEY_ENV[backend]}
+        return data
+
+    @field_validator("api_key_env")
+    @classmethod
+    def _variable_name(cls, value: str | None) -> str | None:
+        if value is not None and (not value or any(c.isspace() for c in value) or value.startswith("sk-")):
+            raise ValueError(
+                "must be the NAME of an environment variable holding the key (e.g. 'OPENAI_API_KEY'), "
+                "never the key itself"
+            )
+        return value
+
+    @field_validator("extra")
+    @classmethod
+    def _no_reserved_keys(cls, value: dict[str, JsonValue]) -> dict[str, JsonValue]:
+        clash = sorted(RESERVED_REQUEST_KEYS & value.keys())
+        if clash:
+            raise ValueError(
+                f"{', '.join(clash)} cannot be set through 'extra': use the configuration's own fields"
+            )
+        return value
+
+    @model_validator(mode="after")
+    def _retry_waits(self) -> ModelConfig:
+        if self.retry_max_s < self.retry_initial_s:
+            raise ValueError("retry_max_s must be at least retry_initial_s")
+        return self
+
+    @classmethod
+    def parse(cls, data: Any, *, where: str = "model configuration") -> ModelConfig:
+        """Validate ``data``, raising :class:`UserInputError` that lists every problem with its field."""
+        try:
+            return cls.model_validate(data)
+        except ValidationError as error:
+            problems = "; ".join(
+                f"{'.'.join(str(p) for p in e['loc']) or '(top level)'}: {e['msg']}" for e in error.errors()
+            )
+            raise UserInputError(f"{where}: {problems}") from None
+
+    def endpoint(self) -> str:
+        """Name the endpoint for messages: the base URL without credentials, or the provider's default."""
+        if self.api_base:
+            return redact_url(self.api_base)
+        if self.backend == "openai":
+            return "https://api.openai.com/v1 (default)"
+        provider = self.model.split("/", 1)[0] if "/" in self.model else "provider"
+        return f"{provider} default endpoint (litellm)"
+
+    def request_params(self) -> dict[str, JsonValue]:
+        """Return the sampling parameters sent with every request (those that are set)."""
+        params: dict[str, JsonValue] = {"temperature": self.temperature}
+        if self.max_tokens is not None:
+            params["max_tokens"] = self.max_tokens
+        if self.seed is not None:
+            params["seed"] = self.seed
+        params.update(self.extra)
+        return params
+
+    def public_dict(self) -> dict[str, Any]:
+        """Return the settings as JSON for provenance: no secret, credentials stripped from the URL."""
+        data = self.model_dump(mode="json")
+        if self.api_base:
+            data["api_base"] = redact_url(self.api_base)
+        return data
+
+
+def redact_url(url: str) -> str:
+    """Drop a user name, password and query string (which may carry a key) from ``url``."""
+    parts = urlsplit(url)
+    if parts.username is None and parts.password is None and not parts.query:
+        return url
+    host = parts.hostname or ""
+    if parts.port is not None:
+        host = f"{host}:{parts.port}"
+    if parts.username is not None or parts.password is not None:
+        host = f"***@{host}"
+    return urlunsplit((parts.scheme, host, parts.path, "***" if parts.query else "", parts.fragment))

@@ -1,0 +1,166 @@
+"""The system prompts of the user simulator and the assistant's observe and execute modes.
+
+Written in our own words after the paper's appendix, rendered per episode from Jinja templates in
+``templates/``: the phone's apps, the current simulated time, the tools (their signatures and docstrings)
+and what each actor is told about notifications. With native tool calling, the tools travel as function
+schemas and the text answer format is left out.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import jinja2
+
+from pare.agents.policy import ASSISTANT_WAIT, SEND_MESSAGE, Task
+from pare.apps.registry import CORE_APPS
+from pare.env import Environment, NamedTool
+from pare.sim.notifications import DetailLevel
+
+TEMPLATES = Path(__file__).parent / "templates"
+
+
+@dataclass(frozen=True, slots=True)
+class AppLine:
+    """An app as a prompt lists it."""
+
+    name: str
+    description: str
+
+
+@dataclass(frozen=True, slots=True)
+class ToolLine:
+    """A tool as a prompt lists it: signature under the caller's name, and its description."""
+
+    signature: str
+    summary: str
+
+
+@functools.cache
+def _templates() -> jinja2.Environment:
+    return jinja2.Environment(
+        loader=jinja2.FileSystemLoader(TEMPLATES),
+        undefined=jinja2.StrictUndefined,
+        keep_trailing_newline=True,
+        trim_blocks=True,
+        lstrip_blocks=True,
+        autoescape=False,  # plain-text prompts, not HTML
+    )
+
+
+def example_answer(thought: str, tool: str, args: dict[str, Any]) -> str:
+    """An answer in the text action format, as the prompts show it."""
+    action = json.dumps({"action": tool, "action_input": args}, ensure_ascii=False)
+    return f"Thought: {thought}\n\nAction:\n{action}<end_action>"
+
+
+def _now(env: Environment) -> str:
+    return env.clock.now.strftime("%A %Y-%m-%d %H:%M")
+
+
+def _apps(env: Environment) -> list[AppLine]:
+    return [
+        AppLine(app.name, app.description)
+        for app in env.apps.values()
+        if app.name not in CORE_APPS or app.name == "files"
+    ]
+
+
+def tool_lines(tools: list[NamedTool]) -> list[ToolLine]:
+    """Tools as prompt lines, each under the name its caller uses (``email__send_email(...)``)."""
+    lines = []
+    for tool in tools:
+        arguments = tool.spec.signature[len(tool.spec.name) :]
+        lines.append(ToolLine(f"{tool.name}{arguments}", tool.spec.summary))
+    return lines
+
+
+_USER_NOTIFICATIONS: dict[DetailLevel, str] = {
+    "minimal": "Notifications show only which app has news and from whom; open the app to read it.",
+    "preview": "Notifications show who it is from, the subject and the first {words} words; "
+    "open the app to read the rest.",
+    "full": "Notifications show the full text of what arrived.",
+}
+
+
+def _user_notifications(env: Environment) -> str:
+    policy = env.config.notifications
+    return _USER_NOTIFICATIONS[policy.user].format(words=policy.preview_words)
+
+
+def _assistant_notifications(env: Environment) -> str:
+    level = env.config.notifications.assistant
+    if level == "full":
+        return "You receive every notification in full, as soon as it arrives."
+    return f"You receive notifications at the '{level}' level; read the app to see everything."
+
+
+def user_system_prompt(
+    env: Environment, *, persona: str | None = None, goal: str | None = None, native_tools: bool = False
+) -> str:
+    """The user simulator's system prompt for ``env``, with the scenario's persona and hidden goal."""
+    example = example_answer(
+        "A new email notification came in; I want to read it, so I open the email app.",
+        "open_app",
+        {"app_name": "email"},
+    )
+    return _render(
+        "user.j2",
+        native_tools,
+        apps=_apps(env),
+        now=_now(env),
+        notification_policy=_user_notifications(env),
+        persona=persona,
+        goal=goal,
+        example=example,
+    )
+
+
+def observe_system_prompt(env: Environment, *, native_tools: bool = False) -> str:
+    """The assistant's system prompt in observe mode."""
+    example = example_answer(
+        "The user received an invitation for Friday; I check the calendar for that day before proposing.",
+        "calendar__get_calendar_events_from_to",
+        {"start_datetime": "2025-03-07 00:00:00", "end_datetime": "2025-03-07 23:59:00"},
+    )
+    return _render(
+        "observe.j2",
+        native_tools,
+        apps=_apps(env),
+        now=_now(env),
+        notification_policy=_assistant_notifications(env),
+        propose_tool=SEND_MESSAGE,
+        wait_tool=ASSISTANT_WAIT,
+        tools=tool_lines(env.assistant_tools("observe")),
+        example=example,
+    )
+
+
+def execute_system_prompt(env: Environment, task: Task, *, max_steps: int, native_tools: bool = False) -> str:
+    """The assistant's system prompt in execute mode, holding the accepted task and the user's answer."""
+    example = example_answer(
+        "I need the email's sender and id before I reply.",
+        "email__search_emails",
+        {"query": "dinner friday"},
+    )
+    return _render(
+        "execute.j2",
+        native_tools,
+        apps=_apps(env),
+        now=_now(env),
+        proposal=task.proposal,
+        answer=task.answer,
+        report_tool=SEND_MESSAGE,
+        max_steps=max_steps,
+        tools=tool_lines(env.assistant_tools("execute")),
+        example=example,
+    )
+
+
+def _render(template: str, native_tools: bool, **context: Any) -> str:
+    text = _templates().get_template(template).render(native_tools=native_tools, **context)
+    return text.strip() + "\n"
