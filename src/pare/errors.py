@@ -1,10 +1,12 @@
-"""The three families of errors in PARE, in one place.
+"""The families of errors in PARE, in one place.
 
 * :class:`UserInputError` — the person running PARE made a mistake (bad option, broken scenario file).
   The command line prints these cleanly with what to do; they never become tracebacks.
 * :class:`ToolError` — a tool call inside the simulation failed (no such email, argument of the wrong
   type, action not on this screen). These never escape the environment: they are returned to the actor
   as an error observation and recorded in the action log.
+* :class:`RunFailure` — the infrastructure failed (a model provider stayed unavailable through every
+  retry). Recorded with a reason and reported as missing coverage, never as a failure of the model.
 * :class:`SimulationBug` — an invariant of PARE itself was broken (an app declared one target screen and
   went to another). This is a bug in PARE or in an app definition, not in a model's behaviour.
 """

@@ -1,5 +1,14 @@
-"""Actors: the policies that play the user and the proactive assistant."""
+"""Actors: the policies that play the user and the proactive assistant, and what they need to do it.
 
+* :mod:`pare.agents.policy` — the interfaces the turn loop calls, and the silent policies;
+* :mod:`pare.agents.llm` — the model-backed user simulator and assistant (observe and execute);
+* :mod:`pare.agents.prompts` — their system prompts; :mod:`pare.agents.actions` — the text action format;
+* :mod:`pare.agents.models` — the model client (backends, retries, record/replay cache, usage and cost);
+* :mod:`pare.agents.scripted` — a scripted model for tests and demos.
+"""
+
+from pare.agents.actions import ParsedAction, format_action, parse_action, to_action
+from pare.agents.llm import ChatModel, LLMAssistant, LLMUser
 from pare.agents.policy import (
     ASSISTANT_WAIT,
     SEND_MESSAGE,
@@ -11,6 +20,7 @@ from pare.agents.policy import (
     Task,
     UserPolicy,
 )
+from pare.agents.scripted import ScriptedModel, ScriptExhausted
 
 __all__ = [
     "ASSISTANT_WAIT",
@@ -18,8 +28,17 @@ __all__ = [
     "WAIT",
     "Action",
     "AssistantPolicy",
+    "ChatModel",
+    "LLMAssistant",
+    "LLMUser",
+    "ParsedAction",
+    "ScriptExhausted",
+    "ScriptedModel",
     "SilentAssistant",
     "SilentUser",
     "Task",
     "UserPolicy",
+    "format_action",
+    "parse_action",
+    "to_action",
 ]

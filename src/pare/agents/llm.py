@@ -10,6 +10,7 @@ the loop records it. Execute mode starts a fresh conversation for each accepted 
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
@@ -25,7 +26,7 @@ class ChatModel(Protocol):
     """What an actor needs from a model: one completion for a conversation (``ModelClient`` has it)."""
 
     async def complete(
-        self, messages: list[ChatMessage], tools: list[dict[str, Any]] | None = None
+        self, messages: Sequence[ChatMessage], tools: Sequence[dict[str, Any]] | None = None
     ) -> Completion:
         """The model's answer to ``messages`` (with ``tools`` as function schemas, when given)."""
         ...
