@@ -2,12 +2,18 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import Any
+
 import pytest
 
 from pare.agents.actions import format_action
+from pare.agents.judge import ModelJudge
 from pare.agents.llm import LLMAssistant, LLMUser
+from pare.agents.models import ChatMessage, Completion, ToolCall
 from pare.agents.scripted import ScriptedModel, ScriptExhausted
 from pare.bench import EpisodeSettings, run_episode
+from pare.scenarios import OracleAssistant, OracleUser
 from tests.scenarios.helpers import base, parse
 
 SCENARIO = parse(base())
@@ -63,3 +69,57 @@ def test_scripted_models_play_a_whole_episode() -> None:
 def test_an_exhausted_script_is_a_clear_error() -> None:
     with pytest.raises(ScriptExhausted, match="no answer left"):
         run_episode(SCENARIO, LLMUser(ScriptedModel([])), LLMAssistant(ScriptedModel([])))
+
+
+class NativeModel:
+    """Answers with native tool calls, recording the conversations it gets."""
+
+    def __init__(self, calls: list[tuple[str, str]]) -> None:
+        self.calls = calls
+        self.requests: list[list[Any]] = []
+        self.tools: list[Any] = []
+
+    async def complete(
+        self, messages: Sequence[ChatMessage], tools: Sequence[dict[str, Any]] | None = None
+    ) -> Completion:
+        self.requests.append(list(messages))
+        self.tools.append(tools)
+        name, arguments = self.calls.pop(0) if self.calls else ("wait", "{}")
+        call = ToolCall(id=f"call-{len(self.requests)}", name=name, arguments=arguments)
+        return Completion(text="", tool_calls=(call,), cost_usd=0.0, latency_s=0.0, model="native")
+
+
+def test_native_tool_calling_sends_schemas_and_answers_calls_with_tool_messages() -> None:
+    model = NativeModel([("wait", "{}"), ("open_app", '{"app_name": "email"}'), ("open_app", "[1]")])
+    user = LLMUser(model, native_tools=True)
+    run_episode(
+        SCENARIO, user, LLMAssistant(ScriptedModel([], fallback=WAIT_ASSISTANT)), EpisodeSettings(max_turns=3)
+    )
+    assert model.tools[0] is not None and any(t["function"]["name"] == "open_app" for t in model.tools[0])
+    assert "Action:" not in (model.requests[0][0].content or "")  # no text format in the native prompt
+    second = model.requests[1]
+    assert second[-2].role == "assistant" and second[-2].tool_calls is not None
+    assert second[-1].role == "tool" and second[-1].tool_call_id == "call-1"
+    third = model.requests[3]  # the bad arguments were sent back as an error
+    assert third[-1].content is not None and "must be a JSON object" in third[-1].content
+
+
+def test_a_model_judge_decides_judge_checks_and_only_a_clear_yes_passes() -> None:
+    data = base()
+    data["goals"][0]["checks"] = [
+        {
+            "judge": {
+                "criterion": "accepts Thursday politely",
+                "action": {"tool": "email__reply_to_email"},
+                "fallback": {"contains": "thursday"},
+            }
+        }
+    ]
+    scenario = parse(data)
+    for answer, passed in (("YES", True), ("Yes, it does.", True), ("NO", False), ("Probably", False)):
+        model = ScriptedModel([answer])
+        judge = ModelJudge(model)
+        result = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario), judge=judge)
+        assert result.success is passed, answer
+        assert "Thursday works!" in (model.requests[0][1].content or "")
+        assert judge.verdicts[0][2] is passed

@@ -4,10 +4,12 @@
 * :mod:`pare.agents.llm` — the model-backed user simulator and assistant (observe and execute);
 * :mod:`pare.agents.prompts` — their system prompts; :mod:`pare.agents.actions` — the text action format;
 * :mod:`pare.agents.models` — the model client (backends, retries, record/replay cache, usage and cost);
+* :mod:`pare.agents.judge` — a model as the judge of free-text checks;
 * :mod:`pare.agents.scripted` — a scripted model for tests and demos.
 """
 
 from pare.agents.actions import ParsedAction, format_action, parse_action, to_action
+from pare.agents.judge import ModelJudge
 from pare.agents.llm import ChatModel, LLMAssistant, LLMUser
 from pare.agents.policy import (
     ASSISTANT_WAIT,
@@ -31,6 +33,7 @@ __all__ = [
     "ChatModel",
     "LLMAssistant",
     "LLMUser",
+    "ModelJudge",
     "ParsedAction",
     "ScriptExhausted",
     "ScriptedModel",

@@ -179,7 +179,12 @@ class _Episode:
             else:
                 resume_at = env.clock.now + self.settings.turn_duration
                 jumped = False
-        outcome = evaluate(self.scenario, env.log.entries, env.snapshot(), judge=judge)
+        if judge is None:
+            outcome = evaluate(self.scenario, env.log.entries, env.snapshot())
+        else:  # a model judge makes its own blocking calls: keep them off this event loop
+            outcome = await asyncio.to_thread(
+                evaluate, self.scenario, env.log.entries, env.snapshot(), judge=judge
+            )
         return EpisodeResult(
             scenario_id=self.scenario.id,
             user=self.user.name,
