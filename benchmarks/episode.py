@@ -43,8 +43,9 @@ def count_tokens(messages: Sequence[ChatMessage]) -> int:
 class OracleDrivenModel:
     """A model that answers what an oracle policy would do, formatted as the paper's text actions."""
 
-    def __init__(self, decide: Any) -> None:
+    def __init__(self, decide: Any, count: bool) -> None:
         self.decide = decide
+        self.count = count
         self.prompt_tokens = 0
         self.calls = 0
 
@@ -52,7 +53,7 @@ class OracleDrivenModel:
         self, messages: Sequence[ChatMessage], tools: Sequence[dict[str, Any]] | None = None
     ) -> Completion:
         self.calls += 1
-        self.prompt_tokens += count_tokens(messages) if COUNT else 0
+        self.prompt_tokens += count_tokens(messages) if self.count else 0
         action: Action = await self.decide()
         return Completion(
             text=format_action(action.tool, action.args, "Following the plan."),
@@ -61,9 +62,6 @@ class OracleDrivenModel:
             latency_s=0.0,
             model="oracle-driven",
         )
-
-
-COUNT = False
 
 
 class Bridge(UserPolicy, AssistantPolicy):
@@ -91,9 +89,9 @@ class Bridge(UserPolicy, AssistantPolicy):
 
 
 class ShimUser(LLMUser):
-    def __init__(self, bridge: Bridge) -> None:
+    def __init__(self, bridge: Bridge, count: bool) -> None:
         self.bridge = bridge
-        self.model = OracleDrivenModel(lambda: bridge.step(self._view, self._previous))
+        self.model = OracleDrivenModel(lambda: bridge.step(self._view, self._previous), count)
         super().__init__(self.model)
 
     def start(self, env: Environment) -> None:
@@ -106,9 +104,11 @@ class ShimUser(LLMUser):
 
 
 class ShimAssistant(LLMAssistant):
-    def __init__(self, bridge: Bridge) -> None:
-        self.observe_model = OracleDrivenModel(lambda: bridge.observe(self._observation, self._previous))
-        self.execute_model = OracleDrivenModel(lambda: bridge.execute(self._task, self._previous))
+    def __init__(self, bridge: Bridge, count: bool) -> None:
+        self.observe_model = OracleDrivenModel(
+            lambda: bridge.observe(self._observation, self._previous), count
+        )
+        self.execute_model = OracleDrivenModel(lambda: bridge.execute(self._task, self._previous), count)
         super().__init__(self.observe_model, self.execute_model)
 
     async def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
@@ -120,9 +120,10 @@ class ShimAssistant(LLMAssistant):
         return await super().execute(task, previous)
 
 
-async def play(scenario: Scenario) -> tuple[int, int, dict[str, int], bool]:
+async def play(scenario: Scenario, count: bool) -> tuple[int, int, dict[str, int], bool]:
+    """One episode; with ``count``, prompt tokens are counted (slow, so not while timing)."""
     bridge = Bridge(scenario)
-    user, assistant = ShimUser(bridge), ShimAssistant(bridge)
+    user, assistant = ShimUser(bridge, count), ShimAssistant(bridge, count)
     result = await arun_episode(scenario, user, assistant)
     tokens = {
         "user": user.model.prompt_tokens,
@@ -133,14 +134,13 @@ async def play(scenario: Scenario) -> tuple[int, int, dict[str, int], bool]:
 
 
 def main() -> None:
-    global COUNT
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5)
     options = parser.parse_args()
     scenarios = load_scenarios()
 
-    async def all_episodes() -> list[tuple[int, int, dict[str, int], bool]]:
-        return [await play(scenario) for scenario in scenarios]
+    async def all_episodes(count: bool = False) -> list[tuple[int, int, dict[str, int], bool]]:
+        return [await play(scenario, count) for scenario in scenarios]
 
     samples = []
     for _ in range(options.repeat):
@@ -155,8 +155,7 @@ def main() -> None:
     print(f"simulation overhead: {per_turn:.2f} ms per turn, {per_step:.2f} ms per step")
     print(f"  ({turns} turns, {steps} steps, {elapsed * 1000:.0f} ms in all, median of {options.repeat})")
 
-    COUNT = True
-    outcomes = asyncio.run(all_episodes())
+    outcomes = asyncio.run(all_episodes(count=True))
     counter = "litellm's tokenizer (gpt-4o)" if token_counter is not None else "characters / 4"
     print(f"prompt tokens per episode ({counter}, summed over every model call):")
     for role in ("user", "observe", "execute"):

@@ -102,9 +102,10 @@ def _evaluate_check(
     if check.action is not None:
         passed, detail = _action(check.action, scenario, log)
     elif check.no_action is not None:
-        found = CompiledPattern.of(check.no_action, scenario.start).find(log)
-        what = CompiledPattern.of(check.no_action, scenario.start).describe()
+        pattern = CompiledPattern.of(check.no_action, scenario.start)
+        found = pattern.find(log)
         passed = not found
+        what = pattern.describe()
         detail = f"no {what}" if passed else f"forbidden {what} happened: {_calls(found)}"
     elif check.state is not None:
         passed, detail = _state(check.state, scenario, state)
@@ -150,9 +151,9 @@ class _Missing:
 MISSING = _Missing()
 
 
-def lookup(state: Mapping[str, Any], path: str) -> Any:
-    """The value at a dotted ``path`` of a state snapshot, or :data:`MISSING`."""
-    value: Any = state
+def lookup(data: Any, path: str) -> Any:
+    """The value at a dotted ``path`` (mapping keys, list indexes) of JSON-like data, or :data:`MISSING`."""
+    value: Any = data
     for part in path.split("."):
         if isinstance(value, Mapping) and part in value:
             value = value[part]

@@ -2,15 +2,14 @@
 
 from __future__ import annotations
 
-import types
-import typing
 from dataclasses import dataclass
 from pathlib import Path as FilePath
 from typing import Any
 
-from pydantic import BaseModel, ValidationError
+from pydantic import ValidationError
 
 from pare.errors import UserInputError, did_you_mean
+from pare.scenarios.annotations import model_fields, step_into
 from pare.scenarios.model import Scenario
 from pare.scenarios.validation import Problem, format_path, validate_scenario
 from pare.scenarios.yaml_source import Path, YamlDocument, YamlSyntaxError, parse_yaml
@@ -119,35 +118,10 @@ def _fields_at(path: Path) -> list[str]:
     """The field names of the model that sits at ``path`` in a scenario document (empty if none)."""
     annotation: Any = Scenario
     for part in path:
-        annotation = _unwrap(annotation, part)
+        annotation = step_into(annotation, part)
         if annotation is None:
             return []
-    annotation = _unwrap(annotation, None)
-    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
-        return list(annotation.model_fields)
-    return []
-
-
-def _unwrap(annotation: Any, part: str | int | None) -> Any:
-    """Step from a type into ``part``: a model's field, a list's item, a dict's value (``None`` to only
-    strip ``X | None``).
-    """
-    options = [arg for arg in typing.get_args(annotation) if arg is not type(None)]
-    if typing.get_origin(annotation) in (typing.Union, types.UnionType):
-        models = [o for o in options if isinstance(o, type) and issubclass(o, BaseModel)]
-        annotation = models[0] if models else (options[0] if len(options) == 1 else None)
-        options = list(typing.get_args(annotation))
-    if part is None:
-        return annotation
-    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
-        info = annotation.model_fields.get(str(part))
-        return None if info is None else info.annotation
-    origin = typing.get_origin(annotation)
-    if origin is list and isinstance(part, int):
-        return options[0] if options else None
-    if origin is dict:
-        return options[1] if len(options) == 2 else None
-    return None
+    return list(model_fields(annotation) or [])
 
 
 def _locate(problem: Problem, document: YamlDocument, source: str) -> LocatedProblem:

@@ -76,12 +76,18 @@ class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
 
+def _valid_matcher(raw: Any, label: str = "") -> Any:
+    """``raw`` if it compiles as a matcher; else a ``ValueError`` (a pydantic error) prefixed by ``label``."""
+    try:
+        compile_matcher(raw)
+    except MatcherError as error:
+        raise ValueError(f"{label}{error}") from None
+    return raw
+
+
 def _check_matchers(args: dict[str, Any]) -> dict[str, Any]:
     for name, raw in args.items():
-        try:
-            compile_matcher(raw)
-        except MatcherError as error:
-            raise ValueError(f"argument '{name}': {error}") from None
+        _valid_matcher(raw, f"argument '{name}': ")
     return args
 
 
@@ -117,12 +123,7 @@ class ActionPattern(_Strict):
     @field_validator("result")
     @classmethod
     def _check_result(cls, value: Any) -> Any:
-        if value is not None:
-            try:
-                compile_matcher(value)
-            except MatcherError as error:
-                raise ValueError(f"result: {error}") from None
-        return value
+        return value if value is None else _valid_matcher(value, "result: ")
 
 
 class Count(_Strict):
@@ -192,10 +193,7 @@ class StateCheck(_Strict):
         if "value" in self.model_fields_set and (self.where or self.count is not None):
             raise ValueError("give either 'value' or 'where'/'count', not both")
         if "value" in self.model_fields_set:
-            try:
-                compile_matcher(self.value)
-            except MatcherError as error:
-                raise ValueError(f"value: {error}") from None
+            _valid_matcher(self.value, "value: ")
         return self
 
 
@@ -214,11 +212,7 @@ class JudgeCheck(_Strict):
     @field_validator("fallback")
     @classmethod
     def _check_fallback(cls, value: Any) -> Any:
-        try:
-            compile_matcher(value)
-        except MatcherError as error:
-            raise ValueError(str(error)) from None
-        return value
+        return _valid_matcher(value)
 
 
 class Check(_Strict):

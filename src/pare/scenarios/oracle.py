@@ -13,6 +13,7 @@ from typing import Any
 from pare.agents.policy import ASSISTANT_WAIT, SEND_MESSAGE, WAIT, Action, AssistantPolicy, Task, UserPolicy
 from pare.env import AssistantObservation, Environment, ToolResult, UserView
 from pare.errors import UserInputError
+from pare.scenarios.checks import MISSING, lookup
 from pare.scenarios.model import Condition, Intervention, OracleAction, Scenario, reference
 from pare.scenarios.patterns import CompiledPattern, event_positions
 from pare.scenarios.times import resolve_relative_times
@@ -24,14 +25,25 @@ class OracleRunError(UserInputError):
     """The oracle could not be played as written (a reference to a value that never appeared)."""
 
 
-def condition_holds(condition: Condition, scenario: Scenario, env: Environment) -> bool:
-    """Whether ``condition`` holds now: its event has fired and a matching action has been logged."""
-    if condition.event is not None and condition.event not in env.scheduler.completed:
-        return False
-    if condition.action is not None:
-        pattern = CompiledPattern.of(condition.action, scenario.start)
-        return bool(pattern.find(env.log.entries))
-    return True
+class Conditions:
+    """Checks the oracle's ``when`` conditions; their patterns are compiled once, not every step."""
+
+    def __init__(self, scenario: Scenario) -> None:
+        conditions = [step.when for step in scenario.oracle.user] + [
+            intervention.when for intervention in scenario.oracle.interventions
+        ]
+        self._patterns = {
+            id(condition): CompiledPattern.of(condition.action, scenario.start)
+            for condition in conditions
+            if condition is not None and condition.action is not None
+        }
+
+    def hold(self, condition: Condition, env: Environment) -> bool:
+        """Whether ``condition`` holds now: its event has fired and a matching action has been logged."""
+        if condition.event is not None and condition.event not in env.scheduler.completed:
+            return False
+        pattern = self._patterns.get(id(condition))
+        return pattern is None or bool(pattern.find(env.log.entries))
 
 
 class _References:
@@ -59,17 +71,13 @@ class _References:
                     "has not produced a result yet (an oracle action id or an event that has fired)"
                 )
             value = env.log.entries[positions[source]].result
-        for part in path.split("."):
-            if isinstance(value, dict) and part in value:
-                value = value[part]
-            elif isinstance(value, list) and part.isdigit() and int(part) < len(value):
-                value = value[int(part)]
-            else:
-                raise OracleRunError(
-                    f"scenario '{self.scenario.id}': ${{{source}.{path}}}: the result of '{source}' has no "
-                    f"'{part}' (it is {value!r})"
-                )
-        return value
+        found = lookup(value, path)
+        if found is MISSING:
+            raise OracleRunError(
+                f"scenario '{self.scenario.id}': ${{{source}.{path}}}: the result of '{source}' has no "
+                f"'{path}' (it is {value!r})"
+            )
+        return found
 
 
 class OracleUser(UserPolicy):
@@ -82,6 +90,7 @@ class OracleUser(UserPolicy):
         self.steps = list(scenario.oracle.user) if scripted else []
         self.position = 0
         self.references = _References(scenario)
+        self.conditions = Conditions(scenario)
         self.env: Environment | None = None
 
     def start(self, env: Environment) -> None:
@@ -95,7 +104,7 @@ class OracleUser(UserPolicy):
             return Action("accept_proposal", {"reason": self._answer(view.pending_proposal)})
         if self.position < len(self.steps):
             step = self.steps[self.position]
-            if step.when is None or condition_holds(step.when, self.scenario, env):
+            if step.when is None or self.conditions.hold(step.when, env):
                 self.position += 1
                 return Action(step.tool, self.references.resolve(step.args, env))
         return Action(WAIT)
@@ -121,6 +130,7 @@ class OracleAssistant(AssistantPolicy):
         self.scenario = scenario
         self.next_intervention = 0
         self.references = _References(scenario)
+        self.conditions = Conditions(scenario)
         self.env: Environment | None = None
         self._queue: list[OracleAction] = []
         self._current: Intervention | None = None
@@ -136,7 +146,7 @@ class OracleAssistant(AssistantPolicy):
         interventions = self.scenario.oracle.interventions
         if self.next_intervention < len(interventions):
             intervention = interventions[self.next_intervention]
-            if intervention.when is None or condition_holds(intervention.when, self.scenario, env):
+            if intervention.when is None or self.conditions.hold(intervention.when, env):
                 self.next_intervention += 1
                 return Action(SEND_MESSAGE, {"content": intervention.proposal})
         return Action(ASSISTANT_WAIT)

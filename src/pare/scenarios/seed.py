@@ -9,15 +9,13 @@ Two conveniences over the raw state format:
 
 from __future__ import annotations
 
-import types
 import typing
 from collections.abc import Mapping
 from datetime import datetime
 from typing import Any
 
-from pydantic import BaseModel
-
 from pare.apps.registry import get_app_class
+from pare.scenarios.annotations import item_type, model_fields, strip_optional
 from pare.scenarios.times import resolve_relative_times
 
 Location = tuple[str | int, ...]
@@ -67,14 +65,8 @@ def original_location(location: Location, moved: Mapping[Location, Location]) ->
 
 
 def _keyed_by(annotation: Any) -> str | None:
-    """For ``dict[str, Model]`` where ``Model`` has an ``*_id`` field: that field's name."""
-    if typing.get_origin(annotation) in (typing.Union, types.UnionType):
-        options = [arg for arg in typing.get_args(annotation) if arg is not type(None)]
-        annotation = options[0] if len(options) == 1 else annotation
-    if typing.get_origin(annotation) is not dict:
+    """For ``dict[str, Model]`` where ``Model`` has an ``*_id`` field (or a ``code``): that field's name."""
+    if typing.get_origin(strip_optional(annotation)) is not dict:
         return None
-    item = typing.get_args(annotation)[1]
-    if not (isinstance(item, type) and issubclass(item, BaseModel)):
-        return None
-    fields = list(item.model_fields)
+    fields = list(model_fields(item_type(annotation)) or [])
     return next((name for name in fields if name.endswith("_id")), "code" if "code" in fields else None)

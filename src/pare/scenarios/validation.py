@@ -8,23 +8,20 @@ exist.
 
 from __future__ import annotations
 
-import types
-import typing
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from pydantic import BaseModel, ValidationError
+from pydantic import ValidationError
 
-from pare.apps.registry import CORE_APPS, get_app_class, phone_apps
+from pare.apps.registry import CORE_APPS, get_app_class
 from pare.apps.tools import ToolSpec, describe_argument_errors
 from pare.errors import did_you_mean
+from pare.scenarios.annotations import item_type, model_fields
 from pare.scenarios.model import ActionPattern, Condition, Scenario, StateCheck, reference
 from pare.scenarios.seed import SeedError, original_location, prepare_seed
 from pare.scenarios.times import parse_time, resolve_relative_times
 from pare.scenarios.yaml_source import Path
-
-SHELL_APPS = ("system", "agent_ui")
 
 
 @dataclass(frozen=True, slots=True)
@@ -87,33 +84,16 @@ class _Validator:
         self.start = scenario.start
         self.event_ids = [event.id for event in scenario.events]
         self.action_ids: list[str] = []
-        self.catalog: ToolCatalog | None = None
+        self.catalog = ToolCatalog(scenario.all_apps)  # the model already refused unknown apps
         self.known_ids: set[str] = set()
 
     def run(self) -> Iterator[Problem]:
-        yield from self._apps()
-        if self.catalog is None:
-            return  # without knowing the apps, every later message would be noise
         yield from self._seed()
         yield from self._events()
         yield from self._oracle()
         yield from self._goals()
 
     # -- apps and seed data -----------------------------------------------------------------------------
-    def _apps(self) -> Iterator[Problem]:
-        known = phone_apps()
-        bad = False
-        for index, app in enumerate(self.scenario.apps):
-            if app in SHELL_APPS:
-                yield Problem(("apps", index), f"'{app}' is part of every phone; do not list it")
-                bad = True
-            elif app not in known:
-                hint = did_you_mean(app, known)
-                yield Problem(("apps", index), f"unknown app '{app}'.{hint} Apps: {', '.join(known)}")
-                bad = True
-        if not bad:
-            self.catalog = ToolCatalog(self.scenario.all_apps)
-
     def _seed(self) -> Iterator[Problem]:
         for app, data in self.scenario.seed.items():
             if app not in self.scenario.all_apps:
@@ -136,7 +116,7 @@ class _Validator:
 
     # -- events ----------------------------------------------------------------------------------------
     def _events(self) -> Iterator[Problem]:
-        catalog = self._catalog()
+        catalog = self.catalog
         seen: set[str] = set()
         for index, event in enumerate(self.scenario.events):
             where: Path = ("events", index)
@@ -181,7 +161,7 @@ class _Validator:
 
     # -- the oracle ------------------------------------------------------------------------------------
     def _oracle(self) -> Iterator[Problem]:
-        catalog = self._catalog()
+        catalog = self.catalog
         oracle = self.scenario.oracle
         for index, step in enumerate(oracle.user):
             where: Path = ("oracle", "user", index)
@@ -268,10 +248,10 @@ class _Validator:
             return
         model: Any = get_app_class(app).State
         for depth, part in enumerate(parts[1:], start=1):
-            fields = _model_fields(model)
+            fields = model_fields(model)
             if fields is None:
                 # a key of a dict keyed by ids, or an index of a list: step into the item type
-                model = _item_type(model)
+                model = item_type(model)
                 if model is None:
                     break  # free data: cannot check further statically
                 continue
@@ -285,7 +265,7 @@ class _Validator:
                 return
             model = fields[part]
         if check.where and model is not None:
-            item_fields = _model_fields(_item_type(model))
+            item_fields = model_fields(item_type(model))
             if item_fields is not None:
                 for name in check.where:
                     if name not in item_fields:
@@ -300,7 +280,7 @@ class _Validator:
 
     # -- shared pieces ---------------------------------------------------------------------------------
     def _pattern(self, pattern: ActionPattern, where: Path) -> Iterator[Problem]:
-        catalog = self._catalog()
+        catalog = self.catalog
         for key in ("after_event", "before_event"):
             event = getattr(pattern, key)
             if event is not None and event not in self.event_ids:
@@ -353,7 +333,7 @@ class _Validator:
                 yield from self._id_reference(name, raw, (*where, "args", name))
 
     def _pattern_specs(self, pattern: ActionPattern) -> list[ToolSpec]:
-        catalog = self._catalog()
+        catalog = self.catalog
         tool = pattern.tool or ""
         specs: list[ToolSpec] = []
         if pattern.actor in ("user", "any"):
@@ -404,10 +384,6 @@ class _Validator:
                 hint = did_you_mean(value, self.known_ids)
                 yield Problem(where, f"'{value}' is not an id in the seed data or created by an event.{hint}")
 
-    def _catalog(self) -> ToolCatalog:
-        assert self.catalog is not None
-        return self.catalog
-
 
 def _collect_ids(data: Any, into: set[str]) -> None:
     """Every id in seed data: keys of mappings, values of ``*_id`` fields, members of ``*_ids`` lists."""
@@ -416,39 +392,12 @@ def _collect_ids(data: Any, into: set[str]) -> None:
             into.add(str(key))
             if isinstance(value, str) and str(key).endswith("_id"):
                 into.add(value)
-            elif isinstance(value, list) and (str(key).endswith("_ids") or str(key) == "saved"):
+            elif isinstance(value, list) and str(key).endswith("_ids"):
                 into.update(v for v in value if isinstance(v, str))
             _collect_ids(value, into)
     elif isinstance(data, list):
         for value in data:
             _collect_ids(value, into)
-
-
-def _model_fields(model: Any) -> dict[str, Any] | None:
-    """Field name to annotation for a pydantic model class (unwrapping ``X | None``), else ``None``."""
-    model = _strip_optional(model)
-    if isinstance(model, type) and issubclass(model, BaseModel):
-        return {name: info.annotation for name, info in model.model_fields.items()}
-    return None
-
-
-def _item_type(annotation: Any) -> Any:
-    """The item type of ``dict[str, X]`` or ``list[X]``; ``None`` for anything else."""
-    annotation = _strip_optional(annotation)
-    origin = typing.get_origin(annotation)
-    args = typing.get_args(annotation)
-    if origin is dict and len(args) == 2:
-        return args[1]
-    if origin is list and args:
-        return args[0]
-    return None
-
-
-def _strip_optional(annotation: Any) -> Any:
-    args = [arg for arg in typing.get_args(annotation) if arg is not type(None)]
-    if typing.get_origin(annotation) in (typing.Union, types.UnionType) and len(args) == 1:
-        return args[0]
-    return annotation
 
 
 def _pydantic_message(item: Any) -> str:
