@@ -21,12 +21,14 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from pare.agents.policy import ASSISTANT_WAIT, SEND_MESSAGE, WAIT, Action, AssistantPolicy, Task, UserPolicy
 from pare.env import EnvConfig, Environment, ToolResult
+from pare.errors import ModelRequestError
 from pare.scenarios.build import build_environment
 from pare.scenarios.checks import Judge, Outcome, evaluate
 from pare.scenarios.model import Scenario
 from pare.sim.log import AssistantMode
 
-EndReason = Literal["max_turns", "idle"]
+EndReason = Literal["max_turns", "idle", "context_limit"]
+"""Why an episode ended: its turn limit, nothing left to happen, or a prompt beyond a model's context."""
 StepActor = Literal["user", "assistant"]
 
 
@@ -90,6 +92,8 @@ class EpisodeResult:
     env: Environment
     outcome: Outcome
     expired_proposals: list[str] = field(default_factory=list)
+    expired_at: dict[str, int] = field(default_factory=dict)
+    """The turn in which each expired proposal expired (after the user's step of that turn)."""
 
     @property
     def success(self) -> bool:
@@ -151,6 +155,8 @@ class _Episode:
         """Proposals the assistant has already executed (or that expired)."""
         self.proposed_at: dict[str, int] = {}
         self.expired: list[str] = []
+        self.expired_at: dict[str, int] = {}
+        self.turn = 0
         self.user_previous: ToolResult | None = None
         self.assistant_previous: ToolResult | None = None
 
@@ -158,27 +164,12 @@ class _Episode:
         env = self.env
         self.user.start(env)
         self.assistant.start(env)
-        ended: EndReason = "max_turns"
-        turn = 0
-        resume_at = env.clock.now
-        jumped = False
-        for turn in range(1, self.settings.max_turns + 1):
-            env.begin_turn()
-            # time passes at the start of the turn, so what it brings is logged under the turn that sees it
-            env.advance_to(resume_at, quiet=jumped)
-            user_waited = await self._user_turn(turn)
-            self._expire_stale(turn)
-            assistant_waited = await self._assistant_turn(turn)
-            if user_waited and assistant_waited and env.agent_ui.pending is None:
-                upcoming = env.next_event_time()
-                if upcoming is None:
-                    ended = "idle"
-                    break
-                resume_at = max(upcoming, env.clock.now)
-                jumped = True
-            else:
-                resume_at = env.clock.now + self.settings.turn_duration
-                jumped = False
+        try:
+            ended = await self._turns()
+        except ModelRequestError as error:
+            if error.kind != "context_length":
+                raise
+            ended = "context_limit"  # the model cannot take the episode further: judge what it achieved
         if judge is None:
             outcome = evaluate(self.scenario, env.log.entries, env.snapshot())
         else:  # a model judge makes its own blocking calls: keep them off this event loop
@@ -189,13 +180,38 @@ class _Episode:
             scenario_id=self.scenario.id,
             user=self.user.name,
             assistant=self.assistant.name,
-            turns=turn,
+            turns=self.turn,
             ended=ended,
             steps=self.steps,
             env=env,
             outcome=outcome,
             expired_proposals=self.expired,
+            expired_at=self.expired_at,
         )
+
+    async def _turns(self) -> EndReason:
+        """Play turns until the limit or until nothing can happen any more."""
+        env = self.env
+        resume_at = env.clock.now
+        jumped = False
+        for turn in range(1, self.settings.max_turns + 1):
+            self.turn = turn
+            env.begin_turn()
+            # time passes at the start of the turn, so what it brings is logged under the turn that sees it
+            env.advance_to(resume_at, quiet=jumped)
+            user_waited = await self._user_turn(turn)
+            self._expire_stale(turn)
+            assistant_waited = await self._assistant_turn(turn)
+            if user_waited and assistant_waited and env.agent_ui.pending is None:
+                upcoming = env.next_event_time()
+                if upcoming is None:
+                    return "idle"
+                resume_at = max(upcoming, env.clock.now)
+                jumped = True
+            else:
+                resume_at = env.clock.now + self.settings.turn_duration
+                jumped = False
+        return "max_turns"
 
     # -- the user --------------------------------------------------------------------------------------
     async def _user_turn(self, turn: int) -> bool:
@@ -221,6 +237,7 @@ class _Episode:
             self.env.agent_ui.expire_pending()
             self.handled.add(pending.proposal_id)
             self.expired.append(pending.proposal_id)
+            self.expired_at[pending.proposal_id] = turn
 
     # -- the assistant ---------------------------------------------------------------------------------
     async def _assistant_turn(self, turn: int) -> bool:

@@ -12,7 +12,7 @@ from collections.abc import Sequence
 import typer
 
 from pare import __version__
-from pare.cli import apps_cmd, scenarios_cmd
+from pare.cli import apps_cmd, report_cmd, run_cmd, scenarios_cmd
 from pare.errors import UserInputError
 
 app = typer.Typer(
@@ -24,6 +24,10 @@ app = typer.Typer(
 )
 app.add_typer(apps_cmd.app, name="apps")
 app.add_typer(scenarios_cmd.app, name="scenarios")
+app.command("run")(run_cmd.run)
+app.command("sweep")(run_cmd.sweep)
+app.command("report")(report_cmd.report)
+app.command("plot")(report_cmd.plot)
 
 
 @app.command()

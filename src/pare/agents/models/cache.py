@@ -50,10 +50,18 @@ def canonical_json(value: Any) -> str:
 
 
 def request_record(
-    config: ModelConfig, messages: Sequence[ChatMessage], tools: Sequence[dict[str, Any]] | None
+    config: ModelConfig,
+    messages: Sequence[ChatMessage],
+    tools: Sequence[dict[str, Any]] | None,
+    namespace: str | None = None,
 ) -> dict[str, Any]:
-    """Return what identifies a request: the parts of it that can change the model's answer."""
-    return {
+    """Return what identifies a request: the parts of it that can change the model's answer.
+
+    ``namespace`` separates requests that are identical but must be answered independently: the k runs
+    of one scenario send the same first prompt, and each run must get its own sample, not a replay of
+    run 1's.
+    """
+    record = {
         "version": KEY_VERSION,
         "backend": config.backend,
         "model": config.model,
@@ -61,6 +69,9 @@ def request_record(
         "tools": list(tools) if tools else None,
         "messages": [message.model_dump(mode="json", exclude_none=True) for message in messages],
     }
+    if namespace is not None:
+        record["namespace"] = namespace
+    return record
 
 
 def cache_key(record: dict[str, Any]) -> str:

@@ -198,13 +198,21 @@ class ModelClient:
         await self.aclose()
 
     async def complete(
-        self, messages: Sequence[ChatMessage], tools: Sequence[dict[str, Any]] | None = None
+        self,
+        messages: Sequence[ChatMessage],
+        tools: Sequence[dict[str, Any]] | None = None,
+        *,
+        namespace: str | None = None,
+        ledger: UsageLedger | None = None,
     ) -> Completion:
         """Return the model's answer to ``messages``.
 
         ``tools`` are OpenAI function schemas; they are sent (and the model's tool calls returned) only
         when the configuration has ``native_tools`` on, otherwise the prompt is expected to describe them.
+        ``namespace`` keeps the cache entries of independent samples apart (one per benchmark run);
+        ``ledger``, when given, records the call too (an episode's own usage, beside the client's).
         """
+        ledgers = (self.ledger,) if ledger is None else (self.ledger, ledger)
         messages = list(messages)
         if not messages:
             raise ValueError("complete() needs at least one message")
@@ -213,11 +221,12 @@ class ModelClient:
         record: dict[str, Any] = {}
         key = ""
         if cache is not None:
-            record = request_record(self.config, messages, sent_tools)
+            record = request_record(self.config, messages, sent_tools, namespace)
             key = cache_key(record)
             hit = await asyncio.to_thread(cache.get, key)
             if hit is not None:
-                self.ledger.record(self.role, hit)
+                for book in ledgers:
+                    book.record(self.role, hit)
                 return hit
             if cache.mode == "replay":
                 raise CacheMiss(
@@ -228,7 +237,8 @@ class ModelClient:
         try:
             completion = await self._call(messages, sent_tools)
         except (ModelRequestError, ProviderUnavailable):
-            self.ledger.record_failure(self.role)
+            for book in ledgers:
+                book.record_failure(self.role)
             raise
         if cache is not None and cache.writes:
             stored = await asyncio.to_thread(cache.put, key, completion, request=record, role=self.role)
@@ -236,7 +246,8 @@ class ModelClient:
                 winner = await asyncio.to_thread(cache.get, key)
                 if winner is not None:
                     completion = winner.model_copy(update={"from_cache": False})
-        self.ledger.record(self.role, completion)
+        for book in ledgers:
+            book.record(self.role, completion)
         return completion
 
     def complete_sync(

@@ -1,0 +1,141 @@
+"""Batch runner timings: how close concurrent model-backed episodes come to the ideal, and oracle throughput.
+
+    python benchmarks/runner.py [--episodes 100] [--concurrency 32] [--delay 0.5]
+
+(a) A local ChatServer answers every model call with ``proactive_play()`` after a fixed delay (a stand-in
+for a model's latency). ``run_benchmark`` plays about ``--episodes`` episodes (library scenarios x runs,
+chosen so the count is exact when it can be) with the user and the assistant pointed at it, into a
+temporary folder, with the default cache (read_write) and ``--concurrency`` episodes in flight. The ideal
+wall time is the larger of: every call's delay spread over the concurrency (total calls x delay /
+concurrency), and the longest episode's chain of calls (its calls x delay: an episode's calls are
+sequential). Efficiency is ideal / measured. Also printed: the bound of the runner's own schedule (the
+plan's order, run-major, each episode taking its calls x delay, started greedily on ``--concurrency``
+slots: what a runner without any overhead would take in that order) and the mean latency of a call as the
+client measured it (the delay plus HTTP, JSON and event-loop waiting). The server runs in this process
+(its threads share the GIL with the runner). The OpenAI SDK is imported before timing (a one-off cost).
+
+(b) The oracle (no models) over the whole library, with 1 and with 4 runs per scenario: episodes/s,
+including opening the store and writing every record and trajectory.
+
+Prints numbers only; no assertion.
+"""
+
+from __future__ import annotations
+
+import argparse
+import heapq
+import tempfile
+import time
+from pathlib import Path
+
+from pare.bench.runconfig import build_config
+from pare.bench.runner import run_benchmark
+from pare.bench.store import load_run
+from pare.scenarios import load_scenarios
+from pare.testing import ChatServer, proactive_play
+
+
+def plan_shape(episodes: int, available: int) -> tuple[int, int]:
+    """(scenarios, runs): exactly ``episodes`` with as many scenarios as possible, when that is at least
+    half the library; otherwise the whole library with enough runs to pass ``episodes``.
+    """
+    for scenarios in range(min(episodes, available), 0, -1):
+        if episodes % scenarios == 0 and scenarios * 2 >= min(episodes, available):
+            return scenarios, episodes // scenarios
+    return available, -(-episodes // available)
+
+
+def model_run(episodes: int, concurrency: int, delay: float) -> None:
+    library = sorted(scenario.id for scenario in load_scenarios())
+    scenarios, runs = plan_shape(episodes, len(library))
+    import openai  # noqa: F401 - the SDK import (about a second) is not the runner's cost
+
+    with ChatServer(proactive_play(), delay_s=delay) as server, tempfile.TemporaryDirectory() as folder:
+        model = {
+            "model": "pare-bench-model",
+            "api_base": server.base_url,
+            "api_key_env": None,
+            "max_concurrency": concurrency,
+            "prices": {"input": 1.0, "output": 2.0},
+        }
+        config = build_config(
+            {
+                "scenarios": {"ids": library[:scenarios]},
+                "runs": runs,
+                "concurrency": concurrency,
+                "models": {"user": model, "assistant": model},
+                "output": str(Path(folder) / "run"),
+            }
+        )
+        began = time.perf_counter()
+        summary = run_benchmark(config)
+        wall = time.perf_counter() - began
+        records = load_run(summary.path).records
+        chains = [sum(usage.calls for usage in record.usage.values()) for record in records]
+        latency = sum(usage.latency_s for record in records for usage in record.usage.values())
+        scheduled = schedule_bound(summary.path, runs, library[:scenarios], concurrency, delay)
+        calls = server.request_count
+        peak = server.max_in_flight
+    spread = calls * delay / concurrency
+    longest = max(chains, default=0)
+    chain = longest * delay
+    ideal = max(spread, chain)
+    episodes = max(len(records), 1)
+    shape = f"{scenarios} scenarios x {runs} runs, concurrency {concurrency}, delay {delay} s"
+    print(f"(a) model-backed run: {shape}")
+    print(f"  episodes: {len(records)} ({summary.complete} complete, {len(summary.failed)} failed)")
+    print(f"  model calls: {calls} (per episode: mean {calls / episodes:.1f}, max {longest})")
+    print(f"  most calls in flight at once: {peak}")
+    print(f"  wall time: {wall:.2f} s")
+    print(
+        f"  ideal wall time: {ideal:.2f} s = max(calls x delay / concurrency = {spread:.2f} s, "
+        f"longest episode's chain {longest} x delay = {chain:.2f} s)"
+    )
+    print(f"  efficiency (ideal / wall): {ideal / wall:.1%}")
+    print(
+        f"  bound of the plan's order on {concurrency} slots: {scheduled:.2f} s "
+        f"(wall / that bound: {wall / scheduled:.2f})"
+    )
+    mean_latency = latency / max(calls, 1) * 1000
+    print(f"  mean call latency seen by the client: {mean_latency:.0f} ms (delay {delay * 1000:.0f} ms)")
+
+
+def schedule_bound(run_dir: Path, runs: int, scenario_ids: list[str], slots: int, delay: float) -> float:
+    """The makespan of the plan's order (run-major) started greedily on ``slots``, each episode taking its
+    own calls x ``delay``.
+    """
+    by_key = {record.key: record for record in load_run(run_dir).records}
+    free = [0.0] * slots
+    for run in range(1, runs + 1):
+        for scenario_id in sorted(scenario_ids):
+            record = by_key.get((scenario_id, run))
+            calls = sum(usage.calls for usage in record.usage.values()) if record else 0
+            heapq.heappush(free, heapq.heappop(free) + calls * delay)
+    return max(free)
+
+
+def oracle_run(runs: int) -> None:
+    with tempfile.TemporaryDirectory() as folder:
+        config = build_config({"runs": runs, "output": str(Path(folder) / "run")})
+        began = time.perf_counter()
+        summary = run_benchmark(config)
+        wall = time.perf_counter() - began
+    episodes = len(summary.records)
+    print(f"  runs {runs}: {episodes} episodes in {wall:.2f} s = {episodes / wall:.1f} episodes/s")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--episodes", type=int, default=100)
+    parser.add_argument("--concurrency", type=int, default=32)
+    parser.add_argument("--delay", type=float, default=0.5, help="seconds the server takes per answer")
+    options = parser.parse_args()
+
+    model_run(options.episodes, options.concurrency, options.delay)
+    print("(b) oracle run of the whole library (no models):")
+    for runs in (1, 4):
+        oracle_run(runs)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,72 @@
+"""The progress bar of ``pare run``: episodes done of all, successes so far, cost so far, time left."""
+
+from __future__ import annotations
+
+from rich.console import Console
+from rich.progress import (
+    BarColumn,
+    MofNCompleteColumn,
+    Progress,
+    TaskID,
+    TextColumn,
+    TimeElapsedColumn,
+    TimeRemainingColumn,
+)
+
+from pare.bench.records import EpisodeRecord
+
+
+class RichProgress:
+    """A rich progress bar fed by the runner (see :class:`pare.bench.runner.ProgressSink`)."""
+
+    def __init__(self, console: Console | None = None) -> None:
+        self.console = console or Console(stderr=True)
+        self.progress = Progress(
+            TextColumn("[bold]{task.description}"),
+            BarColumn(),
+            MofNCompleteColumn(),
+            TextColumn("{task.fields[successes]} succeeded"),
+            TextColumn("{task.fields[failed]}"),
+            TextColumn("cost {task.fields[cost]}"),
+            TimeElapsedColumn(),
+            TextColumn("ETA"),
+            TimeRemainingColumn(),
+            console=self.console,
+            transient=False,
+        )
+        self.task: TaskID | None = None
+        self.successes = 0
+        self.failed = 0
+        self.known_cost = 0.0
+        self.unpriced = False
+
+    def started(self, total: int, done: int, label: str) -> None:
+        """Show the bar; episodes finished in earlier sessions count as done."""
+        if done:
+            self.console.print(f"resuming: {done} of {total} episodes are already recorded")
+        self.progress.start()
+        successes, failed, cost = self._fields()
+        self.task = self.progress.add_task(
+            label, total=total, completed=done, successes=successes, failed=failed, cost=cost
+        )
+
+    def finished(self, record: EpisodeRecord) -> None:
+        """Advance by one episode."""
+        self.successes += record.complete and record.success
+        self.failed += not record.complete
+        for usage in record.usage.values():
+            self.known_cost += usage.known_cost_usd
+            self.unpriced = self.unpriced or usage.unknown_cost_calls > 0
+        if self.task is not None:
+            successes, failed, cost = self._fields()
+            self.progress.update(self.task, advance=1, successes=successes, failed=failed, cost=cost)
+
+    def stopped(self) -> None:
+        """Leave the final state of the bar on screen."""
+        self.progress.stop()
+
+    def _fields(self) -> tuple[str, str, str]:
+        """The bar's successes, failures and cost texts."""
+        cost = f"${self.known_cost:.4f}" + (" + unpriced calls" if self.unpriced else "")
+        failed = f"[red]{self.failed} failed (missing coverage)[/red]" if self.failed else ""
+        return str(self.successes), failed, cost

@@ -1,0 +1,109 @@
+"""Episodes as Ray tasks, for runs larger than one machine (``pare run --backend ray``).
+
+Each episode is one Ray task that plays it (with its own model clients, retrying infrastructure failures
+like the local backend) and returns its record and trajectory to the driver; the driver stores each as it
+arrives, so resume and reports work exactly as for a local run. At most ``concurrency`` tasks are in
+flight. Ray is an optional extra (``pip install 'pare[ray]'``).
+
+On a cluster, every node needs PARE installed, and a model-call cache shared between nodes needs
+``cache_path`` on a shared file system (or ``cache: off``); on one machine the default cache works.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import os
+from collections.abc import Iterator, Sequence
+from typing import Any
+
+from pare.bench.records import EpisodeRecord
+from pare.bench.runconfig import RunConfig
+from pare.bench.runner import (
+    EpisodeOutput,
+    EpisodePlan,
+    ProgressSink,
+    RunModels,
+    play_episode,
+    play_with_retries,
+)
+from pare.bench.store import RunStore
+from pare.errors import UserInputError
+
+TASK_CPUS = 0.25
+"""CPUs Ray reserves per episode task: episodes mostly wait on model calls, so several share a core."""
+
+
+def _import_ray() -> Any:
+    os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")  # no usage report: there may be no network
+    try:
+        import ray
+    except ImportError:
+        raise UserInputError("--backend ray needs Ray: pip install 'pare[ray]'") from None
+    return ray
+
+
+def play_remote(plan: EpisodePlan, config: RunConfig, run_dir: str) -> tuple[str, Any]:
+    """The body of one Ray task: ``("ok", EpisodeOutput)`` or ``("error", message)`` for a mistake in
+    the configuration (returned, not raised, so the driver gets PARE's message rather than Ray's wrapper).
+    """
+    from pathlib import Path
+
+    async def play() -> EpisodeOutput:
+        models = RunModels.create(config, Path(run_dir))
+        try:
+
+            async def attempt(plan: EpisodePlan, number: int) -> EpisodeOutput:
+                return await play_episode(plan, config, models, number)
+
+            return await play_with_retries(plan, attempt, config.episode_retries)
+        finally:
+            await models.aclose()
+
+    try:
+        return ("ok", asyncio.run(play()))
+    except UserInputError as error:
+        return ("error", str(error))
+
+
+def run_ray(
+    plans: Sequence[EpisodePlan], config: RunConfig, store: RunStore, progress: ProgressSink
+) -> list[EpisodeRecord]:
+    """Play ``plans`` as Ray tasks and store each result as it arrives."""
+    ray = _import_ray()
+    started_here = not ray.is_initialized()
+    if started_here:
+        ray.init(
+            address=config.ray_address,
+            include_dashboard=False,
+            log_to_driver=False,
+            configure_logging=False,
+        )
+    task = ray.remote(num_cpus=TASK_CPUS, max_retries=0)(play_remote)
+    written: list[EpisodeRecord] = []
+    queue: Iterator[EpisodePlan] = iter(plans)
+    pending: dict[Any, EpisodePlan] = {}
+    run_dir = str(store.path.resolve())
+    try:
+        while True:
+            while len(pending) < config.concurrency:
+                plan = next(queue, None)
+                if plan is None:
+                    break
+                pending[task.remote(plan, config, run_dir)] = plan
+            if not pending:
+                break
+            ready, _ = ray.wait(list(pending), num_returns=1)
+            for ref in ready:
+                pending.pop(ref)
+                status, value = ray.get(ref)
+                if status == "error":
+                    raise UserInputError(value)
+                store.append(value.record, value.trajectory)
+                written.append(value.record)
+                progress.finished(value.record)
+    finally:
+        for ref in pending:
+            ray.cancel(ref, force=True)
+        if started_here:
+            ray.shutdown()
+    return written

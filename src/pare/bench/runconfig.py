@@ -1,0 +1,313 @@
+"""What a benchmark run is: scenarios, runs, models per role, the turn protocol, the world, the machinery.
+
+A run configuration comes from a YAML file (``pare run --config run.yaml``), from command-line flags, or
+both: flags override the file, and ``--set path=value`` overrides any field by its dotted path. Nothing
+secret lives here: a role's API key is read from the environment variable its model configuration names.
+
+The *identity* of a configuration is what shapes an episode's behaviour (models and their sampling, the
+turn protocol, the world's settings, the seed). It names the default output directory and is checked
+when a run resumes, so episodes of two different configurations never mix in one store. Which
+scenarios, how many runs, the concurrency and the cache mode are not part of it: a run can be extended
+with more scenarios or runs and resumed with other machinery.
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import json
+import re
+from collections.abc import Sequence
+from datetime import timedelta
+from pathlib import Path
+from typing import Any, Literal
+
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+
+from pare.agents.models.cache import CacheMode
+from pare.agents.models.config import ModelConfig
+from pare.bench.episode import EpisodeSettings
+from pare.env import EnvConfig
+from pare.errors import UserInputError
+from pare.scenarios.times import TimeFormatError, parse_duration
+from pare.sim.notifications import NotificationPolicy
+
+ExecutionBackend = Literal["local", "ray"]
+
+IDENTITY_MODEL_FIELDS = ("model", "backend", "temperature", "max_tokens", "seed", "extra")
+"""The fields of a model configuration that can change what the model answers (timeouts, retries,
+concurrency and prices cannot). The endpoint is left out, as in the model-call cache's key: a local
+server that comes back on another port still serves the same run (the manifest records the endpoint)."""
+
+
+class ScenarioSelection(BaseModel):
+    """Which scenarios to run: from the library (or ``paths``), narrowed by every filter given."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    ids: list[str] = Field(default_factory=list, description="Scenario ids; empty means all.")
+    split: str | None = Field(default=None, description="A split from the library's splits.yaml.")
+    apps: list[str] = Field(default_factory=list, description="Keep scenarios using any of these apps.")
+    tags: list[str] = Field(default_factory=list, description="Keep scenarios with any of these tags.")
+    difficulty: list[str] = Field(default_factory=list, description="Keep these difficulties.")
+    paths: list[str] = Field(
+        default_factory=list, description="Scenario files or folders to use instead of the library."
+    )
+
+
+class Models(BaseModel):
+    """The model behind each role. A role without a model is played by the scenario's oracle.
+
+    ``assistant`` is a shorthand for the paper's symmetric setup: the same model observes and executes.
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    user: ModelConfig | None = Field(default=None, description="The user simulator; none: oracle user.")
+    assistant: ModelConfig | None = Field(
+        default=None, description="Observe and execute both, unless they are given."
+    )
+    observe: ModelConfig | None = Field(default=None, description="The assistant in observe mode.")
+    execute: ModelConfig | None = Field(default=None, description="The assistant in execute mode.")
+    judge: ModelConfig | None = Field(
+        default=None, description="Judges free-text checks; none: their deterministic fallback."
+    )
+
+    @model_validator(mode="after")
+    def _assistant_fills_modes(self) -> Models:
+        if self.assistant is not None:
+            observe = self.observe or self.assistant
+            execute = self.execute or self.assistant
+            object.__setattr__(self, "observe", observe)
+            object.__setattr__(self, "execute", execute)
+        if self.execute is not None and self.observe is None:
+            raise ValueError("an execute model needs an observe model (or set 'assistant' for both)")
+        if self.observe is not None and self.execute is None:
+            object.__setattr__(self, "execute", self.observe)
+        return self
+
+    def roles(self) -> dict[str, ModelConfig]:
+        """The configured roles, by name (``assistant`` folded into observe and execute)."""
+        configured = {
+            "user": self.user,
+            "observe": self.observe,
+            "execute": self.execute,
+            "judge": self.judge,
+        }
+        return {role: config for role, config in configured.items() if config is not None}
+
+
+class WorldSettings(BaseModel):
+    """The episode world's settings a run may change (the seed is derived per episode)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    tool_failure_probability: float = Field(default=0.0, ge=0.0, le=1.0)
+    noise_rate_per_minute: float = Field(default=0.0, ge=0.0)
+    notifications: NotificationPolicy = Field(default_factory=NotificationPolicy)
+
+
+class ProtocolSettings(BaseModel):
+    """The turn protocol's numbers (see :class:`pare.bench.EpisodeSettings`)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    max_turns: int = Field(default=10, ge=1)
+    user_steps: int = Field(default=1, ge=1)
+    observe_steps: int = Field(default=5, ge=1)
+    execute_steps: int = Field(default=10, ge=1)
+    proposal_ttl_turns: int = Field(default=3, ge=1)
+    turn_duration: timedelta = Field(default=timedelta(minutes=1))
+    max_format_retries: int = Field(
+        default=2, ge=0, description="Times a malformed model answer is sent back within one step."
+    )
+
+    @field_validator("turn_duration", mode="before")
+    @classmethod
+    def _duration(cls, value: Any) -> Any:
+        if isinstance(value, str) and not value.startswith("P"):  # '1m', '90s'; ISO 8601 goes to pydantic
+            try:
+                return parse_duration(value)
+            except TimeFormatError as error:
+                raise ValueError(str(error)) from None
+        return value
+
+
+class RunConfig(BaseModel):
+    """Everything one benchmark run needs."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    name: str | None = Field(default=None, description="A label for reports and the output folder.")
+    scenarios: ScenarioSelection = Field(default_factory=ScenarioSelection)
+    runs: int = Field(default=4, ge=1, description="Runs per scenario (k of Success@k).")
+    seed: int = Field(default=0, description="Base seed; each episode's seed derives from it.")
+    models: Models = Field(default_factory=Models)
+    protocol: ProtocolSettings = Field(default_factory=ProtocolSettings)
+    world: WorldSettings = Field(default_factory=WorldSettings)
+    concurrency: int = Field(default=8, ge=1, description="Episodes in flight at once.")
+    episode_retries: int = Field(
+        default=2, ge=0, description="Reruns of an episode that failed for infrastructure reasons."
+    )
+    cache: CacheMode = Field(default="read_write", description="Model-call cache: off, read_write, replay.")
+    cache_path: str | None = Field(
+        default=None, description="The cache file; default: model_calls.sqlite in the output folder."
+    )
+    output: str | None = Field(default=None, description="Run folder; default: runs/<label>-<identity>.")
+    backend: ExecutionBackend = Field(default="local", description="local (asyncio) or ray.")
+    ray_address: str | None = Field(default=None, description="Ray cluster address; none: local Ray.")
+
+    # -- derived -----------------------------------------------------------------------------------------
+    @property
+    def oracle_only(self) -> bool:
+        """Whether no role has a model (the offline pipeline run)."""
+        return not self.models.roles()
+
+    def episode_settings(self, seed: int) -> EpisodeSettings:
+        """The episode loop's settings for one episode with environment seed ``seed``."""
+        protocol = self.protocol
+        return EpisodeSettings(
+            max_turns=protocol.max_turns,
+            user_steps=protocol.user_steps,
+            observe_steps=protocol.observe_steps,
+            execute_steps=protocol.execute_steps,
+            proposal_ttl_turns=protocol.proposal_ttl_turns,
+            turn_duration=protocol.turn_duration,
+            env=EnvConfig(
+                seed=seed,
+                tool_failure_probability=self.world.tool_failure_probability,
+                noise_rate_per_minute=self.world.noise_rate_per_minute,
+                notifications=self.world.notifications,
+            ),
+        )
+
+    def identity(self) -> dict[str, Any]:
+        """What shapes an episode's behaviour, as JSON (no secret: keys are never in a configuration)."""
+        return {
+            "seed": self.seed,
+            "models": {
+                role: {
+                    name: value
+                    for name, value in config.public_dict().items()
+                    if name in IDENTITY_MODEL_FIELDS
+                }
+                | {"native_tools": config.native_tools}
+                for role, config in self.models.roles().items()
+            },
+            "protocol": self.protocol.model_dump(mode="json"),
+            "world": self.world.model_dump(mode="json"),
+        }
+
+    def identity_hash(self) -> str:
+        """A short hash of :meth:`identity`."""
+        return hashlib.sha256(_canonical(self.identity()).encode("utf-8")).hexdigest()[:10]
+
+    def label(self) -> str:
+        """The configuration's name: ``name``, else the assistant and user models (``oracle`` for none)."""
+        if self.name:
+            return self.name
+        roles = self.models.roles()
+        observe, execute, user = roles.get("observe"), roles.get("execute"), roles.get("user")
+        assistant = "oracle"
+        if observe is not None:
+            assistant = observe.model
+            if execute is not None and execute.model != observe.model:
+                assistant = f"{observe.model}+{execute.model}"
+        if user is None:
+            return assistant if assistant != "oracle" else "oracle"
+        return f"{assistant} (user {user.model})"
+
+    def output_dir(self) -> Path:
+        """The run folder: ``output`` when given, else ``runs/<slug of label>-<identity hash>``."""
+        if self.output:
+            return Path(self.output)
+        return Path("runs") / f"{slug(self.label())}-{self.identity_hash()}"
+
+    def public_dict(self) -> dict[str, Any]:
+        """The resolved configuration for the manifest: every field, endpoints without credentials."""
+        data = self.model_dump(mode="json")
+        data["models"] = {role: config.public_dict() for role, config in self.models.roles().items()}
+        return data
+
+    def episode_seed(self, scenario_id: str, run: int) -> int:
+        """The environment seed of one episode: stable, different per scenario and run."""
+        digest = hashlib.sha256(f"{self.seed}:{scenario_id}:{run}".encode()).digest()
+        return int.from_bytes(digest[:4], "big")
+
+
+def slug(text: str) -> str:
+    """A folder-safe form of ``text``."""
+    cleaned = re.sub(r"[^A-Za-z0-9._+-]+", "-", text).strip("-.")
+    return cleaned[:80] or "run"
+
+
+def _canonical(value: Any) -> str:
+    return json.dumps(value, sort_keys=True, separators=(",", ":"), ensure_ascii=False)
+
+
+# -- building a configuration from a file and overrides ---------------------------------------------------
+def read_config_file(path: str | Path) -> dict[str, Any]:
+    """The mapping in a YAML configuration file, with a clear error when it cannot be read."""
+    file = Path(path)
+    try:
+        data = yaml.safe_load(file.read_text(encoding="utf-8"))
+    except OSError as error:
+        raise UserInputError(f"cannot read the configuration file {file}: {error.strerror}") from None
+    except yaml.YAMLError as error:
+        raise UserInputError(f"{file}: not valid YAML: {error}") from None
+    if data is None:
+        return {}
+    if not isinstance(data, dict):
+        raise UserInputError(
+            f"{file}: a run configuration is a mapping of settings, not {type(data).__name__}"
+        )
+    return data
+
+
+def set_path(data: dict[str, Any], dotted: str, value: Any) -> None:
+    """Set ``data[a][b][c] = value`` for ``dotted`` ``a.b.c``, creating mappings on the way."""
+    parts = dotted.split(".")
+    if not all(parts):
+        raise UserInputError(f"'{dotted}' is not a dotted setting path like 'protocol.max_turns'")
+    node = data
+    for part in parts[:-1]:
+        child = node.get(part)
+        if child is None:
+            child = node[part] = {}
+        elif not isinstance(child, dict):
+            raise UserInputError(f"cannot set '{dotted}': '{part}' is a value, not a group of settings")
+        node = child
+    node[parts[-1]] = value
+
+
+def parse_assignment(text: str) -> tuple[str, Any]:
+    """``path=value`` from ``--set``; the value is read as YAML (numbers, lists, null, mappings)."""
+    path, sep, raw = text.partition("=")
+    if not sep or not path.strip():
+        raise UserInputError(f"--set expects path=value (e.g. protocol.max_turns=20), got '{text}'")
+    try:
+        value = yaml.safe_load(raw) if raw.strip() else ""
+    except yaml.YAMLError as error:
+        raise UserInputError(f"--set {text}: the value is not valid YAML: {error}") from None
+    return path.strip(), value
+
+
+def build_config(
+    data: dict[str, Any] | None = None,
+    *,
+    overrides: Sequence[tuple[str, Any]] = (),
+    source: str = "configuration",
+) -> RunConfig:
+    """Validate ``data`` with ``overrides`` applied (dotted paths), listing every problem with its path."""
+    merged: dict[str, Any] = copy.deepcopy(data or {})
+    for path, value in overrides:
+        set_path(merged, path, value)
+    try:
+        return RunConfig.model_validate(merged)
+    except ValidationError as error:
+        problems = [
+            f"  {'.'.join(str(p) for p in problem['loc']) or '(top level)'}: {problem['msg']}"
+            for problem in error.errors()
+        ]
+        raise UserInputError(f"{source} is not a valid run configuration:\n" + "\n".join(problems)) from None

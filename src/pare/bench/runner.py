@@ -1,0 +1,429 @@
+"""Many episodes: plan them, play them concurrently, store each as it finishes, resume what is missing.
+
+The unit of work is one episode: a scenario, a run index (1 to k) and the configuration. Episodes run as
+asyncio tasks under a bound (model calls are the bottleneck, the simulation itself takes well under a
+millisecond per turn), or as Ray tasks on a cluster; either way the driver writes every finished episode
+to the run's store at once, so a killed run loses nothing it finished.
+
+Failures are sorted by who is to blame:
+
+* the model's behaviour (malformed answers, wrong actions, a prompt beyond its context) is part of the
+  episode and judged by its checks;
+* the infrastructure (a provider down past every retry) makes the episode run again, up to
+  ``episode_retries`` times, then it is stored as *failed*: missing coverage, never a model failure;
+* a replay cache that lacks a call, or an error inside PARE, is stored as failed at once (running it
+  again would fail the same way);
+* a mistake in the configuration (no API key, unknown model, refused credentials) stops the whole run
+  at the first episode that meets it: every other episode would fail the same way.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import time
+import traceback
+from collections.abc import Awaitable, Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Protocol
+
+from pare.agents.judge import ModelJudge
+from pare.agents.llm import LLMAssistant, LLMUser
+from pare.agents.models.cache import ModelCallCache
+from pare.agents.models.client import ModelClient
+from pare.agents.models.config import ModelConfig
+from pare.agents.models.ledger import RoleUsage, UsageLedger
+from pare.agents.models.types import ChatMessage, Completion
+from pare.agents.policy import AssistantPolicy, UserPolicy
+from pare.bench.episode import arun_episode
+from pare.bench.records import EpisodeRecord, Failure, FailureKind, summarize
+from pare.bench.runconfig import RunConfig
+from pare.bench.store import CACHE_FILE, RunStore, scenario_hash, trajectory_path
+from pare.errors import CacheMiss, RunFailure, UserInputError
+from pare.scenarios.library import load_scenarios, select
+from pare.scenarios.model import Scenario
+from pare.scenarios.oracle import OracleAssistant, OracleUser
+
+RETRY_PAUSE_S = 2.0
+"""Pause before an episode that failed for infrastructure reasons runs again (doubling each time)."""
+
+
+# -- planning ---------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class EpisodePlan:
+    """One episode to play."""
+
+    scenario: Scenario
+    run: int
+    seed: int
+    scenario_hash: str
+
+    @property
+    def key(self) -> tuple[str, int]:
+        """The episode's key in the store."""
+        return (self.scenario.id, self.run)
+
+    @property
+    def namespace(self) -> str:
+        """The model-call cache namespace: each run of a scenario samples its models on its own."""
+        return f"{self.scenario.id}/run-{self.run}"
+
+
+def select_scenarios(config: RunConfig) -> dict[str, Scenario]:
+    """The scenarios the configuration names, by id (an empty selection is an error)."""
+    selection = config.scenarios
+    pool = load_scenarios(selection.paths or None)
+    chosen = select(
+        pool,
+        ids=selection.ids,
+        split=selection.split,
+        apps=selection.apps,
+        tags=selection.tags,
+        difficulty=selection.difficulty,
+    )
+    if not chosen:
+        raise UserInputError("no scenario matches the selection; see 'pare scenarios list' for what there is")
+    return {scenario.id: scenario for scenario in sorted(chosen, key=lambda s: s.id)}
+
+
+def plan_episodes(config: RunConfig, scenarios: Mapping[str, Scenario]) -> list[EpisodePlan]:
+    """Every episode of the run, run-major (all scenarios' run 1, then run 2, ...), so an interrupted
+    run has whole runs first.
+    """
+    hashes = {scenario_id: scenario_hash(scenario) for scenario_id, scenario in scenarios.items()}
+    return [
+        EpisodePlan(scenario, run, config.episode_seed(scenario_id, run), hashes[scenario_id])
+        for run in range(1, config.runs + 1)
+        for scenario_id, scenario in sorted(scenarios.items())
+    ]
+
+
+# -- models -----------------------------------------------------------------------------------------------
+@dataclass
+class EpisodeModel:
+    """A role's model as one episode sees it: the run's shared client, this episode's cache namespace,
+    and a ledger of this episode's own calls.
+    """
+
+    client: ModelClient
+    namespace: str
+    ledger: UsageLedger
+
+    async def complete(
+        self, messages: Sequence[ChatMessage], tools: Sequence[dict[str, Any]] | None = None
+    ) -> Completion:
+        """The model's answer (see :meth:`ModelClient.complete`)."""
+        return await self.client.complete(messages, tools, namespace=self.namespace, ledger=self.ledger)
+
+
+@dataclass
+class JudgeModel:
+    """The judge's model for one episode. Checks call the judge synchronously from a worker thread, each
+    call in an event loop of its own, so each call gets a client of its own and closes it.
+    """
+
+    config: ModelConfig
+    cache: ModelCallCache | None
+    namespace: str
+    ledger: UsageLedger
+
+    async def complete(
+        self, messages: Sequence[ChatMessage], tools: Sequence[dict[str, Any]] | None = None
+    ) -> Completion:
+        """The judge's answer."""
+        async with ModelClient(self.config, "judge", self.cache) as client:
+            return await client.complete(messages, tools, namespace=self.namespace, ledger=self.ledger)
+
+
+@dataclass
+class RunModels:
+    """The model clients of one run (one per configured role), shared by its episodes."""
+
+    config: RunConfig
+    cache: ModelCallCache | None
+    ledger: UsageLedger = field(default_factory=UsageLedger)
+    clients: dict[str, ModelClient] = field(default_factory=dict)
+
+    @classmethod
+    def create(cls, config: RunConfig, run_dir: Path) -> RunModels:
+        """Clients for every configured role, with the run's cache."""
+        cache = None
+        if config.models.roles() and config.cache != "off":
+            cache = ModelCallCache(
+                Path(config.cache_path) if config.cache_path else run_dir / CACHE_FILE, config.cache
+            )
+        models = cls(config, cache)
+        for role, model in config.models.roles().items():
+            if role != "judge":
+                models.clients[role] = ModelClient(model, role, cache, models.ledger)
+        return models
+
+    async def aclose(self) -> None:
+        """Close every client's connections."""
+        for client in self.clients.values():
+            await client.aclose()
+
+    def actors(
+        self, plan: EpisodePlan, ledger: UsageLedger
+    ) -> tuple[UserPolicy, AssistantPolicy, ModelJudge | None]:
+        """The user, the assistant and the judge of one episode: models where configured, else the oracle."""
+        scenario, config = plan.scenario, self.config
+        retries = config.protocol.max_format_retries
+        user: UserPolicy
+        assistant: AssistantPolicy
+        if "user" in self.clients:
+            user = LLMUser(
+                EpisodeModel(self.clients["user"], plan.namespace, ledger),
+                persona=scenario.user.persona,
+                goal=scenario.user.goal,
+                native_tools=self.clients["user"].config.native_tools,
+                max_format_retries=retries,
+            )
+        else:
+            user = OracleUser(scenario)
+        if "observe" in self.clients:
+            assistant = LLMAssistant(
+                EpisodeModel(self.clients["observe"], plan.namespace, ledger),
+                EpisodeModel(self.clients["execute"], plan.namespace, ledger),
+                native_tools=self.clients["observe"].config.native_tools,
+                max_format_retries=retries,
+                execute_steps=config.protocol.execute_steps,
+            )
+        else:
+            assistant = OracleAssistant(scenario)
+        judge_config = config.models.judge
+        judge = None
+        if judge_config is not None:
+            judge = ModelJudge(JudgeModel(judge_config, self.cache, plan.namespace, ledger))
+        return user, assistant, judge
+
+
+# -- one episode ------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class EpisodeOutput:
+    """A finished (or failed) episode, ready for the store."""
+
+    record: EpisodeRecord
+    trajectory: dict[str, Any] | None
+
+
+def _base_fields(plan: EpisodePlan) -> dict[str, Any]:
+    scenario = plan.scenario
+    return {
+        "scenario_id": scenario.id,
+        "run": plan.run,
+        "scenario_hash": plan.scenario_hash,
+        "seed": plan.seed,
+        "apps": list(scenario.all_apps),
+        "tags": list(scenario.tags),
+        "difficulty": scenario.difficulty,
+    }
+
+
+def failed_output(plan: EpisodePlan, kind: FailureKind, message: str, attempts: int) -> EpisodeOutput:
+    """The record of an episode that could not be run."""
+    record = EpisodeRecord(
+        **_base_fields(plan),
+        status="failed",
+        attempts=attempts,
+        failure=Failure(kind=kind, message=message),
+    )
+    return EpisodeOutput(record, None)
+
+
+async def play_episode(
+    plan: EpisodePlan, config: RunConfig, models: RunModels, attempt: int = 1
+) -> EpisodeOutput:
+    """Play one episode and summarise it. Raises :class:`RunFailure` for infrastructure failures (the
+    caller retries) and :class:`UserInputError` for configuration mistakes (the caller stops the run);
+    any other failure becomes a failed record.
+    """
+    ledger = UsageLedger()
+    started = time.perf_counter()
+    try:
+        user, assistant, judge = models.actors(plan, ledger)
+        result = await arun_episode(
+            plan.scenario, user, assistant, config.episode_settings(plan.seed), judge=judge
+        )
+    except (RunFailure, asyncio.CancelledError):
+        raise
+    except CacheMiss as error:
+        return failed_output(plan, "cache_miss", str(error), attempt)
+    except UserInputError:
+        raise
+    except Exception as error:  # a bug in PARE: keep the run going, keep the evidence
+        detail = "".join(traceback.format_exception(error, limit=-8)).strip()
+        return failed_output(plan, "internal_error", detail, attempt)
+    usage: dict[str, RoleUsage] | None = ledger.roles() if models.clients or config.models.judge else None
+    trajectory = {
+        "format": 1,
+        "label": config.label(),
+        "run": plan.run,
+        "seed": plan.seed,
+        "scenario_hash": plan.scenario_hash,
+        **result.to_dict(),
+    }
+    record = EpisodeRecord(
+        **_base_fields(plan),
+        status="complete",
+        attempts=attempt,
+        trajectory=trajectory_path(plan.scenario.id, plan.run),
+        wall_s=round(time.perf_counter() - started, 3),
+        **summarize(result, usage=usage),
+    )
+    return EpisodeOutput(record, trajectory)
+
+
+async def play_with_retries(
+    plan: EpisodePlan,
+    play: Callable[[EpisodePlan, int], Awaitable[EpisodeOutput]],
+    retries: int,
+    pause_s: float | None = None,
+) -> EpisodeOutput:
+    """Play ``plan``, rerunning it after infrastructure failures (pausing ``pause_s``, default
+    :data:`RETRY_PAUSE_S`, doubled each time); the last failure becomes a record.
+    """
+    pause = RETRY_PAUSE_S if pause_s is None else pause_s
+    attempt = 1
+    while True:
+        try:
+            return await play(plan, attempt)
+        except RunFailure as error:
+            if attempt > retries:
+                return failed_output(plan, "provider_unavailable", str(error), attempt)
+            await asyncio.sleep(pause * 2 ** (attempt - 1))
+            attempt += 1
+
+
+# -- progress ---------------------------------------------------------------------------------------------
+class ProgressSink(Protocol):
+    """Told about the run as it goes (the command line draws a progress bar from it)."""
+
+    def started(self, total: int, done: int, label: str) -> None:
+        """The run begins: ``total`` episodes, ``done`` of them finished in earlier sessions."""
+
+    def finished(self, record: EpisodeRecord) -> None:
+        """One more episode was stored."""
+
+    def stopped(self) -> None:
+        """The run ended (finished, failed or interrupted)."""
+
+
+class NoProgress:
+    """A progress sink that shows nothing."""
+
+    def started(self, total: int, done: int, label: str) -> None:
+        """Nothing to show."""
+
+    def finished(self, record: EpisodeRecord) -> None:
+        """Nothing to show."""
+
+    def stopped(self) -> None:
+        """Nothing to show."""
+
+
+# -- many episodes ----------------------------------------------------------------------------------------
+@dataclass
+class RunSummary:
+    """What one ``pare run`` session did."""
+
+    path: Path
+    label: str
+    planned: int
+    skipped: int
+    records: list[EpisodeRecord]
+    """The records written in this session."""
+    seconds: float
+
+    @property
+    def complete(self) -> int:
+        """Episodes finished in this session."""
+        return sum(record.complete for record in self.records)
+
+    @property
+    def failed(self) -> list[EpisodeRecord]:
+        """Episodes stored as failed (missing coverage) in this session."""
+        return [record for record in self.records if not record.complete]
+
+
+async def run_local(
+    plans: Sequence[EpisodePlan],
+    config: RunConfig,
+    models: RunModels,
+    store: RunStore,
+    progress: ProgressSink,
+) -> list[EpisodeRecord]:
+    """Play ``plans`` as asyncio tasks, at most ``config.concurrency`` at once, storing each as it ends."""
+    limit = asyncio.Semaphore(config.concurrency)
+    written: list[EpisodeRecord] = []
+
+    async def play(plan: EpisodePlan, attempt: int) -> EpisodeOutput:
+        return await play_episode(plan, config, models, attempt)
+
+    async def one(plan: EpisodePlan) -> None:
+        async with limit:
+            output = await play_with_retries(plan, play, config.episode_retries)
+        store.append(output.record, output.trajectory)
+        written.append(output.record)
+        progress.finished(output.record)
+
+    try:
+        async with asyncio.TaskGroup() as group:
+            for plan in plans:
+                group.create_task(one(plan))
+    except BaseExceptionGroup as errors:
+        raise _first_error(errors) from None
+    finally:
+        await models.aclose()
+    return written
+
+
+def _first_error(errors: BaseExceptionGroup[BaseException]) -> BaseException:
+    """The error to report from a task group: a configuration mistake first, else the first one."""
+    leaves: list[BaseException] = []
+    stack: list[BaseException] = [errors]
+    while stack:
+        error = stack.pop(0)
+        if isinstance(error, BaseExceptionGroup):
+            stack.extend(error.exceptions)
+        else:
+            leaves.append(error)
+    for error in leaves:
+        if isinstance(error, UserInputError):
+            return error
+    return leaves[0]
+
+
+def run_benchmark(
+    config: RunConfig,
+    *,
+    progress: ProgressSink | None = None,
+    sweep_point: Mapping[str, Any] | None = None,
+) -> RunSummary:
+    """Run (or resume) the benchmark ``config`` describes; return what this session did."""
+    progress = progress or NoProgress()
+    scenarios = select_scenarios(config)
+    run_dir = config.output_dir()
+    started = time.perf_counter()
+    with RunStore.open(run_dir, config, scenarios, sweep_point=sweep_point) as store:
+        plans = plan_episodes(config, scenarios)
+        todo = [plan for plan in plans if not store.done(plan.key)]
+        progress.started(len(plans), len(plans) - len(todo), config.label())
+        try:
+            if config.backend == "ray":
+                from pare.bench.ray_backend import run_ray
+
+                written = run_ray(todo, config, store, progress)
+            else:
+                models = RunModels.create(config, run_dir)
+                written = asyncio.run(run_local(todo, config, models, store, progress))
+        finally:
+            progress.stopped()
+    return RunSummary(
+        path=run_dir,
+        label=config.label(),
+        planned=len(plans),
+        skipped=len(plans) - len(todo),
+        records=written,
+        seconds=time.perf_counter() - started,
+    )

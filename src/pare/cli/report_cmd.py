@@ -1,0 +1,137 @@
+"""``pare report`` and ``pare plot``: the paper's tables and robustness figures from run folders."""
+
+from __future__ import annotations
+
+from enum import StrEnum
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+
+from pare.bench.metrics import ConfigurationMetrics, compute_metrics
+from pare.bench.report import SECTIONS, render_csv, render_json, render_markdown, render_terminal
+from pare.bench.store import SWEEP_FILE, load_run, run_folders
+from pare.errors import UserInputError
+
+
+class Format(StrEnum):
+    """Output formats of ``pare report``."""
+
+    terminal = "terminal"
+    markdown = "markdown"
+    csv = "csv"
+    json = "json"
+
+
+Runs = Annotated[
+    list[Path],
+    typer.Argument(
+        help="Run folders, or sweep folders (every run inside is one configuration).", show_default=False
+    ),
+]
+
+
+def collect_metrics(paths: list[Path]) -> list[ConfigurationMetrics]:
+    """The metrics of every configuration in ``paths``, in the order given."""
+    metrics = []
+    for folder in run_folders(paths):
+        loaded = load_run(folder)
+        metrics.append(
+            compute_metrics(
+                loaded.records,
+                label=loaded.label,
+                runs=loaded.runs,
+                planned=loaded.planned,
+                params=loaded.sweep_point,
+            )
+        )
+    return metrics
+
+
+def report(
+    runs: Runs,
+    output_format: Annotated[
+        Format, typer.Option("--format", "-f", help="How to print the report.")
+    ] = Format.terminal,
+    section: Annotated[
+        list[str] | None,
+        typer.Option("--section", help=f"Only these sections (repeatable): {', '.join(SECTIONS)}."),
+    ] = None,
+    output: Annotated[Path | None, typer.Option("--output", "-o", help="Write to this file instead.")] = None,
+) -> None:
+    """Print the metrics of one or more runs: Success@k, Success^k, success rate ± SE and CI, proposal and
+    acceptance rates, read actions, the decision analysis, cost per role, per-app and per-tag results,
+    and coverage.
+    """
+    sections = tuple(section or SECTIONS)
+    unknown = [name for name in sections if name not in SECTIONS]
+    if unknown:
+        raise UserInputError(
+            f"unknown report section {', '.join(unknown)}; choose from {', '.join(SECTIONS)}"
+        )
+    metrics = collect_metrics(runs)
+    if output_format is Format.terminal:
+        if output is not None:
+            with output.open("w", encoding="utf-8") as handle:
+                render_terminal(metrics, Console(file=handle, width=200), sections=sections)
+        else:
+            render_terminal(metrics, Console(), sections=sections)
+        return
+    if output_format is Format.markdown:
+        text = render_markdown(metrics, sections=sections)
+    elif output_format is Format.csv:
+        text = render_csv(metrics)
+    else:
+        text = render_json(metrics)
+    if output is not None:
+        output.write_text(text, encoding="utf-8")
+    else:
+        typer.echo(text, nl=not text.endswith("\n"))
+
+
+def plot(
+    runs: Runs,
+    x: Annotated[
+        str | None,
+        typer.Option(
+            "--x", help="The swept setting on the x axis (default: the sweep's first numeric axis)."
+        ),
+    ] = None,
+    group_by: Annotated[
+        str | None,
+        typer.Option("--group-by", help="One line per value of this setting (default: the other axis)."),
+    ] = None,
+    output: Annotated[Path | None, typer.Option("--output", "-o", help="Folder for the figures.")] = None,
+    stem: Annotated[
+        str, typer.Option("--name", help="File name of the figures, without extension.")
+    ] = "robustness",
+    title: Annotated[str | None, typer.Option("--title", help="The figure's title.")] = None,
+) -> None:
+    """Draw the paper's robustness figure (proposal, acceptance and success rate against a swept setting,
+    one line per model, error bars = SE across runs) as PNG and SVG. Needs the ``plots`` extra.
+    """
+    from pare.bench.plots import plot_sweep
+
+    metrics = collect_metrics(runs)
+    axes = _numeric_axes(metrics)
+    x_axis = x or (axes[0] if axes else None)
+    if x_axis is None:
+        raise UserInputError("no numeric swept setting found in these runs; name one with --x")
+    if group_by is None:
+        others = sorted({name for m in metrics for name in m.params} - {x_axis})
+        group_by = others[0] if len(others) == 1 else None
+    folder = output or (runs[0] if (runs[0] / SWEEP_FILE).exists() else Path("."))
+    written = plot_sweep(metrics, x=x_axis, group_by=group_by, out_dir=folder, stem=stem, title=title)
+    for path in written:
+        typer.echo(str(path))
+
+
+def _numeric_axes(metrics: list[ConfigurationMetrics]) -> list[str]:
+    """Settings that take more than one numeric value across the runs, in order of appearance."""
+    values: dict[str, set[float]] = {}
+    for item in metrics:
+        for name, value in item.params.items():
+            if isinstance(value, int | float) and not isinstance(value, bool):
+                values.setdefault(name, set()).add(float(value))
+    return [name for name, seen in values.items() if len(seen) > 1]

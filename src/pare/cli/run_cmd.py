@@ -1,0 +1,247 @@
+"""``pare run`` and ``pare sweep``: run the benchmark for one configuration, or for a grid of them."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+from rich.console import Console
+
+from pare.bench.progress import RichProgress
+from pare.bench.report import render_terminal
+from pare.bench.runconfig import RunConfig, build_config, parse_assignment, read_config_file
+from pare.bench.runner import NoProgress, ProgressSink, RunSummary, run_benchmark
+from pare.bench.sweep import load_sweep, run_sweep, sweep_folder
+from pare.cli.report_cmd import collect_metrics
+
+ROLE_FLAGS = ("user", "assistant", "observe", "execute", "judge")
+
+ConfigFile = Annotated[
+    Path | None, typer.Option("--config", "-c", help="A YAML run configuration; flags override it.")
+]
+Sets = Annotated[
+    list[str] | None,
+    typer.Option("--set", help="Override any setting by its dotted path: --set protocol.max_turns=20."),
+]
+
+
+def _model_flag(role: str, what: str, help_text: str) -> Any:
+    return typer.Option(f"--{role}-{what}", help=help_text, show_default=False)
+
+
+def collect_overrides(
+    *,
+    sets: list[str] | None,
+    flags: dict[str, Any],
+    models: dict[str, dict[str, str | None]],
+) -> list[tuple[str, Any]]:
+    """Dotted-path overrides from the explicit flags (unset ones skipped), then every ``--set``."""
+    overrides: list[tuple[str, Any]] = [
+        (path, value) for path, value in flags.items() if value not in (None, [])
+    ]
+    for role, fields in models.items():
+        for name, value in fields.items():
+            if value is not None:
+                overrides.append((f"models.{role}.{name}", value))
+    overrides.extend(parse_assignment(text) for text in sets or [])
+    return overrides
+
+
+def load_config(config_file: Path | None, overrides: list[tuple[str, Any]]) -> RunConfig:
+    """The run configuration: the file (if any) with the overrides applied."""
+    data = read_config_file(config_file) if config_file is not None else {}
+    source = str(config_file) if config_file is not None else "the command line"
+    return build_config(data, overrides=overrides, source=source)
+
+
+def progress_sink(show: bool) -> ProgressSink:
+    """A progress bar, or nothing."""
+    return RichProgress() if show else NoProgress()
+
+
+def print_summary(summary: RunSummary, console: Console) -> None:
+    """What the session did, the headline metrics, and where everything is."""
+    console.print(
+        f"[bold]{summary.label}[/bold]: {summary.complete} episodes run in {summary.seconds:.1f} s"
+        + (f", {summary.skipped} already recorded" if summary.skipped else "")
+        + (f", [red]{len(summary.failed)} failed (missing coverage)[/red]" if summary.failed else "")
+    )
+    render_terminal(collect_metrics([summary.path]), console, sections=("main", "coverage"))
+    console.print(f"results: {summary.path}   full report: pare report {summary.path}")
+
+
+def run(
+    config_file: ConfigFile = None,
+    scenario: Annotated[
+        list[str] | None, typer.Option("--scenario", "-s", help="A scenario id (repeatable).")
+    ] = None,
+    split: Annotated[str | None, typer.Option("--split", help="A split of the library: full, smoke.")] = None,
+    app_filter: Annotated[
+        list[str] | None, typer.Option("--app", "-a", help="Only scenarios using this app (repeatable).")
+    ] = None,
+    tag: Annotated[
+        list[str] | None, typer.Option("--tag", "-t", help="Only scenarios with this tag (repeatable).")
+    ] = None,
+    difficulty: Annotated[
+        list[str] | None, typer.Option("--difficulty", help="Only this difficulty (repeatable).")
+    ] = None,
+    scenario_path: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--scenario-path", help="Scenario files or folders instead of the library (repeatable)."
+        ),
+    ] = None,
+    runs: Annotated[int | None, typer.Option("--runs", "-k", help="Runs per scenario (default 4).")] = None,
+    seed: Annotated[int | None, typer.Option("--seed", help="Base seed (default 0).")] = None,
+    name: Annotated[str | None, typer.Option("--name", help="A label for reports and the folder.")] = None,
+    user_model: Annotated[str | None, _model_flag("user", "model", "The user simulator's model.")] = None,
+    user_provider: Annotated[
+        str | None, _model_flag("user", "provider", "openai (any OpenAI-compatible server) or litellm.")
+    ] = None,
+    user_endpoint: Annotated[str | None, _model_flag("user", "endpoint", "Base URL of its server.")] = None,
+    assistant_model: Annotated[
+        str | None, _model_flag("assistant", "model", "The assistant's model (observe and execute).")
+    ] = None,
+    assistant_provider: Annotated[
+        str | None, _model_flag("assistant", "provider", "openai or litellm.")
+    ] = None,
+    assistant_endpoint: Annotated[
+        str | None, _model_flag("assistant", "endpoint", "Base URL of its server.")
+    ] = None,
+    observe_model: Annotated[str | None, _model_flag("observe", "model", "Observe mode's model.")] = None,
+    observe_provider: Annotated[str | None, _model_flag("observe", "provider", "openai or litellm.")] = None,
+    observe_endpoint: Annotated[str | None, _model_flag("observe", "endpoint", "Base URL.")] = None,
+    execute_model: Annotated[str | None, _model_flag("execute", "model", "Execute mode's model.")] = None,
+    execute_provider: Annotated[str | None, _model_flag("execute", "provider", "openai or litellm.")] = None,
+    execute_endpoint: Annotated[str | None, _model_flag("execute", "endpoint", "Base URL.")] = None,
+    judge_model: Annotated[str | None, _model_flag("judge", "model", "Judge of free-text checks.")] = None,
+    max_turns: Annotated[
+        int | None, typer.Option("--max-turns", help="Turns per episode (default 10).")
+    ] = None,
+    user_steps: Annotated[
+        int | None, typer.Option("--user-steps", help="User actions per turn (default 1).")
+    ] = None,
+    observe_steps: Annotated[
+        int | None, typer.Option("--observe-steps", help="Assistant actions per observe turn (default 5).")
+    ] = None,
+    execute_steps: Annotated[
+        int | None, typer.Option("--execute-steps", help="Assistant actions per accepted task (default 10).")
+    ] = None,
+    tool_failure_prob: Annotated[
+        float | None,
+        typer.Option("--tool-failure-prob", help="Chance an assistant tool call fails (default 0)."),
+    ] = None,
+    noise_rate: Annotated[
+        float | None,
+        typer.Option("--noise-rate", help="Distractor notifications per simulated minute (default 0)."),
+    ] = None,
+    concurrency: Annotated[
+        int | None, typer.Option("--concurrency", "-j", help="Episodes at once (default 8).")
+    ] = None,
+    cache: Annotated[
+        str | None, typer.Option("--cache", help="Model-call cache: off, read_write (default), replay.")
+    ] = None,
+    output: Annotated[
+        str | None, typer.Option("--output", "-o", help="Run folder (default runs/<label>-<identity>).")
+    ] = None,
+    backend: Annotated[str | None, typer.Option("--backend", help="local (default) or ray.")] = None,
+    ray_address: Annotated[str | None, typer.Option("--ray-address", help="Ray cluster to join.")] = None,
+    sets: Sets = None,
+    progress: Annotated[bool, typer.Option("--progress/--no-progress", help="Show a progress bar.")] = True,
+) -> None:
+    """Run the benchmark (or resume it: finished episodes are kept, the rest are run).
+
+    With no model configured, the scenarios' oracle plays both roles: the whole pipeline, offline.
+    """
+    flags = {
+        "scenarios.ids": scenario,
+        "scenarios.split": split,
+        "scenarios.apps": app_filter,
+        "scenarios.tags": tag,
+        "scenarios.difficulty": difficulty,
+        "scenarios.paths": scenario_path,
+        "runs": runs,
+        "seed": seed,
+        "name": name,
+        "protocol.max_turns": max_turns,
+        "protocol.user_steps": user_steps,
+        "protocol.observe_steps": observe_steps,
+        "protocol.execute_steps": execute_steps,
+        "world.tool_failure_probability": tool_failure_prob,
+        "world.noise_rate_per_minute": noise_rate,
+        "concurrency": concurrency,
+        "cache": cache,
+        "output": output,
+        "backend": backend,
+        "ray_address": ray_address,
+    }
+    models = {
+        "user": {"model": user_model, "backend": user_provider, "api_base": user_endpoint},
+        "assistant": {
+            "model": assistant_model,
+            "backend": assistant_provider,
+            "api_base": assistant_endpoint,
+        },
+        "observe": {"model": observe_model, "backend": observe_provider, "api_base": observe_endpoint},
+        "execute": {"model": execute_model, "backend": execute_provider, "api_base": execute_endpoint},
+        "judge": {"model": judge_model},
+    }
+    config = load_config(config_file, collect_overrides(sets=sets, flags=flags, models=models))
+    console = Console()
+    try:
+        summary = run_benchmark(config, progress=progress_sink(progress))
+    except KeyboardInterrupt:
+        console.print(
+            f"[yellow]interrupted[/yellow]: every finished episode is recorded in {config.output_dir()}; "
+            "run the same command again to resume."
+        )
+        raise typer.Exit(130) from None
+    print_summary(summary, console)
+    if summary.failed:
+        raise typer.Exit(1)
+
+
+def sweep(
+    config_file: Annotated[
+        Path | None, typer.Option("--config", "-c", help="A sweep file: base configuration and grid.")
+    ] = None,
+    grid: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--grid",
+            "-g",
+            help="An axis: path=[v1, v2, ...] (YAML list), e.g. world.noise_rate_per_minute=[0,2,4,6].",
+        ),
+    ] = None,
+    sets: Sets = None,
+    output: Annotated[str | None, typer.Option("--output", "-o", help="The sweep folder.")] = None,
+    progress: Annotated[bool, typer.Option("--progress/--no-progress", help="Show progress bars.")] = True,
+) -> None:
+    """Run a grid of configurations (each point a run folder inside the sweep folder); resumes too."""
+    axes: list[tuple[str, list[Any]]] = []
+    for text in grid or []:
+        path, values = parse_assignment(text)
+        if not isinstance(values, list):
+            values = [values]
+        axes.append((path, values))
+    overrides = [parse_assignment(text) for text in sets or []]
+    spec, base = load_sweep(config_file, grid=axes, base_overrides=overrides, output=output)
+    console = Console()
+    try:
+        summaries = run_sweep(spec, base, progress=lambda: progress_sink(progress))
+    except KeyboardInterrupt:
+        console.print(
+            "[yellow]interrupted[/yellow]: every finished episode is recorded; run the same command again "
+            "to resume."
+        )
+        raise typer.Exit(130) from None
+    folder = sweep_folder(spec)
+    _print_sweep(folder, console)
+    if any(summary.failed for summary in summaries):
+        raise typer.Exit(1)
+
+
+def _print_sweep(folder: Path, console: Console) -> None:
+    render_terminal(collect_metrics([folder]), console, sections=("main", "coverage"))
+    console.print(f"results: {folder}   report: pare report {folder}   figures: pare plot {folder}")

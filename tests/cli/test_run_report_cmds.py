@@ -1,0 +1,114 @@
+"""`pare sweep`, `pare report` and `pare plot` end to end on offline (oracle) runs."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+from pathlib import Path
+
+import pytest
+
+from pare.bench.store import SWEEP_FILE, load_run
+from pare.cli import main
+
+
+@pytest.fixture(autouse=True)
+def wide(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("COLUMNS", "220")
+
+
+def _sweep(tmp_path: Path) -> Path:
+    spec = tmp_path / "sweep.yaml"
+    spec.write_text(
+        "base:\n  scenarios: {split: smoke}\n  runs: 2\n"
+        "grid:\n  world.tool_failure_probability: [0.0, 0.5]\n"
+        f"output: {tmp_path / 'sweep'}\n"
+    )
+    assert (
+        main(["sweep", "-c", str(spec), "--grid", "world.noise_rate_per_minute=[0, 3]", "--no-progress"]) == 0
+    )
+    return tmp_path / "sweep"
+
+
+def test_sweep_runs_every_point_into_one_folder(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    folder = _sweep(tmp_path)
+    described = json.loads((folder / SWEEP_FILE).read_text())
+    assert [p["params"] for p in described["points"]] == [
+        {"world.tool_failure_probability": 0.0, "world.noise_rate_per_minute": 0},
+        {"world.tool_failure_probability": 0.0, "world.noise_rate_per_minute": 3},
+        {"world.tool_failure_probability": 0.5, "world.noise_rate_per_minute": 0},
+        {"world.tool_failure_probability": 0.5, "world.noise_rate_per_minute": 3},
+    ]
+    for point in described["points"]:
+        loaded = load_run(folder / point["folder"])
+        assert loaded.sweep_point == point["params"]
+        assert len(loaded.records) == 10
+        world = loaded.manifest["identity"]["world"]
+        assert world["tool_failure_probability"] == point["params"]["world.tool_failure_probability"]
+    out = capsys.readouterr().out
+    assert "tool_failure_probability=0.5, noise_rate_per_minute=3" in out
+    # the sweep resumes: nothing to do the second time
+    assert (
+        main(
+            [
+                "sweep",
+                "-c",
+                str(tmp_path / "sweep.yaml"),
+                "-g",
+                "world.noise_rate_per_minute=[0,3]",
+                "--no-progress",
+            ]
+        )
+        == 0
+    )
+    assert all(len(load_run(folder / p["folder"]).records) == 10 for p in described["points"])
+
+
+def test_report_formats(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    folder = _sweep(tmp_path)
+    capsys.readouterr()
+    assert main(["report", str(folder)]) == 0
+    terminal = capsys.readouterr().out
+    for heading in ("Success@2", "Proposal", "Accept", "Gather", "By app", "By tag"):
+        assert heading in terminal
+
+    assert main(["report", str(folder), "--format", "json"]) == 0
+    configurations = json.loads(capsys.readouterr().out)["configurations"]
+    assert len(configurations) == 4
+    clean = configurations[0]
+    assert clean["params"] == {"world.tool_failure_probability": 0.0, "world.noise_rate_per_minute": 0}
+    assert clean["success_rate"]["mean"] == 1.0 and clean["success_at_k"] == 1.0
+
+    assert main(["report", str(folder), "--format", "csv", "-o", str(tmp_path / "r.csv")]) == 0
+    rows = list(csv.DictReader(io.StringIO((tmp_path / "r.csv").read_text())))
+    assert len(rows) == 4 and rows[0]["label"] == clean["label"]
+
+    first = json.loads((folder / SWEEP_FILE).read_text())["points"][0]["folder"]
+    assert main(["report", str(folder / first), "--format", "markdown", "--section", "decisions"]) == 0
+    markdown = capsys.readouterr().out
+    header = next(line for line in markdown.splitlines() if "Accept" in line)
+    assert header.startswith("|") and "Gather context" in header
+    assert "Success@" not in markdown  # only the section asked for
+
+
+def test_report_refuses_what_is_not_a_run(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["report", str(tmp_path)]) == 2
+    assert "holds no PARE run" in capsys.readouterr().err
+    folder = _sweep(tmp_path)
+    assert main(["report", str(folder), "--section", "everything"]) == 2
+    assert "everything" in capsys.readouterr().err
+
+
+def test_plot_draws_the_robustness_figure(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    pytest.importorskip("matplotlib")
+    folder = _sweep(tmp_path)
+    capsys.readouterr()
+    assert (
+        main(["plot", str(folder), "--x", "world.tool_failure_probability", "-o", str(tmp_path / "fig")]) == 0
+    )
+    written = capsys.readouterr().out.split()
+    assert sorted(Path(p).suffix for p in written) == [".png", ".svg"]
+    assert (tmp_path / "fig" / "robustness.png").read_bytes().startswith(b"\x89PNG")
+    assert main(["plot", str(folder), "--x", "world.no_such_setting", "-o", str(tmp_path / "fig")]) == 2
+    assert "world.no_such_setting" in capsys.readouterr().err
