@@ -22,6 +22,7 @@ from __future__ import annotations
 import asyncio
 import time
 import traceback
+from collections import deque
 from collections.abc import Awaitable, Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -353,24 +354,27 @@ async def run_local(
     store: RunStore,
     progress: ProgressSink,
 ) -> list[EpisodeRecord]:
-    """Play ``plans`` as asyncio tasks, at most ``config.concurrency`` at once, storing each as it ends."""
-    limit = asyncio.Semaphore(config.concurrency)
+    """Play ``plans`` on ``config.concurrency`` asyncio workers, storing each episode as it ends."""
+    queue = deque(plans)
     written: list[EpisodeRecord] = []
 
     async def play(plan: EpisodePlan, attempt: int) -> EpisodeOutput:
         return await play_episode(plan, config, models, attempt)
 
-    async def one(plan: EpisodePlan) -> None:
-        async with limit:
+    async def worker() -> None:
+        while queue:
+            plan = queue.popleft()
             output = await play_with_retries(plan, play, config.episode_retries)
-        store.append(output.record, output.trajectory)
-        written.append(output.record)
-        progress.finished(output.record)
+            store.append(output.record, output.trajectory)
+            written.append(output.record)
+            progress.finished(output.record)
+            # an episode without model calls never suspends: yield, so the loop sees Ctrl-C between them
+            await asyncio.sleep(0)
 
     try:
         async with asyncio.TaskGroup() as group:
-            for plan in plans:
-                group.create_task(one(plan))
+            for _ in range(min(config.concurrency, len(plans))):
+                group.create_task(worker())
     except BaseExceptionGroup as errors:
         raise _first_error(errors) from None
     finally:

@@ -67,7 +67,12 @@ def print_summary(summary: RunSummary, console: Console) -> None:
         + (f", {summary.skipped} already recorded" if summary.skipped else "")
         + (f", [red]{len(summary.failed)} failed (missing coverage)[/red]" if summary.failed else "")
     )
-    render_terminal(collect_metrics([summary.path]), console, sections=("main", "coverage"))
+    metrics = collect_metrics([summary.path])
+    total = metrics[0].usage.get("total") if metrics else None
+    used_models = total is not None and total.calls > 0
+    render_terminal(
+        metrics, console, sections=("main", "cost", "coverage") if used_models else ("main", "coverage")
+    )
     console.print(f"results: {summary.path}   full report: pare report {summary.path}")
 
 

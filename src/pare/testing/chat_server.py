@@ -268,6 +268,8 @@ class ChatServer:
         server = self
 
         class Handler(BaseHTTPRequestHandler):
+            protocol_version = "HTTP/1.1"  # keep connections alive, as real model servers do
+
             def log_message(self, format: str, *args: Any) -> None:
                 """Stay quiet."""
 
