@@ -265,3 +265,25 @@ def test_manifest_masks_secret_looking_settings_but_keeps_variable_names(tmp_pat
     scenarios = {scenario_id: library()[scenario_id] for scenario_id in SMOKE}
     with RunStore.open(tmp_path / "run", config, scenarios) as store:
         assert store.manifest["identity_hash"] == config.identity_hash()
+
+
+def test_episodes_run_longest_expected_first_once_a_scenario_was_seen() -> None:
+    from pare.bench.runner import LongestFirst, plan_episodes
+
+    config = build_config({"scenarios": {"ids": SMOKE}, "runs": 3})
+    scenarios = {scenario_id: library()[scenario_id] for scenario_id in SMOKE}
+    plans = plan_episodes(config, scenarios)  # run-major: run 1 of each (sorted), then run 2, then run 3
+    dad, dentist, five = sorted(SMOKE)
+
+    def finished(scenario_id: str, run: int, seconds: float) -> EpisodeRecord:
+        return EpisodeRecord(
+            scenario_id=scenario_id, run=run, status="complete", scenario_hash="h", seed=0, wall_s=seconds
+        )
+
+    # an earlier session finished dentist run 1 (5 s): the two scenarios never seen go first, in plan order
+    queue = LongestFirst([p for p in plans if p.key != (dentist, 1)], [finished(dentist, 1, 5.0)])
+    assert [queue.pop().key for _ in range(2)] == [(dad, 1), (five, 1)]
+    queue.learn(finished(five, 1, 1.0))
+    queue.learn(finished(dad, 1, 9.0))
+    order = [queue.pop().key for _ in range(len(queue))]
+    assert order == [(dad, 2), (dad, 3), (dentist, 2), (dentist, 3), (five, 2), (five, 3)]

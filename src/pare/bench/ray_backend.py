@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import asyncio
 import os
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 from pare.bench.records import EpisodeRecord
@@ -21,6 +21,7 @@ from pare.bench.runconfig import RunConfig
 from pare.bench.runner import (
     EpisodeOutput,
     EpisodePlan,
+    LongestFirst,
     ProgressSink,
     RunModels,
     play_episode,
@@ -80,15 +81,13 @@ def run_ray(
         )
     task = ray.remote(num_cpus=TASK_CPUS, max_retries=0)(play_remote)
     written: list[EpisodeRecord] = []
-    queue: Iterator[EpisodePlan] = iter(plans)
+    queue = LongestFirst(plans, store.records.values())
     pending: dict[Any, EpisodePlan] = {}
     run_dir = str(store.path.resolve())
     try:
         while True:
-            while len(pending) < config.concurrency:
-                plan = next(queue, None)
-                if plan is None:
-                    break
+            while len(pending) < config.concurrency and queue:
+                plan = queue.pop()
                 pending[task.remote(plan, config, run_dir)] = plan
             if not pending:
                 break
@@ -98,6 +97,7 @@ def run_ray(
                 status, value = ray.get(ref)
                 if status == "error":
                     raise UserInputError(value)
+                queue.learn(value.record)
                 store.append(value.record, value.trajectory)
                 written.append(value.record)
                 progress.finished(value.record)

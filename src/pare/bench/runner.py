@@ -20,10 +20,11 @@ Failures are sorted by who is to blame:
 from __future__ import annotations
 
 import asyncio
+import math
 import time
 import traceback
 from collections import deque
-from collections.abc import Awaitable, Callable, Mapping, Sequence
+from collections.abc import Awaitable, Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol
@@ -88,8 +89,9 @@ def select_scenarios(config: RunConfig) -> dict[str, Scenario]:
 
 
 def plan_episodes(config: RunConfig, scenarios: Mapping[str, Scenario]) -> list[EpisodePlan]:
-    """Every episode of the run, run-major (all scenarios' run 1, then run 2, ...), so an interrupted
-    run has whole runs first.
+    """Every episode of the run, run-major (all scenarios' run 1, then run 2, ...). The runner plays
+    scenarios it has not seen yet in this order, so run 1 of every scenario comes first, then the
+    remaining runs longest expected first (see :class:`LongestFirst`).
     """
     hashes = {scenario_id: scenario_hash(scenario) for scenario_id, scenario in scenarios.items()}
     return [
@@ -323,6 +325,51 @@ class NoProgress:
         """Nothing to show."""
 
 
+# -- the order of episodes --------------------------------------------------------------------------------
+class LongestFirst:
+    """The episodes still to play, longest expected first.
+
+    A run's wall time is set by its tail: a long episode started last keeps the run going while the other
+    slots sit idle. Runs of one scenario take similar times, so once one run of a scenario has finished
+    (in this session or an earlier one) its other runs are expected to take as long, and the longest go
+    first. Scenarios not seen yet go before all others, in plan order, to learn their length early.
+    """
+
+    def __init__(self, plans: Sequence[EpisodePlan], finished: Iterable[EpisodeRecord] = ()) -> None:
+        # per scenario, its pending episodes in plan order; a pick compares scenarios, not episodes
+        self._pending: dict[str, deque[tuple[int, EpisodePlan]]] = {}
+        for index, plan in enumerate(plans):
+            self._pending.setdefault(plan.scenario.id, deque()).append((index, plan))
+        self._seconds: dict[str, list[float]] = {}
+        for record in finished:
+            self.learn(record)
+
+    def __len__(self) -> int:
+        return sum(len(queue) for queue in self._pending.values())
+
+    def learn(self, record: EpisodeRecord) -> None:
+        """Remember how long a finished episode took."""
+        if record.complete:
+            self._seconds.setdefault(record.scenario_id, []).append(record.wall_s)
+
+    def expected_seconds(self, scenario_id: str) -> float:
+        """The mean time of the scenario's finished episodes; infinite while none has finished."""
+        seen = self._seconds.get(scenario_id)
+        return sum(seen) / len(seen) if seen else math.inf
+
+    def pop(self) -> EpisodePlan:
+        """The next episode to play: the longest expected, the earliest planned among equals."""
+        scenario_id = max(
+            self._pending,
+            key=lambda name: (self.expected_seconds(name), -self._pending[name][0][0]),
+        )
+        queue = self._pending[scenario_id]
+        _, plan = queue.popleft()
+        if not queue:
+            del self._pending[scenario_id]
+        return plan
+
+
 # -- many episodes ----------------------------------------------------------------------------------------
 @dataclass
 class RunSummary:
@@ -355,7 +402,7 @@ async def run_local(
     progress: ProgressSink,
 ) -> list[EpisodeRecord]:
     """Play ``plans`` on ``config.concurrency`` asyncio workers, storing each episode as it ends."""
-    queue = deque(plans)
+    queue = LongestFirst(plans, store.records.values())
     written: list[EpisodeRecord] = []
 
     async def play(plan: EpisodePlan, attempt: int) -> EpisodeOutput:
@@ -363,8 +410,9 @@ async def run_local(
 
     async def worker() -> None:
         while queue:
-            plan = queue.popleft()
+            plan = queue.pop()
             output = await play_with_retries(plan, play, config.episode_retries)
+            queue.learn(output.record)
             store.append(output.record, output.trajectory)
             written.append(output.record)
             progress.finished(output.record)
