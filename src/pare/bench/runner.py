@@ -446,6 +446,12 @@ def _first_error(errors: BaseExceptionGroup[BaseException]) -> BaseException:
     return leaves[0]
 
 
+def check_credentials(config: RunConfig) -> None:
+    """Fail before anything runs (or any folder is made) when a role's API key is not in the environment."""
+    for role, model in config.models.roles().items():
+        ModelClient(model, role).api_key()
+
+
 def run_benchmark(
     config: RunConfig,
     *,
@@ -455,6 +461,7 @@ def run_benchmark(
     """Run (or resume) the benchmark ``config`` describes; return what this session did."""
     progress = progress or NoProgress()
     scenarios = select_scenarios(config)
+    check_credentials(config)
     run_dir = config.output_dir()
     started = time.perf_counter()
     with RunStore.open(run_dir, config, scenarios, sweep_point=sweep_point) as store:
