@@ -91,6 +91,11 @@ def test_report_formats(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> N
     assert header.startswith("|") and "Gather context" in header
     assert "Success@" not in markdown  # only the section asked for
 
+    assert main(["report", str(folder / first), "--format", "latex", "--section", "main"]) == 0
+    latex = capsys.readouterr().out
+    assert latex.startswith("\\begin{table}") and "\\toprule" in latex and "\\bottomrule" in latex
+    assert "100.0\\% $\\pm$ 0.0\\%" in latex  # escaped for LaTeX, like the paper's tables
+
 
 def test_report_refuses_what_is_not_a_run(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["report", str(tmp_path)]) == 2

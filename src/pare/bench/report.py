@@ -371,6 +371,58 @@ def _markdown_row(cells: Iterable[str]) -> str:
     return "| " + " | ".join(escaped) + " |"
 
 
+LATEX_SPECIALS = {
+    "\\": r"\textbackslash{}",
+    "&": r"\&",
+    "%": r"\%",
+    "$": r"\$",
+    "#": r"\#",
+    "_": r"\_",
+    "{": r"\{",
+    "}": r"\}",
+    "~": r"\textasciitilde{}",
+    "^": r"\textasciicircum{}",
+    "±": r"$\pm$",
+    "→": r"$\rightarrow$",
+}
+
+
+def _latex(text: str) -> str:
+    """``text`` with LaTeX's special characters escaped (``±`` and ``→`` as math symbols)."""
+    return "".join(LATEX_SPECIALS.get(char, char) for char in text)
+
+
+def render_latex(metrics: Sequence[ConfigurationMetrics], *, sections: Iterable[str] = SECTIONS) -> str:
+    """The chosen sections as LaTeX ``table`` environments with booktabs rules, like the paper's tables
+    (``booktabs`` package); each table's note becomes its caption.
+
+    Raises:
+        UserInputError: On an unknown section name.
+    """
+    tables = _tables(metrics, sections)
+    if not metrics:
+        return "% No results to report.\n"
+    parts: list[str] = []
+    for report in tables:
+        align = "".join("l" if i < report.text_columns else "r" for i in range(len(report.columns)))
+        lines = [
+            "\\begin{table}[ht]",
+            "\\centering",
+            f"\\begin{{tabular}}{{{align}}}",
+            "\\toprule",
+            " & ".join(rf"\textbf{{{_latex(column)}}}" for column in report.columns) + r" \\",
+            "\\midrule",
+            *(" & ".join(_latex(cell) for cell in row) + r" \\" for row in report.rows),
+            "\\bottomrule",
+            "\\end{tabular}",
+            f"\\caption{{{_latex(report.title)}{'. ' + _latex(report.note) if report.note else ''}}}",
+            f"\\label{{tab:pare-{report.section}}}",
+            "\\end{table}",
+        ]
+        parts.append("\n".join(lines) + "\n")
+    return "\n".join(parts)
+
+
 def render_csv(metrics: Sequence[ConfigurationMetrics]) -> str:
     """One row per configuration with flat columns.
 

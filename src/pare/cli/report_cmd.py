@@ -10,7 +10,14 @@ import typer
 from rich.console import Console
 
 from pare.bench.metrics import ConfigurationMetrics, compute_metrics
-from pare.bench.report import SECTIONS, render_csv, render_json, render_markdown, render_terminal
+from pare.bench.report import (
+    SECTIONS,
+    render_csv,
+    render_json,
+    render_latex,
+    render_markdown,
+    render_terminal,
+)
 from pare.bench.store import SWEEP_FILE, load_run, run_folders
 from pare.errors import UserInputError
 
@@ -22,6 +29,7 @@ class Format(StrEnum):
     markdown = "markdown"
     csv = "csv"
     json = "json"
+    latex = "latex"
 
 
 Runs = Annotated[
@@ -80,6 +88,8 @@ def report(
         return
     if output_format is Format.markdown:
         text = render_markdown(metrics, sections=sections)
+    elif output_format is Format.latex:
+        text = render_latex(metrics, sections=sections)
     elif output_format is Format.csv:
         text = render_csv(metrics)
     else:
