@@ -14,6 +14,7 @@ from __future__ import annotations
 import asyncio
 import os
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 from pare.bench.records import EpisodeRecord
@@ -47,7 +48,6 @@ def play_remote(plan: EpisodePlan, config: RunConfig, run_dir: str) -> tuple[str
     """The body of one Ray task: ``("ok", EpisodeOutput)`` or ``("error", message)`` for a mistake in
     the configuration (returned, not raised, so the driver gets PARE's message rather than Ray's wrapper).
     """
-    from pathlib import Path
 
     async def play() -> EpisodeOutput:
         models = RunModels.create(config, Path(run_dir))

@@ -248,7 +248,7 @@ async def play_episode(
         result = await arun_episode(
             plan.scenario, user, assistant, config.episode_settings(plan.seed), judge=judge
         )
-    except (RunFailure, asyncio.CancelledError):
+    except RunFailure:
         raise
     except CacheMiss as error:
         return failed_output(plan, "cache_miss", str(error), attempt)
