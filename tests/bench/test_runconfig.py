@@ -120,3 +120,14 @@ def test_unreadable_files_are_named(tmp_path: Path) -> None:
     listed.write_text("- 1\n")
     with pytest.raises(UserInputError, match="mapping"):
         read_config_file(listed)
+
+
+def test_modes_fill_in_from_each_other() -> None:
+    observe_only = build_config({"models": {"observe": {"model": "small"}}})
+    assert observe_only.models.execute is not None and observe_only.models.execute.model == "small"
+    split = build_config({"models": {"assistant": {"model": "a"}, "execute": {"model": "big"}}})
+    assert split.models.observe is not None and split.models.observe.model == "a"
+    assert split.models.execute is not None and split.models.execute.model == "big"
+    assert split.label() == "a+big"
+    with pytest.raises(UserInputError, match="needs an observe model"):
+        build_config({"models": {"execute": {"model": "big"}}})

@@ -15,6 +15,7 @@ it: ``accepted``, ``rejected``, ``expired`` (unanswered for ``proposal_ttl_turns
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
@@ -34,7 +35,7 @@ FailureKind = Literal["provider_unavailable", "cache_miss", "internal_error"]
 
 DECISIONS: tuple[Decision, ...] = ("accept", "reject", "gather_context", "truncated")
 RESOLUTIONS: tuple[Resolution, ...] = ("accepted", "rejected", "expired", "truncated")
-ANSWERS = {"accept_proposal": "accept", "reject_proposal": "reject"}
+ANSWERS: dict[str, Decision] = {"accept_proposal": "accept", "reject_proposal": "reject"}
 
 
 class ProposalRecord(BaseModel):
@@ -139,7 +140,7 @@ def classify_proposals(result: EpisodeResult) -> list[ProposalRecord]:
         if not step.ok or step.log_index is None:
             continue
         entry = log[step.log_index]
-        proposal_id = (entry.result or {}).get("proposal_id") if isinstance(entry.result, dict) else None
+        proposal_id = entry.result.get("proposal_id") if isinstance(entry.result, dict) else None
         if proposal_id is None or proposal_id not in final:
             continue
         decision: Decision = "truncated"
@@ -153,8 +154,8 @@ def classify_proposals(result: EpisodeResult) -> list[ProposalRecord]:
                 break  # it expired after the user's step of that turn: later steps were not about it
             answer = _answer_of(result, later.log_index, proposal_id)
             if answer is not None:
-                if decision == "truncated":
-                    decision = "accept" if answer == "accept" else "reject"
+                if decision == "truncated":  # the user's first step answered it
+                    decision = answer
                 answered_turn = later.turn
                 break
             decision = "gather_context"
@@ -175,7 +176,7 @@ def classify_proposals(result: EpisodeResult) -> list[ProposalRecord]:
     return records
 
 
-def _answer_of(result: EpisodeResult, log_index: int | None, proposal_id: str) -> str | None:
+def _answer_of(result: EpisodeResult, log_index: int | None, proposal_id: str) -> Decision | None:
     """``accept`` / ``reject`` when the user step at ``log_index`` answered ``proposal_id``."""
     if log_index is None:
         return None
@@ -186,8 +187,10 @@ def _answer_of(result: EpisodeResult, log_index: int | None, proposal_id: str) -
     return ANSWERS[entry.tool] if answered == proposal_id else None
 
 
-def summarize(result: EpisodeResult, *, usage: dict[str, RoleUsage] | None = None) -> dict[str, Any]:
-    """The fields of an :class:`EpisodeRecord` that come from a finished episode."""
+def summarize(result: EpisodeResult, *, usage: Mapping[str, RoleUsage] | None = None) -> dict[str, Any]:
+    """The fields of an :class:`EpisodeRecord` that come from a finished episode; ``usage`` is the model
+    usage per role (from the episode's ledger; none for actors without models).
+    """
     assistant_calls = [entry for entry in result.env.log if entry.actor == "assistant"]
     failed: dict[str, int] = {}
     format_errors: dict[str, int] = {}
@@ -216,29 +219,5 @@ def summarize(result: EpisodeResult, *, usage: dict[str, RoleUsage] | None = Non
         "user_actions": sum(step.actor == "user" for step in result.steps),
         "failed_steps": dict(sorted(failed.items())),
         "format_errors": dict(sorted(format_errors.items())),
-        "usage": usage if usage is not None else usage_from_steps(result),
+        "usage": dict(sorted((usage or {}).items())),
     }
-
-
-def usage_from_steps(result: EpisodeResult) -> dict[str, RoleUsage]:
-    """Model usage per role from the steps' usage summaries (for episodes run without a ledger)."""
-    totals: dict[str, RoleUsage] = {}
-    for step in result.steps:
-        usage = step.action.usage
-        if not usage:
-            continue
-        role = role_of(step.actor, step.mode)
-        cost = usage.get("cost_usd")
-        current = totals.get(role, RoleUsage())
-        totals[role] = current.model_copy(
-            update={
-                "calls": current.calls + int(usage.get("calls", 0)),
-                "prompt_tokens": current.prompt_tokens + int(usage.get("prompt_tokens", 0)),
-                "completion_tokens": current.completion_tokens + int(usage.get("completion_tokens", 0)),
-                "cached_tokens": current.cached_tokens + int(usage.get("cached_tokens", 0)),
-                "known_cost_usd": current.known_cost_usd + (cost or 0.0),
-                "unknown_cost_calls": current.unknown_cost_calls
-                + (int(usage.get("calls", 0)) if cost is None else 0),
-            }
-        )
-    return dict(sorted(totals.items()))

@@ -74,18 +74,20 @@ class Models(BaseModel):
         default=None, description="Judges free-text checks; none: their deterministic fallback."
     )
 
-    @model_validator(mode="after")
-    def _assistant_fills_modes(self) -> Models:
-        if self.assistant is not None:
-            observe = self.observe or self.assistant
-            execute = self.execute or self.assistant
-            object.__setattr__(self, "observe", observe)
-            object.__setattr__(self, "execute", execute)
-        if self.execute is not None and self.observe is None:
+    @model_validator(mode="before")
+    @classmethod
+    def _assistant_fills_modes(cls, data: Any) -> Any:
+        if not isinstance(data, dict):
+            return data
+        data = dict(data)
+        for mode in ("observe", "execute"):
+            if data.get(mode) is None:
+                data[mode] = data.get("assistant")
+        if data.get("execute") is None:
+            data["execute"] = data.get("observe")  # one observe model does both, as with 'assistant'
+        if data.get("observe") is None and data.get("execute") is not None:
             raise ValueError("an execute model needs an observe model (or set 'assistant' for both)")
-        if self.observe is not None and self.execute is None:
-            object.__setattr__(self, "execute", self.observe)
-        return self
+        return data
 
     def roles(self) -> dict[str, ModelConfig]:
         """The configured roles, by name (``assistant`` folded into observe and execute)."""

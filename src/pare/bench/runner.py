@@ -34,7 +34,7 @@ from pare.agents.llm import LLMAssistant, LLMUser
 from pare.agents.models.cache import ModelCallCache
 from pare.agents.models.client import ModelClient
 from pare.agents.models.config import ModelConfig
-from pare.agents.models.ledger import RoleUsage, UsageLedger
+from pare.agents.models.ledger import UsageLedger
 from pare.agents.models.types import ChatMessage, Completion
 from pare.agents.policy import AssistantPolicy, UserPolicy
 from pare.bench.episode import arun_episode
@@ -248,16 +248,13 @@ async def play_episode(
         result = await arun_episode(
             plan.scenario, user, assistant, config.episode_settings(plan.seed), judge=judge
         )
-    except RunFailure:
-        raise
-    except CacheMiss as error:
+    except CacheMiss as error:  # before UserInputError, its base: a miss is this episode's problem only
         return failed_output(plan, "cache_miss", str(error), attempt)
-    except UserInputError:
+    except (RunFailure, UserInputError):
         raise
     except Exception as error:  # a bug in PARE: keep the run going, keep the evidence
         detail = "".join(traceback.format_exception(error, limit=-8)).strip()
         return failed_output(plan, "internal_error", detail, attempt)
-    usage: dict[str, RoleUsage] | None = ledger.roles() if models.clients or config.models.judge else None
     trajectory = {
         "format": 1,
         "label": config.label(),
@@ -272,7 +269,7 @@ async def play_episode(
         attempts=attempt,
         trajectory=trajectory_path(plan.scenario.id, plan.run),
         wall_s=round(time.perf_counter() - started, 3),
-        **summarize(result, usage=usage),
+        **summarize(result, usage=ledger.roles()),
     )
     return EpisodeOutput(record, trajectory)
 
