@@ -111,6 +111,7 @@ class EpisodeResult:
             "expired_proposals": self.expired_proposals,
             "steps": [step.to_dict() for step in self.steps],
             "log": [entry.to_dict() for entry in self.env.log],
+            "attribution": self.env.attribution.to_dict(),
             "outcome": self.outcome.to_dict(),
         }
 
@@ -171,10 +172,15 @@ class _Episode:
                 raise
             ended = "context_limit"  # the model cannot take the episode further: judge what it achieved
         if judge is None:
-            outcome = evaluate(self.scenario, env.log.entries, env.snapshot())
+            outcome = evaluate(self.scenario, env.log.entries, env.snapshot(), attribution=env.attribution)
         else:  # a model judge makes its own blocking calls: keep them off this event loop
             outcome = await asyncio.to_thread(
-                evaluate, self.scenario, env.log.entries, env.snapshot(), judge=judge
+                evaluate,
+                self.scenario,
+                env.log.entries,
+                env.snapshot(),
+                judge=judge,
+                attribution=env.attribution,
             )
         return EpisodeResult(
             scenario_id=self.scenario.id,

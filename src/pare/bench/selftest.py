@@ -1,35 +1,53 @@
-"""The self-test gate: every scenario must prove that it can be solved and that it cannot be faked.
+"""The self-test gate: every scenario must prove that it can be solved, that it cannot be faked, and that
+its checks judge other solutions as they should.
 
-Four deterministic runs per scenario, through the same turn loop as a real run:
+Deterministic runs per scenario, through the same turn loop as a real run:
 
 * ``oracle`` — the oracle user and the oracle assistant: must succeed, with no failed oracle call and no
-  failed scheduled event;
+  failed scheduled event, and every reactive event must fire;
+* ``slow_user`` — the same with a user that takes a harmless extra step before each of its steps and
+  before answering: must still succeed within the turn limit (the scenario leaves slack);
 * ``nothing`` — a silent user and a silent assistant: must fail;
 * ``user_alone`` — the oracle user's own steps with a silent assistant: must fail;
-* ``unrelated`` — the oracle user and an assistant that proposes and does something unrelated: must fail.
+* ``by_hand`` — the user doing the task through the screens (``oracle.by_hand``) with a silent
+  assistant: must fail, since the assistant's work is what is judged;
+* ``unrelated`` — the oracle user and an assistant that proposes and does something unrelated: must fail;
+* ``variant:<id>`` — each declared variant, played like the oracle: must get its declared verdict (at
+  least one correct-but-different variant that passes, and two near-misses that fail).
+
+Warnings do not fail the gate: a reactive reply that restates what the assistant was meant to find.
 """
 
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 from pare.agents.policy import AssistantPolicy, SilentAssistant, SilentUser, UserPolicy
 from pare.bench.episode import EpisodeResult, EpisodeSettings, run_episode
 from pare.errors import UserInputError
-from pare.scenarios.model import Scenario
-from pare.scenarios.oracle import OracleAssistant, OracleUser, UnrelatedAssistant
+from pare.scenarios.matchers import OPERATORS, TEXT_OPERATORS, compile_matcher
+from pare.scenarios.model import Scenario, Solution
+from pare.scenarios.oracle import OracleAssistant, OracleUser, SlowUser, UnrelatedAssistant
 
 PolicyPair = Callable[[Scenario], tuple[UserPolicy, AssistantPolicy]]
 
 RUNS: dict[str, tuple[PolicyPair, bool]] = {
     "oracle": (lambda s: (OracleUser(s), OracleAssistant(s)), True),
+    "slow_user": (lambda s: (SlowUser(s), OracleAssistant(s)), True),
     "nothing": (lambda s: (SilentUser(), SilentAssistant()), False),
     "user_alone": (lambda s: (OracleUser(s), SilentAssistant()), False),
+    "by_hand": (lambda s: (OracleUser(s, s.by_hand()), SilentAssistant()), False),
     "unrelated": (lambda s: (OracleUser(s), UnrelatedAssistant(s)), False),
 }
-"""Each self-test run: how to make its two policies, and whether the scenario must succeed."""
+"""The fixed self-test runs: how to make their two policies, and whether the scenario must succeed."""
+
+MIN_PASSING_VARIANTS = 1
+MIN_FAILING_VARIANTS = 2
+_SOLUTION_RUNS = ("oracle", "slow_user")
+"""Runs that play a solution as written: every call they make must succeed."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -41,6 +59,10 @@ class RunVerdict:
     success: bool | None
     """``None`` when the run could not be played at all."""
     problems: tuple[str, ...] = ()
+    turns: int | None = None
+    """Turns the run used (``None`` when it could not be played)."""
+    why: str = ""
+    """For a variant: why its declared verdict is right."""
 
     @property
     def ok(self) -> bool:
@@ -56,15 +78,22 @@ class ScenarioVerdict:
     runs: tuple[RunVerdict, ...]
     seconds: float
     details: dict[str, EpisodeResult] = field(default_factory=dict, compare=False, repr=False)
+    problems: tuple[str, ...] = ()
+    """Breaches that belong to no single run (too few variants)."""
+    warnings: tuple[str, ...] = ()
 
     @property
     def ok(self) -> bool:
         """Whether every run went as demanded."""
-        return all(run.ok for run in self.runs)
+        return not self.problems and all(run.ok for run in self.runs)
+
+    def run(self, name: str) -> RunVerdict:
+        """The run called ``name``."""
+        return next(run for run in self.runs if run.run == name)
 
     def breaches(self) -> list[str]:
         """One line per broken demand."""
-        lines: list[str] = []
+        lines = [f"{self.scenario_id}: {problem}" for problem in self.problems]
         for run in self.runs:
             if run.ok:
                 continue
@@ -72,52 +101,184 @@ class ScenarioVerdict:
                 lines.extend(f"{self.scenario_id} [{run.run}]: {problem}" for problem in run.problems)
             else:
                 wanted = "succeed" if run.expected_success else "fail"
-                lines.append(f"{self.scenario_id} [{run.run}]: should {wanted} but did not")
+                reason = f" ({run.why})" if run.why else ""
+                lines.append(f"{self.scenario_id} [{run.run}]: should {wanted} but did not{reason}")
         return lines
 
 
 def check_scenario(scenario: Scenario, settings: EpisodeSettings | None = None) -> ScenarioVerdict:
-    """Run the four self-test runs on ``scenario``."""
+    """Run every self-test run and every declared variant on ``scenario``."""
     began = time.perf_counter()
     verdicts = []
     details: dict[str, EpisodeResult] = {}
-    for name, (make, expected) in RUNS.items():
+    plays: list[tuple[str, PolicyPair, bool, str]] = [
+        (name, make, expected, "") for name, (make, expected) in RUNS.items()
+    ]
+    fails: dict[str, list[str]] = {}
+    for variant in scenario.variants:
+        pair = _playing(scenario.solution(variant.id))
+        plays.append((f"variant:{variant.id}", pair, variant.expect == "pass", variant.why))
+        fails[f"variant:{variant.id}"] = variant.fails
+    for name, make, expected, why in plays:
         user, assistant = make(scenario)
         try:
             result = run_episode(scenario, user, assistant, settings)
         except UserInputError as error:
-            verdicts.append(RunVerdict(name, expected, None, (str(error),)))
+            verdicts.append(RunVerdict(name, expected, None, (str(error),), why=why))
             continue
         details[name] = result
-        problems = _oracle_problems(result) if name == "oracle" else []
+        problems = _problems(name, scenario, result)
+        met = {goal.id for goal in result.outcome.goals if goal.passed}
+        problems.extend(
+            f"goal '{goal_id}' should fail ({why}) but was met" for goal_id in fails.get(name, []) if goal_id in met
+        )
         if expected and not result.success:
             problems.extend(
                 f"check failed: {check.goal}[{check.index}] {check.detail}"
                 for check in result.outcome.failures()
             )
-        verdicts.append(RunVerdict(name, expected, result.success, tuple(problems)))
-    return ScenarioVerdict(scenario.id, tuple(verdicts), time.perf_counter() - began, details)
+        verdicts.append(RunVerdict(name, expected, result.success, tuple(problems), result.turns, why))
+    return ScenarioVerdict(
+        scenario.id,
+        tuple(verdicts),
+        time.perf_counter() - began,
+        details,
+        tuple(_declaration_problems(scenario)),
+        tuple(restated_answers(scenario)),
+    )
 
 
-def _oracle_problems(result: EpisodeResult) -> list[str]:
+def _playing(solution: Solution) -> PolicyPair:
+    """The oracle policies playing ``solution``."""
+    return lambda scenario: (OracleUser(scenario, solution), OracleAssistant(scenario, solution))
+
+
+def _problems(name: str, scenario: Scenario, result: EpisodeResult) -> list[str]:
+    if name in _SOLUTION_RUNS or name.startswith("variant:"):
+        problems = _solution_problems(result)
+        if name == "oracle":
+            problems.extend(_unfired_reactions(scenario, result))
+        return problems
+    if name == "by_hand":
+        return [
+            f"by_hand user call #{entry.index} {entry.app}.{entry.tool} failed: {entry.error}"
+            for entry in result.env.log
+            if entry.actor == "user" and not entry.ok
+        ]
+    return []
+
+
+def _solution_problems(result: EpisodeResult) -> list[str]:
+    """A solution played as written must run cleanly: every call succeeds, every proposal is accepted."""
     problems = []
     for entry in result.env.log:
         if entry.actor in ("user", "assistant") and not entry.ok and not entry.injected_failure:
             problems.append(
-                f"oracle {entry.actor} call #{entry.index} {entry.app}.{entry.tool} failed: {entry.error}"
+                f"{entry.actor} call #{entry.index} {entry.app}.{entry.tool} failed: {entry.error}"
             )
     problems.extend(
         f"scheduled event '{entry.event_id}' failed: {entry.error}" for entry in result.env.failed_events()
     )
     proposals = result.env.agent_ui.state.proposals
     if not proposals:
-        problems.append("the oracle assistant never proposed (its intervention's condition never held)")
+        problems.append("the assistant never proposed (its intervention's condition never held)")
     problems.extend(
         f"proposal {p.proposal_id} ended {p.status}, not accepted"
         for p in proposals
         if p.status != "accepted"
     )
     return problems
+
+
+def _unfired_reactions(scenario: Scenario, result: EpisodeResult) -> list[str]:
+    """Reactive events the oracle never set off: a trigger that cannot match is a silent authoring error."""
+    fired = result.env.scheduler.completed
+    return [
+        f"reactive event '{event.id}' never fired in the oracle run: its 'when' "
+        + ("or 'if_args' " if event.if_args else "")
+        + "matched none of the oracle's actions"
+        for event in scenario.events
+        if event.when is not None and event.id not in fired
+    ]
+
+
+def _declaration_problems(scenario: Scenario) -> Iterator[str]:
+    passing = sum(variant.expect == "pass" for variant in scenario.variants)
+    failing = len(scenario.variants) - passing
+    if passing < MIN_PASSING_VARIANTS:
+        yield (
+            f"declares {passing} passing variant(s); at least {MIN_PASSING_VARIANTS} correct-but-different "
+            "solution (another valid tool, order, wording or artefact) is required"
+        )
+    if failing < MIN_FAILING_VARIANTS:
+        yield (
+            f"declares {failing} failing variant(s); at least {MIN_FAILING_VARIANTS} tempting near-misses "
+            "(wrong person, day or item, a reply that declines, extra items) are required"
+        )
+    if not scenario.oracle.by_hand:
+        yield "declares no oracle.by_hand steps: how the user would do the task alone through the screens"
+
+
+# -- warnings ---------------------------------------------------------------------------------------
+def restated_answers(scenario: Scenario) -> Iterator[str]:
+    """Reactive events that fire on any matching action and say what a goal looks for in the assistant's
+    work: a wrong question would get the right answer anyway.
+    """
+    sought = list(_sought_texts(scenario))
+    for event in scenario.events:
+        if event.when is None or event.if_args:
+            continue
+        text = " ".join(_strings(event.args))
+        for goal_id, raw in sought:
+            matcher = compile_matcher(raw)
+            if text and matcher.test(text, scenario.start):
+                yield (
+                    f"reactive event '{event.id}' fires on any matching action and its text meets what goal "
+                    f"'{goal_id}' looks for ({matcher.describe()}): a wrong question would be answered "
+                    "with the right answer; condition it on what was written (if_args) or do not restate it"
+                )
+                break
+
+
+def _sought_texts(scenario: Scenario) -> Iterator[tuple[str, Any]]:
+    """Text matchers of the goals' positive checks on the assistant's work."""
+    for goal in scenario.goals:
+        for check in goal.checks:
+            if check.action is not None and check.action.actor == "assistant":
+                raws: Iterable[Any] = check.action.args.values()
+            elif (
+                check.state is not None and check.state.by == "assistant" and not _forbids(check.state.count)
+            ):
+                raws = check.state.where.values()
+            else:
+                continue
+            for raw in raws:
+                if _reads_text(raw):
+                    yield goal.id, raw
+
+
+def _forbids(count: Any) -> bool:
+    return count == 0 or getattr(count, "max", None) == 0
+
+
+def _reads_text(raw: Any) -> bool:
+    return (
+        isinstance(raw, Mapping)
+        and bool(raw)
+        and all(str(key) in OPERATORS for key in raw)
+        and all(str(key) in TEXT_OPERATORS for key in raw)
+    )
+
+
+def _strings(value: Any) -> Iterator[str]:
+    if isinstance(value, str):
+        yield value
+    elif isinstance(value, Mapping):
+        for item in value.values():
+            yield from _strings(item)
+    elif isinstance(value, list):
+        for item in value:
+            yield from _strings(item)
 
 
 def check_scenarios(

@@ -9,7 +9,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from pare.bench.selftest import RUNS, check_scenario
+from pare.bench.selftest import RUNS, RunVerdict, ScenarioVerdict, check_scenario
 from pare.scenarios.library import load_scenarios, select
 from pare.scenarios.model import Scenario
 from pare.scenarios.schema import schema_text
@@ -126,44 +126,87 @@ def check(
     tag: TagFilter = None,
     difficulty: DifficultyFilter = None,
     split: SplitFilter = None,
-    verbose: Annotated[bool, typer.Option("--verbose", "-v", help="Show every check's verdict.")] = False,
+    verbose: Annotated[
+        bool, typer.Option("--verbose", "-v", help="Show every run and variant, and every check's verdict.")
+    ] = False,
 ) -> None:
-    """Self-test scenarios: the oracle must pass; doing nothing, the user alone and an unrelated
-    proposal must fail. Exits 1 on any breach.
+    """Self-test scenarios: the oracle must pass, also with a slow user; doing nothing, the user alone, the
+    user doing the task by hand and an unrelated proposal must fail; every variant must get its declared
+    verdict. Exits 1 on any breach.
     """
     scenarios = _chosen(paths, split, app_name, tag, difficulty)
     console = Console()
     table = Table(title=f"self-test of {len(scenarios)} scenarios")
-    table.add_column("scenario")
-    for name, (_, expected) in RUNS.items():
-        table.add_column(f"{name}\n(must {'pass' if expected else 'fail'})", justify="center")
+    table.add_column("scenario", overflow="fold")
+    table.add_column("oracle\n(must pass;\nturns)", justify="center")
+    table.add_column("slow user\n(must pass;\nturns)", justify="center")
+    table.add_column(f"must fail\n({', '.join(FAILING_RUNS)})", justify="center")
+    table.add_column("variants\n(as declared)", justify="center")
     table.add_column("ms", justify="right")
     breaches: list[str] = []
+    warnings: list[str] = []
     total = 0.0
     for scenario in scenarios:
         verdict = check_scenario(scenario)
         total += verdict.seconds
-        cells = []
-        for run in verdict.runs:
-            outcome = "error" if run.success is None else ("pass" if run.success else "fail")
-            cells.append(f"[green]{outcome}[/green]" if run.ok else f"[red]{outcome} ✗[/red]")
-        table.add_row(scenario.id, *cells, f"{verdict.seconds * 1000:.0f}")
+        failing = [verdict.run(name) for name in FAILING_RUNS]
+        variants = [run for run in verdict.runs if run.run.startswith("variant:")]
+        table.add_row(
+            scenario.id,
+            _cell(verdict.run("oracle")),
+            _cell(verdict.run("slow_user")),
+            _mark(all(run.ok for run in failing), f"{sum(run.ok for run in failing)}/{len(failing)}"),
+            _mark(
+                all(run.ok for run in variants) and not verdict.problems,
+                f"{sum(run.ok for run in variants)}/{len(variants)}",
+            ),
+            f"{verdict.seconds * 1000:.0f}",
+        )
         breaches.extend(verdict.breaches())
+        warnings.extend(f"{scenario.id}: {line}" for line in verdict.warnings)
         if verbose:
-            for name, result in verdict.details.items():
-                for goal in result.outcome.goals:
-                    for item in goal.checks:
-                        mark = "ok " if item.passed else "NO "
-                        console.print(
-                            f"  {scenario.id} [{name}] {mark}{goal.id}: {item.detail}", markup=False
-                        )
+            _print_details(console, scenario, verdict)
     console.print(table)
+    for line in warnings:
+        console.print(f"[yellow]warning[/yellow] {line}", highlight=False)
     if breaches:
         console.print(f"[red]{len(breaches)} breach(es):[/red]")
         for line in breaches:
             console.print(f"  {line}", markup=False)
         raise typer.Exit(1)
     console.print(f"all {len(scenarios)} scenarios pass the gate ({total:.2f} s)")
+
+
+FAILING_RUNS = tuple(name for name, (_, expected) in RUNS.items() if not expected)
+
+
+def _outcome(run: RunVerdict) -> str:
+    return "error" if run.success is None else ("pass" if run.success else "fail")
+
+
+def _mark(ok: bool, text: str) -> str:
+    return f"[green]{text}[/green]" if ok else f"[red]{text} ✗[/red]"
+
+
+def _cell(run: RunVerdict) -> str:
+    turns = f" {run.turns}" if run.turns is not None else ""
+    return _mark(run.ok, _outcome(run) + turns)
+
+
+def _print_details(console: Console, scenario: Scenario, verdict: ScenarioVerdict) -> None:
+    runs = Table(title=scenario.id, title_justify="left")
+    for column in ("run", "must", "got", "turns", "why"):
+        runs.add_column(column, overflow="fold")
+    for run in verdict.runs:
+        must = "pass" if run.expected_success else "fail"
+        turns = "" if run.turns is None else str(run.turns)
+        runs.add_row(run.run, must, _mark(run.ok, _outcome(run)), turns, run.why)
+    console.print(runs)
+    for name, result in verdict.details.items():
+        for goal in result.outcome.goals:
+            for item in goal.checks:
+                mark = "ok " if item.passed else "NO "
+                console.print(f"  [{name}] {mark}{goal.id}: {item.detail}", markup=False)
 
 
 @app.command("schema")

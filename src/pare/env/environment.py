@@ -16,6 +16,7 @@ from pare.apps.registry import CORE_APPS, get_app_class
 from pare.apps.screens import BACK, STAY, Screen, Transition, stay
 from pare.apps.system import SystemApp
 from pare.apps.tools import ToolSpec
+from pare.env.attribution import ATTRIBUTED_ACTORS, Attribution
 from pare.env.config import EnvConfig
 from pare.env.views import AssistantObservation, NamedTool, ToolResult, UserView
 from pare.errors import SimulationBug, ToolError, UserInputError, did_you_mean
@@ -88,6 +89,8 @@ class Environment:
             spec.qualified_name: spec for app in self.apps.values() for spec in app.tools.values()
         }
         self._assistant_cursor = 0
+        self.attribution = Attribution()
+        """Who created or last changed each place of the app data (the user's and assistant's writes)."""
 
     # -- set-up ---------------------------------------------------------------------------------------
     def _register(self, app: App) -> None:
@@ -184,7 +187,10 @@ class Environment:
                 return self._fail(call, injected, injected_failure=True)
         if call.mode is not None and spec.app == "agent_ui":
             self.agent_ui.assistant_mode = call.mode
-        return self._run(call, spec, lambda: spec.func(self.apps[spec.app], **values))
+        before = self._before_write(call, spec)
+        result = self._run(call, spec, lambda: spec.func(self.apps[spec.app], **values))
+        self._attribute(result, before)
+        return result
 
     def _why_not_for_assistant(self, tool: str, mode: AssistantMode) -> str:
         spec = self._all_tools.get(tool)
@@ -254,6 +260,7 @@ class Environment:
             return self._fail(call, str(error))
         writes_before = app.write_count
         draft = screen.model_copy(deep=True)
+        before = self._before_write(call, spec)
         failure, outcome = self._attempt(call, spec, lambda: spec.func(screen, app, **values))
         if failure is not None:  # undo what the action did to its screen (a half-typed draft)
             self._restore_screen(app_name, screen, draft)
@@ -266,7 +273,9 @@ class Environment:
             call.kind = "write"
         elif spec.kind == "write":
             call.kind = "ui"
-        return self._succeed(call, transition.result)
+        result = self._succeed(call, transition.result)
+        self._attribute(result, before)
+        return result
 
     def _restore_screen(self, app_name: str, screen: Screen, draft: Screen) -> None:
         """Undo changes a failing action made to its screen's parameters (a half-edited draft)."""
@@ -306,6 +315,24 @@ class Environment:
             raise SimulationBug(
                 f"{app_name}: action {spec.name} went to {target!r} but declares leads_to={declared}"
             )
+
+    # -- attribution ----------------------------------------------------------------------------------
+    def _before_write(self, call: _Call, spec: ToolSpec) -> dict[str, Any] | None:
+        """For a write by an attributed actor: every data app's data before the call.
+
+        Every app, not only the tool's: some writes reach a sibling app (attachments saved to Files).
+        """
+        if spec.kind != "write" or call.actor not in ATTRIBUTED_ACTORS:
+            return None
+        return {name: app.snapshot() for name, app in self.apps.items() if name not in _CONTROL_APPS}
+
+    def _attribute(self, result: ToolResult, before: dict[str, Any] | None) -> None:
+        """Mark what a successful write changed, in every app whose data it changed."""
+        if before is None or not result.ok or result.entry is None:
+            return
+        entry = result.entry
+        for name, data in before.items():
+            self.attribution.record(entry.actor, entry.index, name, data, self.apps[name].snapshot())
 
     # -- recording ------------------------------------------------------------------------------------
     def _run(self, call: _Call, spec: ToolSpec, body: Callable[[], Any]) -> ToolResult:

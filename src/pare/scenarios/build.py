@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pare.apps.registry import CORE_APPS
 from pare.env import EnvConfig, Environment
-from pare.scenarios.model import Event, Scenario
+from pare.scenarios.model import ActionPattern, Event, Scenario
 from pare.scenarios.patterns import CompiledPattern, event_positions
 from pare.scenarios.seed import prepare_seed
 from pare.scenarios.times import parse_duration, parse_time, resolve_relative_times
@@ -22,31 +22,66 @@ def build_environment(scenario: Scenario, config: EnvConfig | None = None) -> En
     env = Environment([app for app in scenario.all_apps if app not in CORE_APPS], settings)
     env.load({app: prepare_seed(app, data, scenario.start)[0] for app, data in scenario.seed.items()})
     for event in scenario.events:
-        env.schedule(scheduled_event(event, scenario, env))
+        for scheduled in scheduled_events(event, scenario, env):
+            env.schedule(scheduled)
     env.scheduler.validate()
     return env
 
 
-def scheduled_event(event: Event, scenario: Scenario, env: Environment) -> ScheduledEvent:
-    """The kernel event for a scenario event."""
+def scheduled_events(event: Event, scenario: Scenario, env: Environment) -> list[ScheduledEvent]:
+    """The kernel events for a scenario event: the event itself, and its ``otherwise`` reaction if any."""
     app, _, tool = event.tool.partition("__")
     action = EventAction(app, tool, resolve_relative_times(event.args, scenario.start))
-    return ScheduledEvent(event.id, _trigger(event, scenario, env), action)
+    if event.when is None:
+        return [ScheduledEvent(event.id, _timed_trigger(event, scenario), action)]
+    trigger = _Trigger(event, scenario, env)
+    events = [ScheduledEvent(event.id, WhenLogged(trigger.meets, trigger.delay, trigger.describe()), action)]
+    otherwise, otherwise_id = event.otherwise, event.otherwise_id
+    if otherwise is not None and otherwise_id is not None:
+        app, _, tool = otherwise.tool.partition("__")
+        reaction = EventAction(app, tool, resolve_relative_times(otherwise.args, scenario.start))
+        delay = trigger.delay if otherwise.delay is None else parse_duration(otherwise.delay)
+        description = f"{trigger.describe()} but not {trigger.describe_if()}"
+        events.append(ScheduledEvent(otherwise_id, WhenLogged(trigger.misses, delay, description), reaction))
+    return events
 
 
-def _trigger(event: Event, scenario: Scenario, env: Environment) -> Trigger:
-    delay = parse_duration(event.delay)
+def _timed_trigger(event: Event, scenario: Scenario) -> Trigger:
     if event.at is not None:
         return AtTime(parse_time(event.at, scenario.start))
-    if event.after is not None:
-        return AfterEvent(event.after, delay)
-    assert event.when is not None
-    pattern = CompiledPattern.of(event.when, scenario.start)
+    assert event.after is not None
+    return AfterEvent(event.after, parse_duration(event.delay))
 
-    def condition(entry: LogEntry) -> bool:
-        if not pattern.matches_call(entry):
+
+class _Trigger:
+    """A reactive event's trigger: the action it waits for, and what that action must say."""
+
+    def __init__(self, event: Event, scenario: Scenario, env: Environment) -> None:
+        assert event.when is not None
+        self.event_id = event.id
+        self.delay = parse_duration(event.delay)
+        self.pattern = CompiledPattern.of(event.when, scenario.start)
+        self.if_args = CompiledPattern.of(
+            ActionPattern(actor="any", ok=None, args=event.if_args), scenario.start
+        )
+        self.env = env
+
+    def triggers(self, entry: LogEntry) -> bool:
+        if not self.pattern.matches_call(entry):
             return False
-        events = event_positions(env.log) if pattern.needs_event_positions else None
-        return pattern.matches(entry, events)
+        events = event_positions(self.env.log) if self.pattern.needs_event_positions else None
+        return self.pattern.matches(entry, events)
 
-    return WhenLogged(condition, delay, description=pattern.describe())
+    def meets(self, entry: LogEntry) -> bool:
+        return self.triggers(entry) and self.if_args.matches_args(entry)
+
+    def misses(self, entry: LogEntry) -> bool:
+        # only while the event itself still waits: once it has fired, the world has answered
+        waiting = self.event_id in self.env.scheduler.waiting_on_conditions
+        return waiting and self.triggers(entry) and not self.if_args.matches_args(entry)
+
+    def describe(self) -> str:
+        return self.pattern.describe()
+
+    def describe_if(self) -> str:
+        return ", ".join(f"{name}: {matcher.describe()}" for name, matcher in self.if_args.args)

@@ -11,10 +11,20 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict, dataclass
 from typing import Any
 
+from pare.env.attribution import Attribution, item_key, place_of
 from pare.scenarios.matchers import compile_matcher
-from pare.scenarios.model import ActionCheck, Check, Count, JudgeCheck, Scenario, StateCheck, as_count
+from pare.scenarios.model import (
+    ActionCheck,
+    ActionPattern,
+    Check,
+    Count,
+    JudgeCheck,
+    Scenario,
+    StateCheck,
+    as_count,
+)
 from pare.scenarios.patterns import CompiledPattern
-from pare.sim.log import LogEntry
+from pare.sim.log import Actor, LogEntry
 
 Judge = Callable[[str, str], bool]
 """A model-judged condition: ``judge(criterion, text)`` says whether ``text`` meets ``criterion``."""
@@ -50,6 +60,9 @@ class Outcome:
 
     success: bool
     goals: tuple[GoalResult, ...]
+    user_solved: bool = False
+    """The episode failed, but would have succeeded had the user's own work been the assistant's: the user
+    did the task (or its missing part) by hand. A failure of the assistant, counted apart in the metrics."""
 
     @property
     def goal_rate(self) -> float:
@@ -65,8 +78,29 @@ class Outcome:
         return {
             "success": self.success,
             "goal_rate": self.goal_rate,
+            "user_solved": self.user_solved,
             "goals": [asdict(goal) for goal in self.goals],
         }
+
+
+@dataclass(frozen=True, slots=True)
+class _Context:
+    scenario: Scenario
+    log: Sequence[LogEntry]
+    state: Mapping[str, Any]
+    attribution: Attribution
+    credit_user: bool = False
+    """Count the user's own work as the assistant's (to tell whether the user did the task by hand)."""
+
+    def makers(self, actor: Actor) -> frozenset[Actor]:
+        if self.credit_user and actor == "assistant":
+            return frozenset({"assistant", "user"})
+        return frozenset({actor})
+
+    def pattern(self, pattern: ActionPattern) -> CompiledPattern:
+        if self.credit_user and pattern.actor == "assistant":
+            pattern = pattern.model_copy(update={"actor": "any"})
+        return CompiledPattern.of(pattern, self.scenario.start)
 
 
 def evaluate(
@@ -75,48 +109,62 @@ def evaluate(
     state: Mapping[str, Any],
     *,
     judge: Judge | None = None,
+    attribution: Attribution | None = None,
 ) -> Outcome:
     """Evaluate every goal of ``scenario`` on ``log`` and the final ``state`` snapshot.
 
-    Judge checks use ``judge`` when given, else their deterministic fallback.
+    Judge checks use ``judge`` when given, else their deterministic fallback. ``attribution`` (the
+    environment's) says who made each item, for state checks with ``by``; without it nothing counts as
+    anyone's work. A failed episode is also evaluated with the user's work credited to the assistant, to
+    tell whether the user did the task by hand (:attr:`Outcome.user_solved`).
     """
+    context = _Context(scenario, log, state, attribution or Attribution())
+    goals = _goals(context, judge, None)
+    success = all(goal.passed for goal in goals)
+    user_solved = False
+    if not success:
+        credited = _goals(_Context(scenario, log, state, context.attribution, credit_user=True), judge, goals)
+        user_solved = all(goal.passed for goal in credited)
+    return Outcome(success=success, goals=goals, user_solved=user_solved)
+
+
+def _goals(
+    context: _Context, judge: Judge | None, earlier: tuple[GoalResult, ...] | None
+) -> tuple[GoalResult, ...]:
     goals = []
-    for goal in scenario.goals:
+    for number, goal in enumerate(context.scenario.goals):
         results = tuple(
-            _evaluate_check(goal.id, index, check, scenario, log, state, judge)
+            earlier[number].checks[index]  # a judge's verdict does not depend on who wrote: ask it once
+            if earlier is not None and check.judge is not None
+            else _evaluate_check(goal.id, index, check, context, judge)
             for index, check in enumerate(goal.checks)
         )
         goals.append(GoalResult(goal.id, goal.description, all(r.passed for r in results), results))
-    return Outcome(success=all(goal.passed for goal in goals), goals=tuple(goals))
+    return tuple(goals)
 
 
 def _evaluate_check(
-    goal: str,
-    index: int,
-    check: Check,
-    scenario: Scenario,
-    log: Sequence[LogEntry],
-    state: Mapping[str, Any],
-    judge: Judge | None,
+    goal: str, index: int, check: Check, context: _Context, judge: Judge | None
 ) -> CheckResult:
     if check.action is not None:
-        passed, detail = _action(check.action, scenario, log)
+        passed, detail = _action(check.action, context)
     elif check.no_action is not None:
-        pattern = CompiledPattern.of(check.no_action, scenario.start)
-        found = pattern.find(log)
+        pattern = CompiledPattern.of(check.no_action, context.scenario.start)
+        found = pattern.find(context.log)
         passed = not found
         what = pattern.describe()
         detail = f"no {what}" if passed else f"forbidden {what} happened: {_calls(found)}"
     elif check.state is not None:
-        passed, detail = _state(check.state, scenario, state)
+        passed, detail = _state(check.state, context)
     else:
         assert check.judge is not None
-        passed, detail = _judge(check.judge, scenario, log, judge)
+        passed, detail = _judge(check.judge, context, judge)
     return CheckResult(goal, index, check.form, passed, detail, check.description)
 
 
-def _action(check: ActionCheck, scenario: Scenario, log: Sequence[LogEntry]) -> tuple[bool, str]:
-    pattern = CompiledPattern.of(check, scenario.start)
+def _action(check: ActionCheck, context: _Context) -> tuple[bool, str]:
+    log = context.log
+    pattern = context.pattern(check)
     count = as_count(check.count, _AT_LEAST_ONE)
     found = pattern.find(log)
     wanted = f"{count.describe()} {pattern.describe()}"
@@ -164,46 +212,58 @@ def lookup(data: Any, path: str) -> Any:
     return value
 
 
-def _state(check: StateCheck, scenario: Scenario, state: Mapping[str, Any]) -> tuple[bool, str]:
+def _state(check: StateCheck, context: _Context) -> tuple[bool, str]:
+    start, state = context.scenario.start, context.state
     value = lookup(state, check.path)
     if value is MISSING:
         return False, f"{check.path} does not exist in the final state"
+    makers = None if check.by is None else context.makers(check.by)
     if "value" in check.model_fields_set:
         matcher = compile_matcher(check.value)
-        passed = matcher.test(value, scenario.start)
+        passed = matcher.test(value, start)
         shown = _short({"value": value}, 120)
-        return (
-            passed,
-            f"{check.path} {'matches' if passed else 'does not match'} {matcher.describe()} ({shown})",
-        )
-    items = list(value.values()) if isinstance(value, Mapping) else value if isinstance(value, list) else None
-    if items is None:
+        detail = f"{check.path} {'matches' if passed else 'does not match'} {matcher.describe()} ({shown})"
+        if makers is not None:
+            place = place_of(state, check.path)
+            made = place is not None and context.attribution.credits(place, makers)
+            detail += f"; {'made' if made else 'not made'} by the {check.by}"
+            passed = passed and made
+        return passed, detail
+    items: list[tuple[str, Any]] | None
+    if isinstance(value, Mapping):
+        items = [(str(key), item) for key, item in value.items()]
+    elif isinstance(value, list):
+        items = [(item_key(item), item) for item in value]
+    else:
         return (
             False,
             f"{check.path} is not a collection (it is {type(value).__name__}); use 'value' to match it",
         )
     where = tuple((name, compile_matcher(raw)) for name, raw in check.where.items())
     matching = [
-        item
-        for item in items
+        (key, item)
+        for key, item in items
         if all(
-            matcher.test(item.get(name) if isinstance(item, Mapping) else None, scenario.start)
+            matcher.test(item.get(name) if isinstance(item, Mapping) else None, start)
             for name, matcher in where
         )
     ]
     count = as_count(check.count, _AT_LEAST_ONE)
     condition = "{" + ", ".join(f"{name}: {m.describe()}" for name, m in where) + "}" if where else "(any)"
+    detail = f"{check.path}: {len(matching)} of {len(items)} items match {condition}"
+    if makers is not None:
+        place = place_of(state, check.path) or ()
+        matching = [
+            (key, item) for key, item in matching if context.attribution.credits((*place, key), makers)
+        ]
+        detail += f", {len(matching)} of them made by the {check.by}"
     passed = count.allows(len(matching))
-    return (
-        passed,
-        f"{check.path}: {len(matching)} of {len(items)} items match {condition}; wanted {count.describe()}",
-    )
+    return passed, f"{detail}; wanted {count.describe()}"
 
 
-def _judge(
-    check: JudgeCheck, scenario: Scenario, log: Sequence[LogEntry], judge: Judge | None
-) -> tuple[bool, str]:
-    pattern = CompiledPattern.of(check.action, scenario.start)
+def _judge(check: JudgeCheck, context: _Context, judge: Judge | None) -> tuple[bool, str]:
+    scenario, log = context.scenario, context.log
+    pattern = context.pattern(check.action)
     texts = [entry.args.get(check.field) for entry in pattern.find(log)]
     candidates = [text for text in texts if isinstance(text, str)]
     if not candidates:

@@ -3,7 +3,8 @@
 Written in YAML as a plain value (``email-12``: equal to it), or as a mapping of operators that must all
 hold::
 
-    content: {contains: [thursday, "3"]}         # case-insensitive, every piece
+    content: {contains: [thursday, "3"]}         # whole words, case-insensitive, every piece
+    content: {affirms: thursday, mentions_time: day+2 18:15}   # read for meaning, not wording
     recipients: {same_set: [bob@x.org, ann@x.org]}
     start_datetime: {after: day+1 09:00, before: day+1 12:00}
     updates: {start_datetime: day+1 10:00}        # a mapping of fields: each listed field must match
@@ -16,18 +17,28 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from datetime import UTC, datetime
+from datetime import UTC, datetime, time
 from typing import Any
 
+from pare.scenarios import meaning
 from pare.scenarios.times import TimeFormatError, is_relative_time, parse_time
 
 OPERATORS: dict[str, str] = {
     "equals": "equal to the value (times compare as times, whatever their format)",
-    "contains": "text containing the string, or every string of a list (case-insensitive); for a list "
+    "contains": "text containing the string, or every string of a list, as whole words (case-insensitive; "
+    "'wed' is not found in 'reviewed'; a '*' at a piece's end lets the word go on: 'view*'); for a list "
     "value, some element contains it",
-    "contains_any": "text containing at least one of the strings (case-insensitive)",
+    "contains_any": "text containing at least one of the strings, as whole words (case-insensitive)",
+    "affirms": "text in which every string is mentioned in a clause without negation ('Thursday works' "
+    "affirms thursday; 'Thursday does not work' does not)",
+    "declines": "true: the text refuses, cancels or says something does not work; false: it does not",
+    "mentions_day": "text naming this day (a time, absolute or relative to the start): 'Thu', '20 March', "
+    "'tomorrow', '20/03'; mentions in negated clauses do not count",
+    "mentions_clock": "text naming this clock time ('18:15' or a time): '6:15pm', '18.15', '18h15', 'at 6'",
+    "mentions_time": "text naming this day together with this clock time (in one sentence, or as the text's "
+    "only day and only time): 'Thursday at 6.15pm'",
     "regex": "text in which the regular expression is found (case-insensitive)",
     "one_of": "equal to one of the values",
     "same_set": "a list with the same elements in any order (text compared case-insensitively)",
@@ -40,7 +51,23 @@ OPERATORS: dict[str, str] = {
     "any_of": "a list of matchers of which at least one holds",
 }
 
-_TIME_OPERATORS = ("after", "before")
+_TIME_OPERATORS = ("after", "before", "mentions_day", "mentions_time")
+TEXT_OPERATORS = frozenset(
+    {
+        "contains",
+        "contains_any",
+        "affirms",
+        "declines",
+        "regex",
+        "mentions_day",
+        "mentions_clock",
+        "mentions_time",
+    }
+)
+"""Operators that read text (they apply to text fields, or to lists and records of text)."""
+NUMBER_OPERATORS = frozenset({"min", "max"})
+TIME_OPERATORS = frozenset({"after", "before"})
+LIST_OPERATORS = frozenset({"same_set"})
 
 
 class MatcherError(ValueError):
@@ -76,6 +103,8 @@ class Matcher:
                 parts.append("any of (" + " | ".join(m.describe() for m in expected) + ")")
             elif isinstance(expected, re.Pattern):
                 parts.append(f"{name} {expected.pattern!r}")
+            elif isinstance(expected, time):
+                parts.append(f"{name} {expected.strftime('%H:%M')}")
             else:
                 shown = list(expected) if isinstance(expected, tuple) else expected
                 parts.append(f"{name} {shown!r}")
@@ -108,15 +137,22 @@ def _compile_operator(name: str, value: Any) -> tuple[str, Any]:
         if not isinstance(value, list) or not value:
             raise MatcherError("'any_of' needs a non-empty list of matchers")
         return name, tuple(compile_matcher(item) for item in value)
-    if name in ("contains", "contains_any"):
+    if name in ("contains", "contains_any", "affirms"):
         pieces = value if isinstance(value, list) else [value]
         if name == "contains_any" and not isinstance(value, list):
             raise MatcherError("'contains_any' needs a list of strings")
         if not pieces or not all(
-            isinstance(p, str | int | float) and not isinstance(p, bool) for p in pieces
+            isinstance(p, str | int | float) and not isinstance(p, bool) and str(p).strip("* ")
+            for p in pieces
         ):
-            raise MatcherError(f"'{name}' needs a string or a list of strings, got {value!r}")
+            raise MatcherError(f"'{name}' needs a string or a list of non-empty strings, got {value!r}")
         return name, tuple(str(piece).casefold() for piece in pieces)
+    if name == "declines":
+        if not isinstance(value, bool):
+            raise MatcherError(f"'declines' needs true or false, got {value!r}")
+        return name, value
+    if name == "mentions_clock":
+        return name, _clock(value)
     if name == "regex":
         if not isinstance(value, str):
             raise MatcherError(f"'regex' needs a string, got {value!r}")
@@ -132,6 +168,8 @@ def _compile_operator(name: str, value: Any) -> tuple[str, Any]:
         if isinstance(value, bool) or not isinstance(value, int | float):
             raise MatcherError(f"'{name}' needs a number, got {value!r}")
         return name, float(value)
+    if name == "mentions_day" and isinstance(value, str) and re.fullmatch(r"\s*day\s*([+-]\s*\d+)?\s*", value):
+        value = f"{value.strip()} 00:00"  # a day alone: its clock time does not matter
     if name in _TIME_OPERATORS:
         if not isinstance(value, str | datetime):
             raise MatcherError(f"'{name}' needs a time, got {value!r}")
@@ -162,6 +200,9 @@ def _apply(name: str, expected: Any, value: Any, start: datetime) -> bool:
         return all(_contains(value, piece) for piece in expected)
     if name == "contains_any":
         return any(_contains(value, piece) for piece in expected)
+    if name in _READERS:
+        texts = value if isinstance(value, list) else [value]
+        return any(_READERS[name](_text(item), expected, start) for item in texts)
     if name == "regex":
         texts = value if isinstance(value, list) else [value]
         return any(expected.search(_text(item)) is not None for item in texts)
@@ -197,7 +238,50 @@ def _text(value: Any) -> str:
 def _contains(value: Any, piece: str) -> bool:
     if isinstance(value, list):
         return any(_contains(item, piece) for item in value)
-    return piece in _text(value).casefold()
+    return meaning.has_word(_text(value), piece)
+
+
+def _clock(value: Any) -> time:
+    """A clock time for ``mentions_clock``: ``"18:15"``, or any time (its clock time is taken)."""
+    if isinstance(value, str):
+        found = re.fullmatch(r"\s*(\d{1,2}):(\d{2})\s*", value)
+        if found and int(found.group(1)) < 24 and int(found.group(2)) < 60:
+            return time(int(found.group(1)), int(found.group(2)))
+    if isinstance(value, str | datetime):
+        try:
+            return parse_time(value, datetime(2000, 1, 1, tzinfo=UTC)).time()
+        except TimeFormatError:
+            pass
+    raise MatcherError(f"'mentions_clock' needs a clock time such as '18:15' or a time, got {value!r}")
+
+
+def _read_affirms(text: str, pieces: tuple[str, ...], start: datetime) -> bool:
+    return all(meaning.affirms(text, piece) for piece in pieces)
+
+
+def _read_declines(text: str, wanted: bool, start: datetime) -> bool:
+    return meaning.declines(text) is wanted
+
+
+def _read_day(text: str, expected: Any, start: datetime) -> bool:
+    return meaning.mentions_day(text, parse_time(expected, start).date(), start)
+
+
+def _read_clock(text: str, expected: time, start: datetime) -> bool:
+    return meaning.mentions_clock(text, expected, start)
+
+
+def _read_moment(text: str, expected: Any, start: datetime) -> bool:
+    return meaning.mentions_moment(text, parse_time(expected, start), start)
+
+
+_READERS: dict[str, Callable[[str, Any, datetime], bool]] = {
+    "affirms": _read_affirms,
+    "declines": _read_declines,
+    "mentions_day": _read_day,
+    "mentions_clock": _read_clock,
+    "mentions_time": _read_moment,
+}
 
 
 def _as_set(values: Sequence[Any]) -> set[Any]:

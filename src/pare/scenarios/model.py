@@ -9,6 +9,7 @@ against the apps; nothing in a scenario file runs code.
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass
 from datetime import UTC, datetime
 from typing import Annotated, Any, Literal
 
@@ -168,12 +169,17 @@ class ActionCheck(ActionPattern):
     )
 
 
+Maker = Literal["assistant", "user"]
+
+
 class StateCheck(_Strict):
     """A condition on the final state of the apps.
 
     ``path`` names a place in the state snapshot (``calendar.events``, ``shopping.cart``,
     ``apartment.saved``). Either ``value`` is a matcher for what is there, or the place is a collection
-    whose items are filtered by ``where`` (field name to matcher) and counted against ``count``.
+    whose items are filtered by ``where`` (field name to matcher) and counted against ``count``. With
+    ``by``, only what that actor made counts: items it created or changed last (the value's place, for
+    ``value``), so the user's own work is never credited to the assistant.
     """
 
     path: str = Field(description="Dotted path into the final state, starting with an app: calendar.events.")
@@ -182,6 +188,11 @@ class StateCheck(_Strict):
         default=None, description="Exactly N, or {min, max}. Default: at least 1."
     )
     value: Matcher | None = Field(default=None, description="A matcher for the value at the path itself.")
+    by: Maker | None = Field(
+        default=None,
+        description="Count only what this actor made: items it created or was the last to change. "
+        "Default: anyone (seed data and the world included).",
+    )
 
     @field_validator("where")
     @classmethod
@@ -267,20 +278,65 @@ class Condition(_Strict):
         return self
 
 
+class Reaction(_Strict):
+    """What the world does instead when a reactive event's trigger does not meet its ``if_args``: a reply
+    that corrects or declines. Without one, the world stays silent.
+    """
+
+    id: str | None = Field(default=None, description="Its event id; default: '<event id>_otherwise'.")
+    delay: DurationText | None = Field(default=None, description="Default: the event's own delay.")
+    tool: str = Field(description="The tool as app__tool, e.g. email__receive_email.")
+    args: dict[str, Any] = Field(default_factory=dict)
+
+    @field_validator("delay")
+    @classmethod
+    def _duration(cls, value: str | int | None) -> str | int | None:
+        if value is not None:
+            try:
+                parse_duration(value)
+            except TimeFormatError as error:
+                raise ValueError(str(error)) from None
+        return value
+
+
 class Event(_Strict):
     """A call the world makes (an email arriving), and when.
 
     Exactly one of ``at`` (a time), ``after`` (another event's id) or ``when`` (the first matching
-    action, by whoever) says when; ``delay`` shifts ``after`` and ``when``.
+    action, by whoever) says when; ``delay`` shifts ``after`` and ``when``. A reactive event (``when``)
+    can react to what was written: it fires on the first triggering action whose arguments meet
+    ``if_args``; a triggering action that does not meet them gets the ``otherwise`` reaction (once, and
+    only while the event has not fired), or silence.
     """
 
     id: str = Field(min_length=1)
     at: TimeText | None = None
     after: str | None = None
     when: ActionPattern | None = None
+    if_args: dict[str, Matcher] = Field(
+        default_factory=dict,
+        description="With 'when': argument matchers the triggering action must meet for this event to fire "
+        "(what was written: the question asked, the day proposed).",
+    )
+    otherwise: Reaction | None = Field(
+        default=None,
+        description="With 'if_args': what the world does when a triggering action does not meet them.",
+    )
     delay: DurationText = "0"
     tool: str = Field(description="The tool as app__tool, e.g. email__receive_email.")
     args: dict[str, Any] = Field(default_factory=dict)
+
+    @field_validator("if_args")
+    @classmethod
+    def _check_if_args(cls, value: dict[str, Any]) -> dict[str, Any]:
+        return _check_matchers(value)
+
+    @property
+    def otherwise_id(self) -> str | None:
+        """The event id of the ``otherwise`` reaction, if there is one."""
+        if self.otherwise is None:
+            return None
+        return self.otherwise.id or f"{self.id}_otherwise"
 
     @field_validator("delay")
     @classmethod
@@ -311,6 +367,10 @@ class Event(_Strict):
             )
         if self.at is not None and "delay" in self.model_fields_set:
             raise ValueError("'delay' goes with 'after' or 'when'; with 'at', write the time itself")
+        if self.if_args and self.when is None:
+            raise ValueError("'if_args' goes with 'when': it tests the action that triggers the event")
+        if self.otherwise is not None and not self.if_args:
+            raise ValueError("'otherwise' goes with 'if_args': it is what happens when they are not met")
         return self
 
 
@@ -343,10 +403,57 @@ class Intervention(_Strict):
 
 
 class Oracle(_Strict):
-    """The scenario's solution: the user's own steps and the assistant's interventions."""
+    """The scenario's solution: the user's own steps and the assistant's interventions; and how the user
+    would do the task alone.
+    """
 
     user: list[UserStep] = Field(default_factory=list, description="The user's scripted steps, in order.")
     interventions: list[Intervention] = Field(min_length=1)
+    by_hand: list[UserStep] = Field(
+        default_factory=list,
+        description="The user doing the task through the screens while the assistant stays silent: the "
+        "self-test demands that this fails (the assistant's work is what is judged).",
+    )
+
+
+class Variant(_Strict):
+    """Another solution the checks must judge as declared: a correct one written differently (another
+    tool, order, wording or artefact) that must pass, or a tempting near-miss that must fail.
+
+    ``interventions`` and ``user`` replace the oracle's (YAML anchors let a variant reuse them).
+    """
+
+    id: str = Field(pattern=_ID.pattern)
+    expect: Literal["pass", "fail"] = Field(description="The verdict the checks must give.")
+    why: str = Field(min_length=1, description="One line: why this verdict is right.")
+    interventions: list[Intervention] | None = Field(
+        default=None, description="The assistant's interventions in this variant; default: the oracle's."
+    )
+    user: list[UserStep] | None = Field(
+        default=None, description="The user's steps in this variant; default: the oracle's."
+    )
+    fails: list[str] = Field(
+        default_factory=list,
+        description="For expect: fail, the goals that must be the ones failed (so a near-miss fails for the "
+        "reason it was written for, not by accident).",
+    )
+
+    @model_validator(mode="after")
+    def _differs(self) -> Variant:
+        if self.interventions is None and self.user is None:
+            raise ValueError("a variant gives 'interventions' or 'user' (or both): what it does differently")
+        if self.fails and self.expect == "pass":
+            raise ValueError("'fails' names the goals a failing variant fails; this variant must pass")
+        return self
+
+
+@dataclass(frozen=True, slots=True)
+class Solution:
+    """What the oracle policies play: the user's steps and the assistant's interventions."""
+
+    name: str
+    user: tuple[UserStep, ...]
+    interventions: tuple[Intervention, ...]
 
 
 class UserProfile(_Strict):
@@ -374,6 +481,10 @@ class Scenario(_Strict):
     events: list[Event] = Field(default_factory=list)
     oracle: Oracle
     goals: list[Goal] = Field(min_length=1)
+    variants: list[Variant] = Field(
+        default_factory=list,
+        description="Other solutions with the verdict the checks must give them (proven by the gate).",
+    )
 
     @field_validator("start")
     @classmethod
@@ -398,6 +509,23 @@ class Scenario(_Strict):
             if app not in known:
                 raise ValueError(f"unknown app '{app}'.{did_you_mean(app, known)} Apps: {', '.join(known)}")
         return values
+
+    def solution(self, variant: str | None = None) -> Solution:
+        """The oracle's solution, or a variant's (its steps and interventions, the oracle's by default)."""
+        if variant is None:
+            return Solution("oracle", tuple(self.oracle.user), tuple(self.oracle.interventions))
+        for candidate in self.variants:
+            if candidate.id == variant:
+                user = self.oracle.user if candidate.user is None else candidate.user
+                interventions = (
+                    self.oracle.interventions if candidate.interventions is None else candidate.interventions
+                )
+                return Solution(candidate.id, tuple(user), tuple(interventions))
+        raise KeyError(variant)
+
+    def by_hand(self) -> Solution:
+        """The user doing the task alone through the screens (no interventions)."""
+        return Solution("by_hand", tuple(self.oracle.by_hand), ())
 
     @property
     def all_apps(self) -> list[str]:

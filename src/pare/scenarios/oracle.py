@@ -3,7 +3,12 @@
 The oracle user takes the scenario's scripted steps (each once its condition holds) and accepts every
 proposal. The oracle assistant waits until an intervention's condition holds, proposes it, and once it
 is accepted carries out its actions in execute mode and reports. Both act through the same environment
-and turn order as model-backed actors, so the oracle proves the scenario can be solved as written.
+and turn order as model-backed actors, so the oracle proves the scenario can be solved as written. Both
+play a :class:`~pare.scenarios.model.Solution`: the oracle's by default, or a declared variant's.
+
+The slow user is the oracle user taking one harmless extra step (looking at the clock) before each
+scripted step and before answering a proposal, as real users do: the gate demands the oracle still
+succeeds with it, so every scenario leaves turns to spare.
 """
 
 from __future__ import annotations
@@ -14,11 +19,13 @@ from pare.agents.policy import ASSISTANT_WAIT, SEND_MESSAGE, WAIT, Action, Assis
 from pare.env import AssistantObservation, Environment, ToolResult, UserView
 from pare.errors import UserInputError
 from pare.scenarios.checks import MISSING, lookup
-from pare.scenarios.model import Condition, Intervention, OracleAction, Scenario, reference
+from pare.scenarios.model import Condition, Intervention, OracleAction, Scenario, Solution, reference
 from pare.scenarios.patterns import CompiledPattern, event_positions
 from pare.scenarios.times import resolve_relative_times
 
 DEFAULT_ANSWER = "Yes, go ahead."
+HARMLESS_STEP = "get_current_time"
+"""What the slow user does before each of its steps: a look at the clock changes nothing."""
 
 
 class OracleRunError(UserInputError):
@@ -28,9 +35,9 @@ class OracleRunError(UserInputError):
 class Conditions:
     """Checks the oracle's ``when`` conditions; their patterns are compiled once, not every step."""
 
-    def __init__(self, scenario: Scenario) -> None:
-        conditions = [step.when for step in scenario.oracle.user] + [
-            intervention.when for intervention in scenario.oracle.interventions
+    def __init__(self, scenario: Scenario, solution: Solution) -> None:
+        conditions = [step.when for step in solution.user] + [
+            intervention.when for intervention in solution.interventions
         ]
         self._patterns = {
             id(condition): CompiledPattern.of(condition.action, scenario.start)
@@ -81,16 +88,17 @@ class _References:
 
 
 class OracleUser(UserPolicy):
-    """Takes the scenario's scripted user steps in order and accepts every proposal."""
+    """Takes a solution's scripted user steps in order and accepts every proposal."""
 
     name = "oracle_user"
 
-    def __init__(self, scenario: Scenario, *, scripted: bool = True) -> None:
+    def __init__(self, scenario: Scenario, solution: Solution | None = None) -> None:
         self.scenario = scenario
-        self.steps = list(scenario.oracle.user) if scripted else []
+        self.solution = solution or scenario.solution()
+        self.steps = list(self.solution.user)
         self.position = 0
         self.references = _References(scenario)
-        self.conditions = Conditions(scenario)
+        self.conditions = Conditions(scenario, self.solution)
         self.env: Environment | None = None
 
     def start(self, env: Environment) -> None:
@@ -110,7 +118,7 @@ class OracleUser(UserPolicy):
         return Action(WAIT)
 
     def _answer(self, proposal: str) -> str:
-        for intervention in self.scenario.oracle.interventions:
+        for intervention in self.solution.interventions:
             if intervention.proposal == proposal:
                 return intervention.answer
         return DEFAULT_ANSWER
@@ -121,16 +129,40 @@ class OracleUser(UserPolicy):
         return self.env
 
 
+class SlowUser(OracleUser):
+    """The oracle user with one harmless extra step before each scripted step and each answer."""
+
+    name = "slow_user"
+
+    def __init__(self, scenario: Scenario, solution: Solution | None = None) -> None:
+        super().__init__(scenario, solution)
+        self._dawdled = False
+
+    async def step(self, view: UserView, previous: ToolResult | None) -> Action:
+        """Look at the clock first whenever the oracle user would act; then act."""
+        action = await super().step(view, previous)
+        if action.tool == WAIT:
+            return action
+        if not self._dawdled:
+            self._dawdled = True
+            if action.tool not in ("accept_proposal", "reject_proposal"):
+                self.position -= 1  # take this step again next time
+            return Action(HARMLESS_STEP)
+        self._dawdled = False
+        return action
+
+
 class OracleAssistant(AssistantPolicy):
     """Proposes each intervention once its condition holds; once accepted, acts and reports."""
 
     name = "oracle_assistant"
 
-    def __init__(self, scenario: Scenario) -> None:
+    def __init__(self, scenario: Scenario, solution: Solution | None = None) -> None:
         self.scenario = scenario
+        self.solution = solution or scenario.solution()
         self.next_intervention = 0
         self.references = _References(scenario)
-        self.conditions = Conditions(scenario)
+        self.conditions = Conditions(scenario, self.solution)
         self.env: Environment | None = None
         self._queue: list[OracleAction] = []
         self._current: Intervention | None = None
@@ -143,7 +175,7 @@ class OracleAssistant(AssistantPolicy):
     async def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
         """Propose the next intervention once its condition holds; otherwise wait."""
         env = self._env()
-        interventions = self.scenario.oracle.interventions
+        interventions = self.solution.interventions
         if self.next_intervention < len(interventions):
             intervention = interventions[self.next_intervention]
             if intervention.when is None or self.conditions.hold(intervention.when, env):
@@ -156,7 +188,7 @@ class OracleAssistant(AssistantPolicy):
         env = self._env()
         if task is not None:
             self._current = next(
-                (i for i in self.scenario.oracle.interventions if i.proposal == task.proposal), None
+                (i for i in self.solution.interventions if i.proposal == task.proposal), None
             )
             self._queue = list(self._current.actions) if self._current is not None else []
             self._last = None

@@ -18,7 +18,18 @@ from pare.apps.registry import CORE_APPS, get_app_class
 from pare.apps.tools import ToolSpec, describe_argument_errors
 from pare.errors import did_you_mean
 from pare.scenarios.annotations import item_type, model_fields
-from pare.scenarios.model import ActionPattern, Condition, Scenario, StateCheck, reference
+from pare.scenarios.kinds import matcher_problems
+from pare.scenarios.model import (
+    ActionPattern,
+    Check,
+    Condition,
+    Intervention,
+    Scenario,
+    StateCheck,
+    UserStep,
+    as_count,
+    reference,
+)
 from pare.scenarios.seed import SeedError, original_location, prepare_seed
 from pare.scenarios.times import parse_time, resolve_relative_times
 from pare.scenarios.yaml_source import Path
@@ -82,7 +93,9 @@ class _Validator:
     def __init__(self, scenario: Scenario) -> None:
         self.scenario = scenario
         self.start = scenario.start
-        self.event_ids = [event.id for event in scenario.events]
+        self.event_ids = [event.id for event in scenario.events] + [
+            event.otherwise_id for event in scenario.events if event.otherwise_id is not None
+        ]
         self.action_ids: list[str] = []
         self.catalog = ToolCatalog(scenario.all_apps)  # the model already refused unknown apps
         self.known_ids: set[str] = set()
@@ -91,6 +104,7 @@ class _Validator:
         yield from self._seed()
         yield from self._events()
         yield from self._oracle()
+        yield from self._variants()
         yield from self._goals()
 
     # -- apps and seed data -----------------------------------------------------------------------------
@@ -116,7 +130,6 @@ class _Validator:
 
     # -- events ----------------------------------------------------------------------------------------
     def _events(self) -> Iterator[Problem]:
-        catalog = self.catalog
         seen: set[str] = set()
         for index, event in enumerate(self.scenario.events):
             where: Path = ("events", index)
@@ -138,12 +151,43 @@ class _Validator:
                 yield Problem((*where, "after"), f"waits for unknown event '{event.after}'.{hint}")
             if event.when is not None:
                 yield from self._pattern(event.when, (*where, "when"))
-            spec = catalog.flat.get(event.tool)
-            if spec is None:
-                yield Problem((*where, "tool"), catalog.unknown_tool(event.tool, catalog.flat))
-            else:
-                yield from self._args(spec, event.args, (*where, "args"), refs_allowed=False)
+                yield from self._if_args(event.when, event.if_args, (*where, "if_args"))
+            yield from self._event_call(event.tool, event.args, where)
+            otherwise_id = event.otherwise_id
+            if event.otherwise is not None and otherwise_id is not None:
+                place: Path = (*where, "otherwise")
+                if otherwise_id in seen or otherwise_id in [e.id for e in self.scenario.events]:
+                    yield Problem(
+                        (*place, "id"), f"the event id '{otherwise_id}' is taken; give 'otherwise' an id"
+                    )
+                seen.add(otherwise_id)
+                yield from self._event_call(event.otherwise.tool, event.otherwise.args, place)
         yield from self._cycles()
+
+    def _event_call(self, tool: str, args: Mapping[str, Any], where: Path) -> Iterator[Problem]:
+        catalog = self.catalog
+        spec = catalog.flat.get(tool)
+        if spec is None:
+            yield Problem((*where, "tool"), catalog.unknown_tool(tool, catalog.flat))
+            return
+        for key, value in args.items():
+            if key.endswith("_id") and isinstance(value, str):
+                self.known_ids.add(value)
+        yield from self._args(spec, args, (*where, "args"), refs_allowed=False)
+
+    def _if_args(self, pattern: ActionPattern, if_args: Mapping[str, Any], where: Path) -> Iterator[Problem]:
+        specs = self._pattern_specs(pattern) if pattern.tool is not None else []
+        parameters = _parameters(specs)
+        for name, raw in if_args.items():
+            if specs and name not in parameters:
+                hint = did_you_mean(name, parameters)
+                yield Problem(
+                    (*where, name),
+                    f"{pattern.tool} has no argument '{name}'.{hint} "
+                    f"Arguments: {', '.join(sorted(parameters))}",
+                )
+            elif name in parameters:
+                yield from self._fits(raw, parameters[name], (*where, name))
 
     def _cycles(self) -> Iterator[Problem]:
         parents = {event.id: event.after for event in self.scenario.events if event.after is not None}
@@ -161,10 +205,35 @@ class _Validator:
 
     # -- the oracle ------------------------------------------------------------------------------------
     def _oracle(self) -> Iterator[Problem]:
-        catalog = self.catalog
         oracle = self.scenario.oracle
-        for index, step in enumerate(oracle.user):
-            where: Path = ("oracle", "user", index)
+        yield from self._user_steps(oracle.user, ("oracle", "user"))
+        yield from self._user_steps(oracle.by_hand, ("oracle", "by_hand"))
+        yield from self._interventions(oracle.interventions, ("oracle", "interventions"))
+
+    def _variants(self) -> Iterator[Problem]:
+        seen: set[str] = set()
+        oracle_ids = list(self.action_ids)
+        for number, variant in enumerate(self.scenario.variants):
+            where: Path = ("variants", number)
+            if variant.id in seen:
+                yield Problem((*where, "id"), f"two variants share the id '{variant.id}'")
+            seen.add(variant.id)
+            goals = [goal.id for goal in self.scenario.goals]
+            for index, goal_id in enumerate(variant.fails):
+                if goal_id not in goals:
+                    hint = did_you_mean(goal_id, goals)
+                    yield Problem((*where, "fails", index), f"unknown goal '{goal_id}'.{hint}")
+            if variant.user is not None:
+                yield from self._user_steps(variant.user, (*where, "user"))
+            if variant.interventions is not None:
+                self.action_ids = []  # a variant's ${id.field} values name its own actions
+                yield from self._interventions(variant.interventions, (*where, "interventions"))
+                self.action_ids = oracle_ids
+
+    def _user_steps(self, steps: Iterable[UserStep], at: Path) -> Iterator[Problem]:
+        catalog = self.catalog
+        for index, step in enumerate(steps):
+            where: Path = (*at, index)
             if step.when is not None:
                 yield from self._condition(step.when, (*where, "when"))
             if step.tool in ("accept_proposal", "reject_proposal"):
@@ -186,8 +255,11 @@ class _Validator:
             ]
             if all(problems):
                 yield from problems[0]
-        for number, intervention in enumerate(oracle.interventions):
-            where = ("oracle", "interventions", number)
+
+    def _interventions(self, interventions: Iterable[Intervention], at: Path) -> Iterator[Problem]:
+        catalog = self.catalog
+        for number, intervention in enumerate(interventions):
+            where: Path = (*at, number)
             if intervention.when is not None:
                 yield from self._condition(intervention.when, (*where, "when"))
             for index, action in enumerate(intervention.actions):
@@ -214,10 +286,22 @@ class _Validator:
     # -- goals -----------------------------------------------------------------------------------------
     def _goals(self) -> Iterator[Problem]:
         seen: set[str] = set()
+        if not any(needs_assistant(check) for goal in self.scenario.goals for check in goal.checks):
+            yield Problem(
+                ("goals",),
+                "no goal needs the assistant's own work, so a user who does the task by hand succeeds: "
+                "give a state check 'by: assistant', or an action or judge check on the assistant's actions",
+            )
         for number, goal in enumerate(self.scenario.goals):
             if goal.id in seen:
                 yield Problem(("goals", number, "id"), f"two goals share the id '{goal.id}'")
             seen.add(goal.id)
+            if not any(is_positive(check) for check in goal.checks):
+                yield Problem(
+                    ("goals", number, "checks"),
+                    f"goal '{goal.id}' has no positive check (only things that must not happen), so doing "
+                    "nothing meets it: add a check of what must be there",
+                )
             for index, check in enumerate(goal.checks):
                 where: Path = ("goals", number, "checks", index, check.form)
                 if check.action is not None:
@@ -264,10 +348,12 @@ class _Validator:
                 )
                 return
             model = fields[part]
+        if "value" in check.model_fields_set and model is not None:
+            yield from self._fits(check.value, model, (*where, "value"))
         if check.where and model is not None:
             item_fields = model_fields(item_type(model))
             if item_fields is not None:
-                for name in check.where:
+                for name, raw in check.where.items():
                     if name not in item_fields:
                         hint = did_you_mean(name, item_fields)
                         yield Problem(
@@ -275,6 +361,8 @@ class _Validator:
                             f"items of {check.path} have no field '{name}'.{hint} "
                             f"Fields: {', '.join(item_fields)}",
                         )
+                    else:
+                        yield from self._fits(raw, item_fields[name], (*where, "where", name))
             for name, raw in check.where.items():
                 yield from self._id_reference(name, raw, (*where, "where", name))
 
@@ -299,9 +387,9 @@ class _Validator:
                 ]
                 if pattern.app is None or spec.app == pattern.app
             ]
-            parameters = {name for spec in specs for name in spec.params.model_fields}
+            names = {name for spec in specs for name in spec.params.model_fields}
             for name in pattern.args:
-                if name not in parameters:
+                if name not in names:
                     owner = f"tool of {pattern.app}" if pattern.app else "tool"
                     yield Problem((*where, "args", name), f"no {owner} has an argument '{name}'")
             return
@@ -320,7 +408,7 @@ class _Validator:
                 )
             yield Problem((*where, "tool"), message)
             return
-        parameters = {name for spec in specs for name in spec.params.model_fields}
+        parameters = _parameters(specs)
         for name, raw in pattern.args.items():
             if name not in parameters:
                 hint = did_you_mean(name, parameters)
@@ -330,7 +418,12 @@ class _Validator:
                     f"Arguments: {', '.join(sorted(parameters)) or 'none'}",
                 )
             else:
+                yield from self._fits(raw, parameters[name], (*where, "args", name))
                 yield from self._id_reference(name, raw, (*where, "args", name))
+
+    def _fits(self, raw: Any, annotation: Any, where: Path) -> Iterator[Problem]:
+        for place, message in matcher_problems(raw, annotation):
+            yield Problem((*where, *place), message)
 
     def _pattern_specs(self, pattern: ActionPattern) -> list[ToolSpec]:
         catalog = self.catalog
@@ -383,6 +476,39 @@ class _Validator:
             if isinstance(value, str) and reference(value) is None and value not in self.known_ids:
                 hint = did_you_mean(value, self.known_ids)
                 yield Problem(where, f"'{value}' is not an id in the seed data or created by an event.{hint}")
+
+
+def _parameters(specs: Iterable[ToolSpec]) -> dict[str, Any]:
+    """Argument name to type annotation, over ``specs``."""
+    return {name: info.annotation for spec in specs for name, info in spec.params.model_fields.items()}
+
+
+def is_positive(check: Check) -> bool:
+    """Whether ``check`` demands that something be there (not only that something be absent)."""
+    if check.no_action is not None:
+        return False
+    if check.action is not None:
+        count = check.action.count
+    elif check.state is not None:
+        if "value" in check.state.model_fields_set:
+            return True
+        count = check.state.count
+    else:
+        return True  # a judge check demands a text that meets its criterion
+    if count is None:
+        return True
+    return (count if isinstance(count, int) else (as_count(count, count).min or 0)) >= 1
+
+
+def needs_assistant(check: Check) -> bool:
+    """Whether ``check`` can only hold through the assistant's own work."""
+    if not is_positive(check):
+        return False
+    if check.action is not None:
+        return check.action.actor == "assistant"
+    if check.judge is not None:
+        return check.judge.action.actor == "assistant"
+    return check.state is not None and check.state.by == "assistant"
 
 
 def _collect_ids(data: Any, into: set[str]) -> None:

@@ -1,0 +1,137 @@
+"""Who made each piece of app state: attribution from the actors' writes.
+
+Success must be the assistant's work, not the user's. Every successful write by the user or the assistant
+is diffed (the app data before and after the call), and each place in the state that the call created or
+changed is marked with the actor and the action-log entry. Places are paths into the state snapshot,
+with items of id-keyed mappings and of lists named by their identity (an item's ``*_id`` field, else its
+value), so ``("calendar", "events", "ev-3")`` is one calendar event wherever it sits in a list.
+
+Writes by the world (``env``: scheduled events, noise, wakeups) are not attributed: what the world
+makes is like seed data, and an email arriving does not take credit from the assistant for work it did.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from pare.sim.log import Actor
+
+StatePath = tuple[str, ...]
+
+ATTRIBUTED_ACTORS: frozenset[Actor] = frozenset({"user", "assistant", "oracle"})
+"""Actors whose writes are attributed (the oracle's too, for tests that drive it directly)."""
+
+
+@dataclass(frozen=True, slots=True)
+class Mark:
+    """Who made one place of the state: its creator (``None`` when it was seeded or made by the world)
+    and its last changer among the attributed actors, with the log entries that did it.
+    """
+
+    created_by: Actor | None
+    changed_by: Actor
+    created_at: int | None
+    """Log index of the call that created it, if an attributed actor did."""
+    changed_at: int
+    """Log index of the last attributed call that changed it."""
+
+    def credits(self, actor: Actor) -> bool:
+        """Whether ``actor`` made this: created it, or made its latest change."""
+        return self.created_by == actor or self.changed_by == actor
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready form."""
+        return {
+            "created_by": self.created_by,
+            "changed_by": self.changed_by,
+            "created_at": self.created_at,
+            "changed_at": self.changed_at,
+        }
+
+
+def item_key(item: Any) -> str:
+    """The identity of a list item: its first ``*_id`` field when it is a record, else its value."""
+    if isinstance(item, Mapping):
+        for key, value in item.items():
+            if str(key).endswith("_id") and isinstance(value, str | int):
+                return str(value)
+    if isinstance(item, str):
+        return item
+    return json.dumps(item, sort_keys=True, default=str)
+
+
+def _keyed(value: Any) -> Mapping[str, Any] | None:
+    if isinstance(value, Mapping):
+        return value
+    if isinstance(value, list):
+        return {item_key(item): item for item in value}
+    return None
+
+
+def changed_places(before: Any, after: Any, path: StatePath = ()) -> Iterator[tuple[StatePath, bool]]:
+    """The places where ``after`` differs from ``before``: ``(path, created)`` for the deepest changes."""
+    old, new = _keyed(before), _keyed(after)
+    if old is None or new is None:
+        if before != after:
+            yield path, False
+        return
+    for key, value in new.items():
+        here = (*path, str(key))
+        if key not in old:
+            yield here, True
+        elif old[key] != value:
+            yield from changed_places(old[key], value, here)
+
+
+class Attribution:
+    """The marks of one episode, filled as actors write."""
+
+    def __init__(self) -> None:
+        self._marks: dict[StatePath, Mark] = {}
+
+    def record(self, actor: Actor, entry_index: int, app: str, before: Any, after: Any) -> None:
+        """Mark what ``actor``'s call (log entry ``entry_index``) changed in ``app``'s data."""
+        for place, created in changed_places(before, after, (app,)):
+            self._mark(place, actor, entry_index, created)
+            for depth in range(len(place) - 1, 0, -1):  # the item holding a changed field changed too
+                self._mark(place[:depth], actor, entry_index, False)
+
+    def _mark(self, place: StatePath, actor: Actor, index: int, created: bool) -> None:
+        previous = self._marks.get(place)
+        if created or previous is None:
+            creator = actor if created else None
+            self._marks[place] = Mark(creator, actor, index if created else None, index)
+        else:
+            self._marks[place] = Mark(previous.created_by, actor, previous.created_at, index)
+
+    def mark(self, place: StatePath) -> Mark | None:
+        """The mark of ``place``, or ``None`` when no attributed actor made or changed it."""
+        return self._marks.get(place)
+
+    def credits(self, place: StatePath, actors: frozenset[Actor]) -> bool:
+        """Whether one of ``actors`` made ``place`` (created it, or made its latest change)."""
+        found = self._marks.get(place)
+        return found is not None and any(found.credits(actor) for actor in actors)
+
+    def to_dict(self) -> dict[str, dict[str, Any]]:
+        """JSON-ready form, keyed by the dotted place."""
+        return {".".join(place): mark.to_dict() for place, mark in sorted(self._marks.items())}
+
+
+def place_of(state: Mapping[str, Any], dotted: str) -> StatePath | None:
+    """The attribution place of a dotted state path (``shopping.orders.0`` names the order by its id)."""
+    value: Any = state
+    place: list[str] = []
+    for part in dotted.split("."):
+        if isinstance(value, Mapping) and part in value:
+            value = value[part]
+            place.append(part)
+        elif isinstance(value, list) and part.isdigit() and int(part) < len(value):
+            value = value[int(part)]
+            place.append(item_key(value))
+        else:
+            return None
+    return tuple(place)

@@ -1,0 +1,322 @@
+"""Reading free text for meaning, deterministically: words, negation, and the days and times it names.
+
+Checks on what an assistant wrote must accept every correct wording and reject the tempting wrong ones,
+without a model. Three tools, all rule-based so a verdict never changes from one run to the next:
+
+* **Words at their boundaries.** ``wed`` is found in "Wed 14:00" but not in "reviewed"; ``15`` in "6:15pm"
+  but not in "150". A word is a run of letters or a run of digits; a piece matches where it is not glued
+  to more of the same kind. A ``*`` at the end (or start) of a piece lets the word go on: ``view*``
+  matches "viewing".
+* **Clauses and negation.** Text is cut into clauses (sentences, commas, "but", "instead of", ...); a
+  clause with a negation cue ("not", "can't", "unfortunately", "instead of", ...) does not affirm what it
+  mentions, so "Thursday does not work" does not affirm Thursday while "Wednesday is out, Thursday works"
+  does.
+* **Days and clock times.** "Tue 14 May", "Thursday at 8", "tomorrow", "6.15 pm", "18h15", "noon" are
+  resolved against the scenario's start (a weekday is the next such day on or after it; "next Thursday"
+  also the one after) and compared as dates and times, not as text.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable
+from dataclasses import dataclass
+from datetime import date, datetime, time, timedelta
+from functools import lru_cache
+
+# -- words -------------------------------------------------------------------------------------------------
+_LETTER_BEFORE = r"(?<![^\W\d_])"
+_LETTER_AFTER = r"(?![^\W\d_])"
+
+
+def _edge(char: str, *, before: bool) -> str:
+    if char.isdigit():
+        return r"(?<!\d)" if before else r"(?!\d)"
+    if char.isalpha():
+        return _LETTER_BEFORE if before else _LETTER_AFTER
+    return ""
+
+
+@lru_cache(maxsize=4096)
+def word_pattern(piece: str) -> re.Pattern[str]:
+    """A case-insensitive pattern finding ``piece`` at word boundaries (see the module docstring)."""
+    text = " ".join(piece.split())
+    open_start, open_end = text.startswith("*"), text.endswith("*") and len(text) > 1
+    core = text.strip("*")
+    if not core:
+        raise ValueError(f"{piece!r} has no text besides '*'")
+    body = r"\s+".join(re.escape(part) for part in core.split(" "))
+    left = "" if open_start else _edge(core[0], before=True)
+    right = "" if open_end else _edge(core[-1], before=False)
+    return re.compile(left + body + right, re.IGNORECASE)
+
+
+def has_word(text: str, piece: str) -> bool:
+    """Whether ``text`` contains ``piece`` at word boundaries."""
+    return word_pattern(piece).search(text) is not None
+
+
+# -- clauses and negation -------------------------------------------------------------------------------
+_CLAUSE_BREAK = re.compile(
+    r"[;!?\n,]|\.(?=\s|$)|\s(?=(?:but|however|although|though|whereas|except|instead of|rather than|"
+    r"apart from|other than|unlike)\b)",
+    re.IGNORECASE,
+)
+NEGATION_CUES: tuple[str, ...] = (
+    "not",
+    "no",
+    "never",
+    "cannot",
+    "can't",
+    "won't",
+    "*n't",
+    "unable",
+    "unfortunately",
+    "sadly",
+    "neither",
+    "nor",
+    "decline",
+    "unavailable",
+    "instead of",
+    "rather than",
+    "except",
+    "apart from",
+    "other than",
+    "unlike",
+)
+"""Words that keep a clause from affirming what it mentions."""
+
+DECLINE_CUES: tuple[str, ...] = (
+    "can't make",
+    "cannot make",
+    "can't do",
+    "cannot do",
+    "can't come",
+    "cannot come",
+    "won't be able",
+    "not be able",
+    "unable",
+    "doesn't work",
+    "does not work",
+    "won't work",
+    "will not work",
+    "don't think",
+    "no longer",
+    "not available",
+    "unavailable",
+    "unfortunately",
+    "regret*",
+    "declin*",
+    "have to cancel",
+    "need to cancel",
+    "must cancel",
+    "won't make it",
+    "not going to make",
+)
+"""Phrases that make a whole message a refusal or a cancellation."""
+
+
+_FRIENDLY_IDIOMS = re.compile(
+    r"(?<![^\W\d_])(no problem|no worries|not a problem|no trouble|can't wait|cannot wait|don't hesitate)"
+    r"(?![^\W\d_])",
+    re.IGNORECASE,
+)
+"""Phrases that look negative but are not ("no problem, Thursday works"): removed before cues are sought."""
+
+
+def _normalise_quotes(text: str) -> str:
+    return text.replace("\u2019", "'").replace("\u2018", "'")
+
+
+def clauses(text: str) -> list[str]:
+    """``text`` cut into clauses."""
+    return [part.strip() for part in _CLAUSE_BREAK.split(_normalise_quotes(text)) if part.strip()]
+
+
+def is_negated(clause: str) -> bool:
+    """Whether ``clause`` carries a negation cue."""
+    clause = _FRIENDLY_IDIOMS.sub(" ", clause)
+    return any(has_word(clause, cue) for cue in NEGATION_CUES)
+
+
+def affirmed_clauses(text: str) -> list[str]:
+    """The clauses of ``text`` without a negation cue."""
+    return [clause for clause in clauses(text) if not is_negated(clause)]
+
+
+def affirms(text: str, piece: str) -> bool:
+    """Whether some clause of ``text`` without negation mentions ``piece``."""
+    return any(has_word(clause, piece) for clause in affirmed_clauses(text))
+
+
+def declines(text: str) -> bool:
+    """Whether ``text`` reads as a refusal, a cancellation or a "does not work"."""
+    text = _FRIENDLY_IDIOMS.sub(" ", _normalise_quotes(text))
+    return any(has_word(text, cue) for cue in DECLINE_CUES)
+
+
+# -- days and clock times ---------------------------------------------------------------------------------
+_WEEKDAYS = ("monday", "tuesday", "wednesday", "thursday", "friday", "saturday", "sunday")
+_WEEKDAY_ABBREVIATIONS = {"Mon": 0, "Tue": 1, "Tues": 1, "Wed": 2, "Thu": 3, "Thur": 3, "Thurs": 3, "Fri": 4,
+                          "Sat": 5, "Sun": 6}  # fmt: skip
+_MONTHS = ("january", "february", "march", "april", "may", "june", "july", "august", "september", "october",
+           "november", "december")  # fmt: skip
+_MONTH_WORD = (
+    r"(jan(?:uary)?|feb(?:ruary)?|mar(?:ch)?|apr(?:il)?|may|june?|july?|aug(?:ust)?|sept?(?:ember)?|"
+    r"oct(?:ober)?|nov(?:ember)?|dec(?:ember)?)\.?"
+)
+_ORDINAL = r"(\d{1,2})(?:st|nd|rd|th)?"
+
+_FULL_WEEKDAY = re.compile(r"(?<![^\W\d_])(next\s+|this\s+)?(" + "|".join(_WEEKDAYS) + r")(?![^\W\d_])", re.I)
+_SHORT_WEEKDAY = re.compile(r"(?<![^\W\d_])(" + "|".join(_WEEKDAY_ABBREVIATIONS) + r")(?![^\W\d_])\.?")
+_RELATIVE_DAY = re.compile(
+    r"(?<![^\W\d_])(the\s+day\s+after\s+tomorrow|tomorrow|today|tonight|this\s+(?:morning|afternoon|evening))"
+    r"(?![^\W\d_])",
+    re.I,
+)
+_DAY_MONTH = re.compile(r"(?<!\d)" + _ORDINAL + r"(?:\s+of)?\s+" + _MONTH_WORD + r"(?:\s+(\d{4}))?", re.I)
+_MONTH_DAY = re.compile(_MONTH_WORD + r"\s+" + _ORDINAL + r"(?![\d:])(?:,?\s+(\d{4}))?", re.I)
+_ISO_DATE = re.compile(r"(?<!\d)(\d{4})-(\d{2})-(\d{2})(?!\d)")
+_SLASH_DATE = re.compile(r"(?<![\d/])(\d{1,2})/(\d{1,2})(?:/(\d{2,4}))?(?![\d/])")
+
+_CLOCK = re.compile(
+    r"(?<![\d$£€.:])(\d{1,2})\s?[:.h]\s?(\d{2})(?!\d)(?:\s?(a\.?m\.?|p\.?m\.?)(?![^\W\d_]))?", re.I
+)
+_HOUR_SUFFIX = re.compile(r"(?<![\d$£€.:])(\d{1,2})\s?(a\.?m\.?|p\.?m\.?|o'clock)(?![^\W\d_])", re.I)
+_AT_HOUR = re.compile(
+    r"(?<![^\W\d_])(?:at|from|by|around|until|till)\s+(\d{1,2})(?![\d:.%]|\s?(?:am|pm|a\.m|p\.m))", re.I
+)
+_NAMED_TIME = re.compile(r"(?<![^\W\d_])(noon|midday|midnight)(?![^\W\d_])", re.I)
+
+
+@dataclass(frozen=True, slots=True)
+class Mention:
+    """A day or a clock time named in a text: every reading of it (``6:15`` is 06:15 or 18:15)."""
+
+    start: int
+    days: frozenset[date] = frozenset()
+    times: frozenset[time] = frozenset()
+
+
+def _clock_readings(hour: int, minute: int, suffix: str | None) -> frozenset[time]:
+    if minute > 59 or hour > 24:
+        return frozenset()
+    suffix = (suffix or "").replace(".", "").lower()
+    if suffix in ("am", "pm"):
+        if not 1 <= hour <= 12:
+            return frozenset()
+        base = hour % 12
+        return frozenset({time(base + (12 if suffix == "pm" else 0), minute)})
+    hour %= 24
+    if 1 <= hour <= 12:  # no am/pm: read it both ways (people write "at 6" for 18:00)
+        return frozenset({time(hour % 12, minute), time(hour % 12 + 12, minute)})
+    return frozenset({time(hour, minute)})
+
+
+def _month_number(word: str) -> int:
+    prefix = word.lower().rstrip(".")[:3]
+    return next(index for index, name in enumerate(_MONTHS, start=1) if name.startswith(prefix))
+
+
+def _safe_date(year: int, month: int, day: int) -> date | None:
+    try:
+        return date(year, month, day)
+    except ValueError:
+        return None
+
+
+def _year_readings(anchor: date, month: int, day: int, year: str | None) -> frozenset[date]:
+    if year:
+        number = int(year) + (2000 if len(year) == 2 else 0)
+        found = _safe_date(number, month, day)
+        return frozenset({found}) if found else frozenset()
+    return frozenset(
+        d for d in (_safe_date(anchor.year, month, day), _safe_date(anchor.year + 1, month, day)) if d
+    )
+
+
+def _weekday_readings(anchor: date, weekday: int, qualifier: str) -> frozenset[date]:
+    first = anchor + timedelta(days=(weekday - anchor.weekday()) % 7)
+    if qualifier.strip().lower() == "next":  # "next Thursday": this coming one or the one after
+        return frozenset({first, first + timedelta(days=7)})
+    return frozenset({first})
+
+
+def mentions(text: str, anchor: datetime) -> list[Mention]:
+    """Every day and clock time named in ``text``, in order, resolved against ``anchor``."""
+    today = anchor.date()
+    found: list[Mention] = []
+    taken: list[tuple[int, int]] = []
+
+    def add(match: re.Match[str], days: Iterable[date] = (), times: Iterable[time] = ()) -> None:
+        span = match.span()
+        if any(span[0] < end and start < span[1] for start, end in taken):
+            return  # already read as part of a longer mention (a date's digits are not a clock time)
+        taken.append(span)
+        found.append(Mention(span[0], frozenset(days), frozenset(times)))
+
+    for match in _ISO_DATE.finditer(text):
+        add(match, [d for d in [_safe_date(*(int(g) for g in match.groups()))] if d])
+    for match in _DAY_MONTH.finditer(text):
+        add(match, _year_readings(today, _month_number(match.group(2)), int(match.group(1)), match.group(3)))
+    for match in _MONTH_DAY.finditer(text):
+        add(match, _year_readings(today, _month_number(match.group(1)), int(match.group(2)), match.group(3)))
+    for match in _SLASH_DATE.finditer(text):
+        first, second, year = int(match.group(1)), int(match.group(2)), match.group(3)
+        add(match, _year_readings(today, second, first, year) | _year_readings(today, first, second, year))
+    for match in _RELATIVE_DAY.finditer(text):
+        word = match.group(1).lower()
+        offset = 2 if word.startswith("the") else 1 if word == "tomorrow" else 0
+        add(match, [today + timedelta(days=offset)])
+    for match in _FULL_WEEKDAY.finditer(text):
+        weekday = _WEEKDAYS.index(match.group(2).lower())
+        add(match, _weekday_readings(today, weekday, match.group(1) or ""))
+    for match in _SHORT_WEEKDAY.finditer(text):
+        add(match, _weekday_readings(today, _WEEKDAY_ABBREVIATIONS[match.group(1)], ""))
+    for match in _CLOCK.finditer(text):
+        add(match, times=_clock_readings(int(match.group(1)), int(match.group(2)), match.group(3)))
+    for match in _HOUR_SUFFIX.finditer(text):
+        suffix = match.group(2)
+        add(match, times=_clock_readings(int(match.group(1)), 0, None if "clock" in suffix else suffix))
+    for match in _AT_HOUR.finditer(text):
+        add(match, times=_clock_readings(int(match.group(1)), 0, None))
+    for match in _NAMED_TIME.finditer(text):
+        add(match, times=[time(0, 0) if match.group(1).lower() == "midnight" else time(12, 0)])
+    return sorted(found, key=lambda mention: mention.start)
+
+
+def _affirmed_mentions(text: str, anchor: datetime) -> list[list[Mention]]:
+    """The mentions of each affirmed clause, grouped by sentence (clauses of one sentence together)."""
+    groups: list[list[Mention]] = []
+    for sentence in re.split(r"[!?\n]|\.(?=\s|$)", _normalise_quotes(text)):
+        group: list[Mention] = []
+        for clause in affirmed_clauses(sentence):
+            group.extend(mentions(clause, anchor))
+        if group:
+            groups.append(group)
+    return groups
+
+
+def mentions_day(text: str, day: date, anchor: datetime) -> bool:
+    """Whether ``text`` affirmatively names ``day``."""
+    return any(day in m.days for group in _affirmed_mentions(text, anchor) for m in group)
+
+
+def mentions_clock(text: str, clock: time, anchor: datetime) -> bool:
+    """Whether ``text`` affirmatively names the clock time ``clock``."""
+    return any(clock in m.times for group in _affirmed_mentions(text, anchor) for m in group)
+
+
+def mentions_moment(text: str, moment: datetime, anchor: datetime) -> bool:
+    """Whether ``text`` affirmatively names ``moment``'s day together with its clock time: both in one
+    sentence, or the text names just one day and one clock time.
+    """
+    day, clock = moment.date(), moment.time().replace(second=0, microsecond=0)
+    groups = _affirmed_mentions(text, anchor)
+    for group in groups:
+        if any(day in m.days for m in group) and any(clock in m.times for m in group):
+            return True
+    every = [m for group in groups for m in group]
+    days = {frozenset(m.days) for m in every if m.days}
+    times = {frozenset(m.times) for m in every if m.times}
+    return len(days) == 1 and len(times) == 1 and day in next(iter(days)) and clock in next(iter(times))
