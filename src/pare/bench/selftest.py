@@ -130,7 +130,9 @@ def check_scenario(scenario: Scenario, settings: EpisodeSettings | None = None) 
         problems = _problems(name, scenario, result)
         met = {goal.id for goal in result.outcome.goals if goal.passed}
         problems.extend(
-            f"goal '{goal_id}' should fail ({why}) but was met" for goal_id in fails.get(name, []) if goal_id in met
+            f"goal '{goal_id}' should fail ({why}) but was met"
+            for goal_id in fails.get(name, [])
+            if goal_id in met
         )
         if expected and not result.success:
             problems.extend(

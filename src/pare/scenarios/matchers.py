@@ -51,6 +51,7 @@ OPERATORS: dict[str, str] = {
     "any_of": "a list of matchers of which at least one holds",
 }
 
+_DAY_ONLY = re.compile(r"\s*day\s*([+-]\s*\d+)?\s*")
 _TIME_OPERATORS = ("after", "before", "mentions_day", "mentions_time")
 TEXT_OPERATORS = frozenset(
     {
@@ -168,7 +169,7 @@ def _compile_operator(name: str, value: Any) -> tuple[str, Any]:
         if isinstance(value, bool) or not isinstance(value, int | float):
             raise MatcherError(f"'{name}' needs a number, got {value!r}")
         return name, float(value)
-    if name == "mentions_day" and isinstance(value, str) and re.fullmatch(r"\s*day\s*([+-]\s*\d+)?\s*", value):
+    if name == "mentions_day" and isinstance(value, str) and _DAY_ONLY.fullmatch(value):
         value = f"{value.strip()} 00:00"  # a day alone: its clock time does not matter
     if name in _TIME_OPERATORS:
         if not isinstance(value, str | datetime):
