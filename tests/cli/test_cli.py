@@ -23,6 +23,13 @@ def test_apps_show_prints_screens_and_tools(capsys: pytest.CaptureFixture[str]) 
     assert "screen Detail" in out and "start_edit_contact" in out and "contacts__edit_contact" in out
 
 
+def test_apps_show_seed_format(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["apps", "show", "calendar", "--seed"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("seed:\n  calendar:\n    events:  # a list of CalendarEvent, each with its")
+    assert "start_datetime: time  # required; a time: ISO, an offset from the start" in out
+
+
 def test_apps_show_mermaid(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["apps", "show", "email", "--mermaid"]) == 0
     out = capsys.readouterr().out

@@ -7,7 +7,7 @@ import pytest
 
 from pare.cli import main
 from pare.scenarios import library
-from tests.scenarios.helpers import base, to_yaml
+from tests.scenarios.helpers import base, fair, to_yaml
 
 
 @pytest.fixture
@@ -24,31 +24,33 @@ def _write(folder: Path, data: dict[str, object]) -> Path:
 def test_check_passes_a_sound_scenario(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
 ) -> None:
-    _write(tmp_path, base())
+    _write(tmp_path, fair())
     assert main(["scenarios", "check", str(tmp_path)]) == 0
     out = capsys.readouterr().out
     assert "tiny_reply" in out and "all 1 scenarios pass the gate" in out
+    assert main(["scenarios", "check", "-v", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "variant:declines" in out and "Saying Thursday does not work is not a yes." in out
+    assert "[variant:wrong_person] NO replied:" in out
 
 
 def test_check_fails_a_scenario_whose_checks_prove_nothing(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
 ) -> None:
-    weak = base()
+    weak = fair()
     weak["id"] = "weak_checks"
-    weak["goals"][0]["checks"] = [
-        {"no_action": {"tool": "email__delete_email"}}
-    ]  # holds when nothing happens
+    weak["goals"][0]["checks"] = [{"action": {"tool": "agent_ui__send_message_to_user"}}]  # any proposal
     _write(tmp_path, weak)
     assert main(["scenarios", "check", str(tmp_path / "weak_checks.yaml")]) == 1
     out = capsys.readouterr().out
-    assert "weak_checks [nothing]: should fail but did not" in out
-    assert "weak_checks [user_alone]: should fail but did not" in out
+    assert "weak_checks [unrelated]: should fail but did not" in out
+    assert "weak_checks [variant:declines]: goal 'replied' should fail" in out
 
 
 def test_check_reports_a_broken_oracle(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
 ) -> None:
-    broken = base()
+    broken = fair()
     broken["id"] = "late_oracle"
     broken["oracle"]["interventions"][0]["when"] = {
         "event": "ann_asks",
@@ -56,7 +58,7 @@ def test_check_reports_a_broken_oracle(
     }
     _write(tmp_path, broken)
     assert main(["scenarios", "check", str(tmp_path)]) == 1
-    assert "the oracle assistant never proposed" in capsys.readouterr().out
+    assert "late_oracle [oracle]: the assistant never proposed" in capsys.readouterr().out
 
 
 def test_check_refuses_a_broken_file_with_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -99,3 +99,120 @@ def to_yaml(data: dict[str, Any]) -> str:
 
 def parse(data: dict[str, Any]) -> Scenario:
     return parse_scenario(to_yaml(data), source="tiny.yaml")
+
+
+THURSDAY = "day+3"  # the base scenario starts on Monday 3 March 2025
+
+REPLY = {
+    "tool": "email__reply_to_email",
+    "args": {"email_id": "e_ann", "content": "Yes, Thursday works for me!"},
+}
+
+
+def intervention(*actions: dict[str, Any]) -> dict[str, Any]:
+    return {
+        "when": {"action": {"actor": "user", "tool": "email__open_email"}},
+        "proposal": "Reply to Ann that Thursday works.",
+        "actions": list(actions),
+    }
+
+
+def fair() -> dict[str, Any]:
+    """The base scenario brought to the standard: attribution, a reactive branch, by-hand steps, variants."""
+    data = base()
+    data["events"].append(
+        {
+            "id": "ann_confirms",
+            "when": {"tool": "email__reply_to_email", "args": {"email_id": "e_ann"}},
+            "if_args": {"content": {"mentions_day": THURSDAY}},
+            "delay": "5m",
+            "tool": "email__receive_email",
+            "args": {
+                "email_id": "e_conf",
+                "sender": "ann@x.example",
+                "subject": "Re",
+                "content": "Great, see you!",
+            },
+            "otherwise": {
+                "tool": "email__receive_email",
+                "args": {
+                    "email_id": "e_what",
+                    "sender": "ann@x.example",
+                    "subject": "Re",
+                    "content": "Which day?",
+                },
+            },
+        }
+    )
+    data["oracle"]["interventions"] = [intervention(REPLY)]
+    data["oracle"]["by_hand"] = [
+        {"tool": "open_app", "args": {"app_name": "email"}, "when": {"event": "ann_asks"}},
+        {"tool": "open_email", "args": {"email_id": "e_ann"}},
+        {"tool": "reply", "args": {"content": "Thursday works!"}},
+    ]
+    data["goals"] = [
+        {
+            "id": "replied",
+            "description": "The assistant told Ann that Thursday works.",
+            "checks": [
+                {
+                    "state": {
+                        "path": "email.emails",
+                        "by": "assistant",
+                        "where": {
+                            "folder": "SENT",
+                            "recipients": {"contains": "ann@x.example"},
+                            "content": {"mentions_day": THURSDAY},
+                        },
+                    }
+                },
+                {
+                    "state": {
+                        "path": "email.emails",
+                        "where": {"folder": "SENT", "recipients": {"contains": "bob"}},
+                        "count": 0,
+                    }
+                },
+            ],
+        }
+    ]
+    data["variants"] = [
+        {
+            "id": "fresh_email",
+            "expect": "pass",
+            "why": "A new email instead of a reply, written differently.",
+            "interventions": [
+                intervention(
+                    {
+                        "tool": "email__send_email",
+                        "args": {
+                            "recipients": ["ann@x.example"],
+                            "subject": "Thu",
+                            "content": "Thu is fine by me.",
+                        },
+                    }
+                )
+            ],
+        },
+        {
+            "id": "declines",
+            "expect": "fail",
+            "why": "Saying Thursday does not work is not a yes.",
+            "fails": ["replied"],
+            "interventions": [
+                intervention(
+                    {**REPLY, "args": {"email_id": "e_ann", "content": "Sorry, Thursday does not work."}}
+                )
+            ],
+        },
+        {
+            "id": "wrong_person",
+            "expect": "fail",
+            "why": "Bob asked about Friday lunch, not Ann.",
+            "fails": ["replied"],
+            "interventions": [
+                intervention({**REPLY, "args": {"email_id": "e1", "content": "Thursday works!"}})
+            ],
+        },
+    ]
+    return data

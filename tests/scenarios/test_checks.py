@@ -15,9 +15,13 @@ def _oracle_run(data: dict[str, Any]) -> Any:
     return scenario, run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
 
 
+REPLIED = {"action": {"tool": "email__reply_to_email"}}
+"""A check the oracle meets, so every goal has a positive check on the assistant's work."""
+
+
 def _with_checks(*checks: dict[str, Any]) -> dict[str, Any]:
     data = base()
-    data["goals"] = [{"id": "g", "description": "goal", "checks": list(checks)}]
+    data["goals"] = [{"id": "g", "description": "goal", "checks": [REPLIED, *checks]}]
     return data
 
 
@@ -116,7 +120,7 @@ def test_judge_uses_the_model_when_given_and_the_fallback_otherwise() -> None:
     )
     scenario, result = _oracle_run(data)
     assert result.success
-    assert "no judge model; fallback" in result.outcome.goals[0].checks[0].detail
+    assert "no judge model; fallback" in result.outcome.goals[0].checks[-1].detail
     seen: list[tuple[str, str]] = []
 
     def strict_judge(criterion: str, text: str) -> bool:

@@ -32,6 +32,8 @@ def _set(path: str, value: Any) -> Edit:
             target = target[int(part)] if part.isdigit() else target[part]
         if value is _DELETE:
             del target[last]
+        elif isinstance(target, list) and int(last) == len(target):
+            target.append(value)
         elif isinstance(target, list):
             target[int(last)] = value
         else:
@@ -216,6 +218,122 @@ CASES: list[tuple[str, Edit, str, str]] = [
         "only be used in oracle steps",
     ),
     ("empty interventions", _set("oracle/interventions", []), "oracle.interventions", "at least 1"),
+    # silent authoring mistakes: each would otherwise quietly match nothing or prove nothing
+    (
+        "operator misspelt inside where",
+        _set(
+            "goals/0/checks/1",
+            {"state": {"path": "email.emails", "where": {"content": {"contain_any": ["yes"]}}}},
+        ),
+        "goals[0].checks[1].state.where.content.contain_any",
+        "'contain_any' is not an operator. Did you mean 'contains_any'",
+    ),
+    (
+        "operator misspelt in arguments",
+        _set("goals/0/checks/0/action/args/content", {"contain": "thursday"}),
+        "goals[0].checks[0].action.args.content.contain",
+        "is not an operator",
+    ),
+    (
+        "text operator on a number",
+        _set(
+            "goals/0/checks/1",
+            {"action": {"tool": "email__list_emails", "args": {"limit": {"contains": "1"}}}},
+        ),
+        "goals[0].checks[1].action.args.limit.contains",
+        "'contains' cannot apply here: this field holds a number",
+    ),
+    (
+        "number operator on a list",
+        _set("goals/0/checks/1", {"state": {"path": "email.emails", "where": {"recipients": {"min": 1}}}}),
+        "goals[0].checks[1].state.where.recipients.min",
+        "holds a list",
+    ),
+    (
+        "goal with no positive check",
+        _set(
+            "goals/1",
+            {"id": "quiet", "description": "d", "checks": [{"no_action": {"tool": "email__delete_email"}}]},
+        ),
+        "goals[1].checks",
+        "goal 'quiet' has no positive check",
+    ),
+    (
+        "no goal needs the assistant",
+        _set("goals/0/checks/0/action/actor", "any"),
+        "goals",
+        "no goal needs the assistant's own work",
+    ),
+    (
+        "forbidding count is not positive",
+        _set("goals/0/checks/0/action/count", 0),
+        "goals[0].checks",
+        "no positive check",
+    ),
+    (
+        "if_args without when",
+        _set("events/0/if_args", {"content": "x"}),
+        "events[0]",
+        "'if_args' goes with 'when'",
+    ),
+    (
+        "otherwise without if_args",
+        _set("events/0/otherwise", {"tool": "email__receive_email", "args": {}}),
+        "events[0]",
+        "'otherwise' goes with 'if_args'",
+    ),
+    (
+        "variant that changes nothing",
+        _set("variants", [{"id": "same", "expect": "pass", "why": "w"}]),
+        "variants[0]",
+        "gives 'interventions' or 'user'",
+    ),
+    (
+        "variant fails an unknown goal",
+        _set("variants", [{"id": "v", "expect": "fail", "why": "w", "user": [], "fails": ["replid"]}]),
+        "variants[0].fails[0]",
+        "unknown goal 'replid'. Did you mean 'replied'?",
+    ),
+    (
+        "passing variant names goals to fail",
+        _set("variants", [{"id": "v", "expect": "pass", "why": "w", "user": [], "fails": ["replied"]}]),
+        "variants[0]",
+        "this variant must pass",
+    ),
+    (
+        "two variants share an id",
+        _set("variants", [{"id": "v", "expect": "pass", "why": "w", "user": []}] * 2),
+        "variants[1].id",
+        "two variants share the id 'v'",
+    ),
+    (
+        "variant with a broken action",
+        _set(
+            "variants",
+            [
+                {
+                    "id": "v",
+                    "expect": "fail",
+                    "why": "w",
+                    "interventions": [{"proposal": "p", "actions": [{"tool": "email__reply_email"}]}],
+                }
+            ],
+        ),
+        "variants[0].interventions[0].actions[0].tool",
+        "did you mean 'email__reply_to_email'",
+    ),
+    (
+        "by_hand step no screen offers",
+        _set("oracle/by_hand", [{"tool": "reply_to_email", "args": {"content": "x"}}]),
+        "oracle.by_hand[0].tool",
+        "no screen of this scenario's apps offers 'reply_to_email'",
+    ),
+    (
+        "state check by a stranger",
+        _set("goals/0/checks/1", {"state": {"path": "email.emails", "by": "bob"}}),
+        "goals[0].checks[1].state.by",
+        "'assistant' or 'user'",
+    ),
 ]
 
 
@@ -226,6 +344,47 @@ def test_each_mistake_is_named_with_its_place(name: str, edit: Edit, place: str,
     problems = problems_of(data)
     assert any(f": {place}: " in p and message.lower() in p.lower() for p in problems), problems
     assert all(p.startswith("tiny.yaml:") for p in problems)
+
+
+def _reactive(**extra: Any) -> dict[str, Any]:
+    data = base()
+    data["events"].append(
+        {
+            "id": "ann_replies",
+            "when": {"tool": "email__reply_to_email"},
+            "tool": "email__receive_email",
+            "args": {"sender": "ann@x.example", "subject": "Re", "content": "Great"},
+            **extra,
+        }
+    )
+    return data
+
+
+def test_reactive_branches_are_checked_like_events() -> None:
+    problems = "\n".join(
+        problems_of(
+            _reactive(
+                if_args={"body": {"contains": "thursday"}, "content": {"contain": "x"}},
+                otherwise={"id": "ann_asks", "tool": "email__recieve_email", "args": {}},
+            )
+        )
+    )
+    assert "events[1].if_args.body: email__reply_to_email has no argument 'body'" in problems
+    assert "events[1].if_args.content.contain: 'contain' is not an operator" in problems
+    assert "events[1].otherwise.id: the event id 'ann_asks' is taken" in problems
+    assert "events[1].otherwise.tool: unknown tool 'email__recieve_email'" in problems
+
+
+def test_an_otherwise_reaction_is_an_event_others_can_wait_for() -> None:
+    data = _reactive(
+        if_args={"content": {"contains": "thursday"}},
+        otherwise={
+            "tool": "email__receive_email",
+            "args": {"sender": "ann@x.example", "subject": "?", "content": "Which day?"},
+        },
+    )
+    data["oracle"]["user"].append({"tool": "go_back", "when": {"event": "ann_replies_otherwise"}})
+    assert parse(data).events[1].otherwise_id == "ann_replies_otherwise"
 
 
 def test_event_dependencies() -> None:

@@ -206,6 +206,10 @@ def _type_name(annotation: Any) -> str:
     return re.sub(r"\b(?:[A-Za-z_]\w*\.)+([A-Za-z_]\w*)", r"\1", str(annotation))
 
 
+type_name = _type_name
+"""Public name of :func:`_type_name`, for other readers of the app models (the seed format)."""
+
+
 def _params_model(
     func: Callable[..., Any], *, skip: int, owner: str, docs: docstring_parser.Docstring
 ) -> type[BaseModel]:

@@ -250,6 +250,12 @@ class ConfigurationMetrics(BaseModel):
         description="Per run r: mean of the episodes' goal_rate (share of the user's goals achieved, the "
         "paper's R_Succeed over goals); Estimate across runs."
     )
+    user_did_work_rate: Estimate = Field(
+        description="Per run r: share of its complete episodes that failed because the user made by hand "
+        "something a goal wanted from the assistant (counted as failures in the success rate); Estimate "
+        "across runs."
+    )
+    user_did_work: int = Field(default=0, description="Complete episodes in which the user did the work.")
     proposal_rate: Estimate = Field(
         description="Per run r: proposals / observe turns, summed over its complete episodes (share of the "
         "assistant's observe turns in which it proposed); runs without observe turns skipped."
@@ -363,6 +369,10 @@ def compute_metrics(
         confidence=confidence,
         bootstrap_samples=bootstrap_samples,
         goal_rate=_per_run(complete, run_indices, lambda group: _mean(r.goal_rate for r in group)),
+        user_did_work_rate=_per_run(
+            complete, run_indices, lambda group: _share(r.user_did_work for r in group)
+        ),
+        user_did_work=sum(record.user_did_work for record in complete),
         proposal_rate=_per_run(
             complete,
             run_indices,

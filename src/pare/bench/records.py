@@ -83,6 +83,10 @@ class EpisodeRecord(BaseModel):
     success: bool = False
     goals: dict[str, bool] = Field(default_factory=dict)
     goal_rate: float = 0.0
+    user_did_work: bool = Field(
+        default=False,
+        description="Failed, and the user made by hand something a goal wanted from the assistant.",
+    )
     turns: int = 0
     ended: str = ""
     observe_turns: int = Field(default=0, description="Turns in which the assistant acted in observe mode.")
@@ -205,6 +209,7 @@ def summarize(result: EpisodeResult, *, usage: Mapping[str, RoleUsage] | None = 
         "success": result.outcome.success,
         "goals": {goal.id: goal.passed for goal in result.outcome.goals},
         "goal_rate": result.outcome.goal_rate,
+        "user_did_work": result.outcome.user_did_work,
         "turns": result.turns,
         "ended": result.ended,
         "observe_turns": len(

@@ -153,13 +153,15 @@ def _main_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
             f"Success^{suffix}",
             "Success rate ± SE",
             level,
+            "User did it ± SE",
             "Proposal rate ± SE",
             "Acceptance rate ± SE",
             "Read actions ± SE",
             "Coverage",
         ),
         note="± is the standard error across runs; Success@k and Success^k count only scenarios whose k "
-        "runs are all complete.",
+        "runs are all complete. User did it: failed episodes in which the user made by hand what a goal "
+        "wanted from the assistant (failures of the assistant, already in the success rate).",
     )
     for m in metrics:
         covered = f"{m.coverage.complete}/{m.coverage.planned}"
@@ -170,6 +172,7 @@ def _main_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
             format_percent(m.success_all_k),
             format_estimate(m.success_rate),
             format_ci(m.success_rate_ci),
+            format_estimate(m.user_did_work_rate),
             format_estimate(m.proposal_rate),
             format_estimate(m.acceptance_rate),
             format_estimate(m.read_actions, percent=False),
@@ -452,7 +455,15 @@ def render_csv(metrics: Sequence[ConfigurationMetrics]) -> str:
     return buffer.getvalue()
 
 
-_ESTIMATES = ("success_rate", "goal_rate", "proposal_rate", "acceptance_rate", "read_actions", "turns")
+_ESTIMATES = (
+    "success_rate",
+    "goal_rate",
+    "user_did_work_rate",
+    "proposal_rate",
+    "acceptance_rate",
+    "read_actions",
+    "turns",
+)
 _USAGE_COLUMNS = (
     "calls",
     "prompt_tokens",

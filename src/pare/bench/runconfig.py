@@ -71,7 +71,13 @@ class Models(BaseModel):
     observe: ModelConfig | None = Field(default=None, description="The assistant in observe mode.")
     execute: ModelConfig | None = Field(default=None, description="The assistant in execute mode.")
     judge: ModelConfig | None = Field(
-        default=None, description="Judges free-text checks; none: their deterministic fallback."
+        default=None,
+        description="Judges free-text checks; none: the user's model when there is one (as the paper's "
+        "user simulator judges), else the checks' deterministic fallback.",
+    )
+    deterministic_judge: bool = Field(
+        default=False,
+        description="Judge free-text checks by their deterministic fallback even when models are set.",
     )
 
     @model_validator(mode="before")
@@ -87,6 +93,11 @@ class Models(BaseModel):
             data["execute"] = data.get("observe")  # one observe model does both, as with 'assistant'
         if data.get("observe") is None and data.get("execute") is not None:
             raise ValueError("an execute model needs an observe model (or set 'assistant' for both)")
+        if data.get("deterministic_judge"):
+            if data.get("judge") is not None:
+                raise ValueError("give a judge model or deterministic_judge, not both")
+        elif data.get("judge") is None:
+            data["judge"] = data.get("user")  # free text is judged by a model whenever models play
         return data
 
     def roles(self) -> dict[str, ModelConfig]:

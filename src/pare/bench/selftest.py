@@ -230,7 +230,7 @@ def restated_answers(scenario: Scenario) -> Iterator[str]:
     for event in scenario.events:
         if event.when is None or event.if_args:
             continue
-        text = " ".join(_strings(event.args))
+        text = " ".join(_strings([value for key, value in event.args.items() if key in FREE_TEXT_FIELDS]))
         for goal_id, raw in sought:
             matcher = compile_matcher(raw)
             if text and matcher.test(text, scenario.start):
@@ -242,20 +242,24 @@ def restated_answers(scenario: Scenario) -> Iterator[str]:
                 break
 
 
+FREE_TEXT_FIELDS = frozenset({"content", "body", "text", "message", "subject", "title", "description", "note"})
+"""Fields that carry what someone wrote (not who it went to): where a restated answer would be."""
+
+
 def _sought_texts(scenario: Scenario) -> Iterator[tuple[str, Any]]:
-    """Text matchers of the goals' positive checks on the assistant's work."""
+    """Text matchers on free-text fields of the goals' positive checks on the assistant's work."""
     for goal in scenario.goals:
         for check in goal.checks:
             if check.action is not None and check.action.actor == "assistant":
-                raws: Iterable[Any] = check.action.args.values()
+                raws: Iterable[tuple[str, Any]] = check.action.args.items()
             elif (
                 check.state is not None and check.state.by == "assistant" and not _forbids(check.state.count)
             ):
-                raws = check.state.where.values()
+                raws = check.state.where.items()
             else:
                 continue
-            for raw in raws:
-                if _reads_text(raw):
+            for name, raw in raws:
+                if name in FREE_TEXT_FIELDS and _reads_text(raw):
                     yield goal.id, raw
 
 

@@ -13,6 +13,7 @@ from pare.apps.registry import get_app_class, phone_apps
 from pare.apps.screens import BACK, STAY
 from pare.apps.system import SystemApp
 from pare.errors import UserInputError
+from pare.scenarios.seed_format import seed_format
 
 app = typer.Typer(help="The phone's apps: screens, user actions, agent tools.", invoke_without_command=True)
 
@@ -50,9 +51,15 @@ def show_app(
     mermaid: Annotated[
         bool, typer.Option("--mermaid", help="Print the screen FSM as a Mermaid diagram.")
     ] = False,
+    seed: Annotated[
+        bool, typer.Option("--seed", help="Print the format of the app's seed data in scenario files.")
+    ] = False,
 ) -> None:
     """Show an app's screens with their user actions, and its agent tools."""
     cls = get_app_class(name)
+    if seed:
+        typer.echo("\n".join(seed_format(cls.name)))
+        return
     if mermaid:
         if not cls.screens:
             raise UserInputError(f"'{name}' has no screens, so there is no diagram to draw.")

@@ -8,7 +8,7 @@ itself.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from typing import Any
 
 from pare.env.attribution import Attribution, item_key, place_of
@@ -42,6 +42,8 @@ class CheckResult:
     passed: bool
     detail: str
     description: str = ""
+    user_made: bool = False
+    """The check failed, but would hold had the user's own work been the assistant's: the user did it."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -60,9 +62,10 @@ class Outcome:
 
     success: bool
     goals: tuple[GoalResult, ...]
-    user_solved: bool = False
-    """The episode failed, but would have succeeded had the user's own work been the assistant's: the user
-    did the task (or its missing part) by hand. A failure of the assistant, counted apart in the metrics."""
+    user_did_work: bool = False
+    """The episode failed and some of what the assistant was meant to make was made by the user instead
+    (a check on the assistant's work would hold had the user's work counted): a failure of the assistant,
+    counted apart in the metrics."""
 
     @property
     def goal_rate(self) -> float:
@@ -78,7 +81,7 @@ class Outcome:
         return {
             "success": self.success,
             "goal_rate": self.goal_rate,
-            "user_solved": self.user_solved,
+            "user_did_work": self.user_did_work,
             "goals": [asdict(goal) for goal in self.goals],
         }
 
@@ -115,32 +118,31 @@ def evaluate(
 
     Judge checks use ``judge`` when given, else their deterministic fallback. ``attribution`` (the
     environment's) says who made each item, for state checks with ``by``; without it nothing counts as
-    anyone's work. A failed episode is also evaluated with the user's work credited to the assistant, to
-    tell whether the user did the task by hand (:attr:`Outcome.user_solved`).
+    anyone's work. A failing check on the assistant's work is evaluated again with the user's work
+    credited to the assistant, to tell whether the user did it by hand (:attr:`CheckResult.user_made`).
     """
     context = _Context(scenario, log, state, attribution or Attribution())
-    goals = _goals(context, judge, None)
-    success = all(goal.passed for goal in goals)
-    user_solved = False
-    if not success:
-        credited = _goals(_Context(scenario, log, state, context.attribution, credit_user=True), judge, goals)
-        user_solved = all(goal.passed for goal in credited)
-    return Outcome(success=success, goals=goals, user_solved=user_solved)
-
-
-def _goals(
-    context: _Context, judge: Judge | None, earlier: tuple[GoalResult, ...] | None
-) -> tuple[GoalResult, ...]:
+    credited = _Context(scenario, log, state, context.attribution, credit_user=True)
     goals = []
-    for number, goal in enumerate(context.scenario.goals):
-        results = tuple(
-            earlier[number].checks[index]  # a judge's verdict does not depend on who wrote: ask it once
-            if earlier is not None and check.judge is not None
-            else _evaluate_check(goal.id, index, check, context, judge)
-            for index, check in enumerate(goal.checks)
-        )
-        goals.append(GoalResult(goal.id, goal.description, all(r.passed for r in results), results))
-    return tuple(goals)
+    for goal in scenario.goals:
+        results = []
+        for index, check in enumerate(goal.checks):
+            result = _evaluate_check(goal.id, index, check, context, judge)
+            if not result.passed and _on_the_assistant(check):
+                again = _evaluate_check(goal.id, index, check, credited, None)
+                result = replace(result, user_made=again.passed)
+            results.append(result)
+        goals.append(GoalResult(goal.id, goal.description, all(r.passed for r in results), tuple(results)))
+    success = all(goal.passed for goal in goals)
+    user_did_work = not success and any(check.user_made for goal in goals for check in goal.checks)
+    return Outcome(success=success, goals=tuple(goals), user_did_work=user_did_work)
+
+
+def _on_the_assistant(check: Check) -> bool:
+    """Whether ``check`` is about who did the work (a judge check reads the text, not who wrote it)."""
+    if check.action is not None:
+        return check.action.actor == "assistant"
+    return check.state is not None and check.state.by == "assistant"
 
 
 def _evaluate_check(

@@ -83,6 +83,12 @@ NEGATION_CUES: tuple[str, ...] = (
     "apart from",
     "other than",
     "unlike",
+    "is out",
+    "no good",
+    "impossible",
+    "busy",
+    "booked up",
+    "fully booked",
 )
 """Words that keep a clause from affirming what it mentions."""
 
@@ -176,6 +182,7 @@ _RELATIVE_DAY = re.compile(
 )
 _DAY_MONTH = re.compile(r"(?<!\d)" + _ORDINAL + r"(?:\s+of)?\s+" + _MONTH_WORD + r"(?:\s+(\d{4}))?", re.I)
 _MONTH_DAY = re.compile(_MONTH_WORD + r"\s+" + _ORDINAL + r"(?![\d:])(?:,?\s+(\d{4}))?", re.I)
+_THE_NTH = re.compile(r"(?<![^\W\d_])the\s+(\d{1,2})(?:st|nd|rd|th)(?![^\W\d_])", re.I)
 _ISO_DATE = re.compile(r"(?<!\d)(\d{4})-(\d{2})-(\d{2})(?!\d)")
 _SLASH_DATE = re.compile(r"(?<![\d/])(\d{1,2})/(\d{1,2})(?:/(\d{2,4}))?(?![\d/])")
 
@@ -261,6 +268,12 @@ def mentions(text: str, anchor: datetime) -> list[Mention]:
         add(match, _year_readings(today, _month_number(match.group(2)), int(match.group(1)), match.group(3)))
     for match in _MONTH_DAY.finditer(text):
         add(match, _year_readings(today, _month_number(match.group(1)), int(match.group(2)), match.group(3)))
+    for match in _THE_NTH.finditer(text):  # "the 6th": this month's, or next month's once it has passed
+        day = int(match.group(1))
+        this_month = _safe_date(today.year, today.month, day)
+        following = today.replace(day=1) + timedelta(days=32)
+        next_month = _safe_date(following.year, following.month, day)
+        add(match, [d for d in (this_month, next_month) if d and d >= today][:1])
     for match in _SLASH_DATE.finditer(text):
         first, second, year = int(match.group(1)), int(match.group(2)), match.group(3)
         add(match, _year_readings(today, second, first, year) | _year_readings(today, first, second, year))

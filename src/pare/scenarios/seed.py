@@ -41,7 +41,7 @@ def prepare_seed(
     moved: dict[Location, Location] = {}
     for name, info in state_model.model_fields.items():
         value = prepared.get(name)
-        id_field = _keyed_by(info.annotation)
+        id_field = keyed_by(info.annotation)
         if id_field is None or not isinstance(value, list):
             continue
         keyed: dict[str, Any] = {}
@@ -64,7 +64,7 @@ def original_location(location: Location, moved: Mapping[Location, Location]) ->
     return location
 
 
-def _keyed_by(annotation: Any) -> str | None:
+def keyed_by(annotation: Any) -> str | None:
     """For ``dict[str, Model]`` where ``Model`` has an ``*_id`` field (or a ``code``): that field's name."""
     if typing.get_origin(strip_optional(annotation)) is not dict:
         return None

@@ -1,0 +1,141 @@
+"""Free text read for meaning: words at their boundaries, negated clauses, days and clock times."""
+
+from __future__ import annotations
+
+from datetime import UTC, date, datetime, time
+
+import pytest
+
+from pare.scenarios.matchers import compile_matcher
+from pare.scenarios.meaning import affirms, declines, has_word, mentions_clock, mentions_day, mentions_moment
+
+START = datetime(2025, 3, 18, 9, 10, tzinfo=UTC)  # a Tuesday
+THURSDAY_1815 = datetime(2025, 3, 20, 18, 15, tzinfo=UTC)
+
+
+@pytest.mark.parametrize(
+    ("text", "piece", "found"),
+    [
+        ("I reviewed it", "wed", False),
+        ("Wed 14:00 then", "wed", True),
+        ("the viewing", "view", False),
+        ("the viewing", "view*", True),
+        ("rewrite it", "*write", True),
+        ("at 6:15pm", "15", True),
+        ("costs 150", "15", False),
+        ("room 3", "3", True),
+        ("room 13", "3", False),
+        ("viewings@greenwaylets.example", "greenwaylets", True),
+        ("t.nowak@lindenlets.example", "t.nowak@lindenlets.example", True),
+        ("see   the\nflat", "see the flat", True),
+        ("Thursday", "THURSDAY", True),
+    ],
+)
+def test_words_are_found_at_their_boundaries(text: str, piece: str, found: bool) -> None:
+    assert has_word(text, piece) is found
+
+
+@pytest.mark.parametrize(
+    ("text", "affirmed"),
+    [
+        ("Thursday works for us", True),
+        ("Thursday does not work for us", False),
+        ("Thursday doesn't work", False),
+        ("Thursday won\u2019t work", False),
+        ("Wednesday is out, Thursday works", True),
+        ("Wednesday works but not Thursday", False),
+        ("Let's do Wednesday instead of Thursday", False),
+        ("No problem, Thursday it is", True),
+        ("Unfortunately Thursday is impossible", False),
+        ("Any day except Thursday", False),
+    ],
+)
+def test_negated_clauses_affirm_nothing(text: str, affirmed: bool) -> None:
+    assert affirms(text, "thursday") is affirmed
+
+
+@pytest.mark.parametrize(
+    ("text", "declined"),
+    [
+        ("Sorry, I can't make Thursday", True),
+        ("Unfortunately we have to cancel", True),
+        ("Thursday doesn't work for me", True),
+        ("No worries, Thursday works", False),
+        ("Thursday works, see you then", False),
+    ],
+)
+def test_declines(text: str, declined: bool) -> None:
+    assert declines(text) is declined
+
+
+@pytest.mark.parametrize(
+    ("text", "named"),
+    [
+        ("Thursday at 18:15 works for us.", True),
+        ("Thu 6:15pm is great", True),
+        ("Thursday works. See you at 6.15 pm", True),
+        ("Could we do 20 March at 18:15?", True),
+        ("March 20th, 18h15", True),
+        ("See you on 20/03 at 18:15", True),
+        ("2025-03-20 18:15", True),
+        ("No problem, Thursday at 6:15 p.m. then", True),
+        ("Wednesday at 18:30 doesn't suit; Thursday 18:15 is perfect", True),
+        ("Thursday does not work, 18:15 on Wednesday is fine", False),
+        ("Unfortunately Thursday at 18:15 won't work", False),
+        ("Wednesday at 18:15 works", False),
+        ("Thursday at 19:15 works", False),
+        ("It costs $18.15 on Thursday", False),
+    ],
+)
+def test_a_moment_is_read_as_a_day_with_a_clock_time(text: str, named: bool) -> None:
+    assert mentions_moment(text, THURSDAY_1815, START) is named
+
+
+@pytest.mark.parametrize(
+    ("text", "day"),
+    [
+        ("tomorrow then", date(2025, 3, 19)),
+        ("today at noon", date(2025, 3, 18)),
+        ("the day after tomorrow", date(2025, 3, 20)),
+        ("next Thursday", date(2025, 3, 27)),
+        ("next Thursday", date(2025, 3, 20)),
+        ("on the 22nd", date(2025, 3, 22)),
+        ("Sat 22 March", date(2025, 3, 22)),
+        ("Friday", date(2025, 3, 21)),
+    ],
+)
+def test_days_resolve_against_the_start(text: str, day: date) -> None:
+    assert mentions_day(text, day, START)
+
+
+def test_a_weekday_is_the_next_one_on_or_after_the_start() -> None:
+    assert mentions_day("Tuesday", date(2025, 3, 18), START)
+    assert not mentions_day("Tuesday", date(2025, 3, 25), START)
+    assert not mentions_day("We sat on the sofa", date(2025, 3, 22), START)  # lower-case 'sat' is a verb
+
+
+@pytest.mark.parametrize(
+    ("text", "clock", "named"),
+    [
+        ("at 8 then", time(20, 0), True),
+        ("at 8 then", time(8, 0), True),
+        ("8am sharp", time(20, 0), False),
+        ("around 6.30pm", time(18, 30), True),
+        ("midday", time(12, 0), True),
+        ("7 o'clock", time(19, 0), True),
+        ("flat 8, 27 Linden Street", time(20, 0), False),
+    ],
+)
+def test_clock_times(text: str, clock: time, named: bool) -> None:
+    assert mentions_clock(text, clock, START) is named
+
+
+def test_the_matchers_read_for_meaning() -> None:
+    assert compile_matcher({"mentions_time": "day+2 18:15"}).test("Thursday at 6:15pm suits", START)
+    assert compile_matcher({"mentions_day": "day+2"}).test(["Thu works"], START)
+    assert compile_matcher({"mentions_clock": "18:15"}).test({"content": "at 18.15"}, START)
+    assert compile_matcher({"affirms": ["thursday", "lea"]}).test("Lea and I can do Thursday", START)
+    assert not compile_matcher({"declines": False}).test("Sorry, we cannot make it", START)
+    assert not compile_matcher({"contains": "wed"}).test("reviewed", START)
+    described = compile_matcher({"mentions_clock": "18:15", "affirms": "x"}).describe()
+    assert described == "mentions_clock 18:15 and affirms ['x']"

@@ -1,0 +1,200 @@
+"""Scenarios that judge the assistant fairly: variants proven by the gate, attribution, reactive branches,
+slack and the by-hand run, on a small scenario built for the purpose."""
+
+from __future__ import annotations
+
+import pytest
+
+from pare.agents import SilentAssistant
+from pare.bench import run_episode
+from pare.bench.selftest import check_scenario
+from pare.scenarios import OracleAssistant, OracleUser
+from pare.scenarios.oracle import SlowUser
+from tests.scenarios.helpers import REPLY, fair, intervention, parse
+
+
+def test_a_fair_scenario_passes_every_run_of_the_gate() -> None:
+    verdict = check_scenario(parse(fair()))
+    assert verdict.ok, verdict.breaches()
+    runs = {run.run: run for run in verdict.runs}
+    assert list(runs) == [
+        "oracle",
+        "slow_user",
+        "nothing",
+        "user_alone",
+        "by_hand",
+        "unrelated",
+        "variant:fresh_email",
+        "variant:declines",
+        "variant:wrong_person",
+    ]
+    assert runs["variant:declines"].why == "Saying Thursday does not work is not a yes."
+    assert runs["slow_user"].turns is not None and runs["oracle"].turns is not None
+    assert runs["slow_user"].turns > runs["oracle"].turns
+    assert not verdict.warnings
+
+
+def test_a_variant_judged_otherwise_than_declared_is_a_breach() -> None:
+    data = fair()
+    data["variants"][1]["expect"] = "pass"
+    del data["variants"][1]["fails"]
+    data["variants"].append({**data["variants"][2], "id": "wrong_person_2"})
+    verdict = check_scenario(parse(data))
+    assert not verdict.ok
+    assert verdict.breaches() == [
+        "tiny_reply [variant:declines]: check failed: replied[0] email.emails: 0 of 4 items match "
+        "{folder: equals 'SENT', recipients: contains ['ann@x.example'], "
+        "content: mentions_day 'day+3 00:00'}, 0 of them made by the assistant; wanted at least 1"
+    ]
+
+
+def test_a_near_miss_must_fail_the_goals_it_names() -> None:
+    data = fair()
+    data["goals"].append(
+        {"id": "polite", "description": "d", "checks": [{"action": {"app": "email", "kind": "write"}}]}
+    )
+    data["variants"][2]["fails"] = ["polite"]
+    breaches = check_scenario(parse(data)).breaches()
+    assert breaches == [
+        "tiny_reply [variant:wrong_person]: goal 'polite' should fail "
+        "(Bob asked about Friday lunch, not Ann.) but was met"
+    ]
+
+
+def test_the_gate_demands_variants_and_by_hand_steps() -> None:
+    data = fair()
+    data["variants"] = data["variants"][1:2]
+    data["oracle"]["by_hand"] = []
+    verdict = check_scenario(parse(data))
+    assert [line.split(": ", 1)[1][:40] for line in verdict.breaches()] == [
+        "declares 0 passing variant(s); at least ",
+        "declares 1 failing variant(s); at least ",
+        "declares no oracle.by_hand steps: how th",
+    ]
+
+
+def test_a_reactive_event_that_never_fires_is_a_breach() -> None:
+    data = fair()
+    data["events"][1]["when"]["args"]["email_id"] = "e1"
+    breaches = check_scenario(parse(data)).breaches()
+    assert "tiny_reply [oracle]: reactive event 'ann_confirms' never fired in the oracle run" in breaches[0]
+
+
+def test_a_reply_that_restates_the_answer_is_warned_about() -> None:
+    data = fair()
+    event = data["events"][1]
+    del event["if_args"], event["otherwise"]
+    event["args"]["content"] = "Thursday then, great!"
+    (warning,) = check_scenario(parse(data)).warnings
+    assert "reactive event 'ann_confirms' fires on any matching action" in warning
+    assert "goal 'replied'" in warning and "mentions_day" in warning
+
+
+def test_the_world_reacts_to_what_was_written() -> None:
+    scenario = parse(fair())
+    right = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
+    assert "ann_confirms" in right.env.scheduler.completed
+    assert "ann_confirms_otherwise" not in right.env.scheduler.completed
+    wrong = scenario.solution("declines")
+    result = run_episode(scenario, OracleUser(scenario, wrong), OracleAssistant(scenario, wrong))
+    assert "ann_confirms_otherwise" in result.env.scheduler.completed
+    assert "ann_confirms" not in result.env.scheduler.completed
+    assert result.env.snapshot()["email"]["emails"]["e_what"]["content"] == "Which day?"
+
+
+def test_a_corrected_reply_still_gets_the_answer_and_the_correction_comes_once() -> None:
+    data = fair()
+    data["oracle"]["interventions"] = [
+        intervention(
+            {**REPLY, "args": {"email_id": "e_ann", "content": "Friday?"}},
+            {**REPLY, "args": {"email_id": "e_ann", "content": "Sorry, I meant Friday... no."}},
+            REPLY,
+        )
+    ]
+    scenario = parse(data)
+    result = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
+    fired = [entry.event_id for entry in result.env.log if entry.actor == "env" and entry.ok]
+    assert fired == ["ann_asks", "ann_confirms_otherwise", "ann_confirms"]
+
+
+def test_the_users_own_work_is_not_the_assistants() -> None:
+    scenario = parse(fair())
+    result = run_episode(scenario, OracleUser(scenario, scenario.by_hand()), SilentAssistant())
+    assert not result.success and result.outcome.user_did_work
+    (failure,) = result.outcome.failures()
+    assert failure.user_made and "0 of them made by the assistant" in failure.detail
+    reply = next(e for e in result.env.snapshot()["email"]["emails"].values() if e["folder"] == "SENT")
+    mark = result.env.attribution.mark(("email", "emails", reply["email_id"]))
+    assert mark is not None and mark.created_by == "user" and mark.changed_by == "user"
+    assert result.to_dict()["attribution"][f"email.emails.{reply['email_id']}"]["created_by"] == "user"
+    oracle = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
+    assert oracle.success and not oracle.outcome.user_did_work
+
+
+def test_silence_is_not_the_user_doing_the_work() -> None:
+    scenario = parse(fair())
+    result = run_episode(scenario, OracleUser(scenario), SilentAssistant())
+    assert not result.success and not result.outcome.user_did_work
+
+
+def test_world_events_are_not_attributed_to_anyone() -> None:
+    scenario = parse(fair())
+    result = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
+    assert result.env.attribution.mark(("email", "emails", "e_ann")) is None  # arrived from the world
+    assert result.env.attribution.mark(("email", "emails", "e_conf")) is None
+
+
+def test_the_slow_user_looks_at_the_clock_before_each_step_and_answer() -> None:
+    scenario = parse(fair())
+    result = run_episode(scenario, SlowUser(scenario), OracleAssistant(scenario))
+    tools = [step.action.tool for step in result.steps if step.actor == "user" and step.action.tool != "wait"]
+    assert tools == [
+        "get_current_time",
+        "open_app",
+        "get_current_time",
+        "open_email",
+        "get_current_time",
+        "accept_proposal",
+    ]
+    assert result.success
+
+
+def test_a_scenario_without_slack_fails_the_slow_user_run() -> None:
+    data = fair()
+    steps = [{"tool": "go_back"}, {"tool": "open_email", "args": {"email_id": "e_ann"}}] * 3
+    data["oracle"]["user"] = [*data["oracle"]["user"], *steps]
+    data["oracle"]["interventions"][0]["when"] = {
+        "action": {"actor": "user", "tool": "email__open_email"},
+        "event": "ann_asks",
+    }
+    data["oracle"]["interventions"][0]["when"]["action"]["args"] = {"email_id": "e_ann"}
+    data["goals"][0]["checks"].append({"action": {"actor": "user", "tool": "system__go_back", "count": 3}})
+    verdict = check_scenario(parse(data))
+    assert verdict.run("oracle").ok
+    slow = verdict.run("slow_user")
+    assert not slow.ok and slow.turns == 10
+
+
+@pytest.mark.parametrize(
+    ("content", "passes"),
+    [
+        ("Yes, Thursday works for me!", True),
+        ("Thu 6 March is perfect", True),
+        ("See you on the 6th", True),
+        ("Thursday does not work, sorry", False),
+        ("Wednesday works, Thursday is out", False),
+        ("I reviewed it, thanks", False),
+    ],
+)
+def test_replies_are_read_for_meaning(content: str, passes: bool) -> None:
+    data = fair()
+    data["variants"].append(
+        {
+            "id": "worded",
+            "expect": "pass" if passes else "fail",
+            "why": "wording",
+            "interventions": [intervention({**REPLY, "args": {"email_id": "e_ann", "content": content}})],
+        }
+    )
+    verdict = check_scenario(parse(data))
+    assert verdict.run("variant:worded").ok, verdict.breaches()
