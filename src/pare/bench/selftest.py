@@ -242,7 +242,9 @@ def restated_answers(scenario: Scenario) -> Iterator[str]:
                 break
 
 
-FREE_TEXT_FIELDS = frozenset({"content", "body", "text", "message", "subject", "title", "description", "note"})
+FREE_TEXT_FIELDS = frozenset(
+    {"content", "body", "text", "message", "subject", "title", "description", "note"}
+)
 """Fields that carry what someone wrote (not who it went to): where a restated answer would be."""
 
 
