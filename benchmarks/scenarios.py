@@ -50,17 +50,24 @@ def main() -> None:
     print(f"oracle run of every scenario: {oracle_time * 1000:.1f} ms ({each:.2f} ms per scenario)")
 
     per_scenario: list[tuple[float, str]] = []
+    episodes: list[int] = []
 
     def gate() -> None:
         per_scenario.clear()
+        episodes.clear()
         for scenario in scenarios:
             verdict = check_scenario(scenario)
             assert verdict.ok, verdict.breaches()
             per_scenario.append((verdict.seconds, scenario.id))
+            episodes.append(len(verdict.runs))
 
     gate_time = median_seconds(gate, options.repeat)
     each = gate_time / count * 1000
-    print(f"self-test gate (4 runs each): {gate_time * 1000:.1f} ms ({each:.2f} ms per scenario)")
+    played = sum(episodes)
+    print(
+        f"self-test gate ({played} episodes, {played / count:.1f} per scenario with its variants): "
+        f"{gate_time * 1000:.1f} ms ({each:.2f} ms per scenario, {gate_time / played * 1000:.2f} ms per episode)"
+    )
     slowest = max(per_scenario)
     print(f"slowest scenario in the gate: {slowest[1]} ({slowest[0] * 1000:.1f} ms)")
 

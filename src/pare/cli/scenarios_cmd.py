@@ -12,7 +12,7 @@ from rich.table import Table
 from pare.bench.selftest import RUNS, RunVerdict, ScenarioVerdict, check_scenario
 from pare.scenarios.library import load_scenarios, select
 from pare.scenarios.model import Scenario
-from pare.scenarios.schema import schema_text
+from pare.scenarios.schema import SCHEMA_FILE, schema_text
 from pare.scenarios.times import parse_time
 
 app = typer.Typer(help="The PARE-Bench scenarios: list, show, self-test, schema.", no_args_is_help=True)
@@ -214,8 +214,14 @@ def schema(
     output: Annotated[
         Path | None, typer.Option("--output", "-o", help="Write to this file instead of stdout.")
     ] = None,
+    path: Annotated[
+        bool, typer.Option("--path", help="Print where the installed schema file is (for $schema lines).")
+    ] = False,
 ) -> None:
     """Print the JSON Schema of scenario files (for editors and validators)."""
+    if path:
+        typer.echo(str(SCHEMA_FILE.resolve()))
+        return
     text = schema_text()
     if output is None:
         typer.echo(text, nl=False)
