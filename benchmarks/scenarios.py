@@ -66,7 +66,8 @@ def main() -> None:
     played = sum(episodes)
     print(
         f"self-test gate ({played} episodes, {played / count:.1f} per scenario with its variants): "
-        f"{gate_time * 1000:.1f} ms ({each:.2f} ms per scenario, {gate_time / played * 1000:.2f} ms per episode)"
+        f"{gate_time * 1000:.1f} ms ({each:.2f} ms per scenario, "
+        f"{gate_time / played * 1000:.2f} ms per episode)"
     )
     slowest = max(per_scenario)
     print(f"slowest scenario in the gate: {slowest[1]} ({slowest[0] * 1000:.1f} ms)")
