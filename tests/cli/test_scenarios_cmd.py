@@ -110,3 +110,19 @@ def test_schema(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
 def test_check_the_whole_library(capsys: pytest.CaptureFixture[str], wide_console: None) -> None:
     assert main(["scenarios", "check"]) == 0
     assert f"all {len(library())} scenarios pass the gate" in capsys.readouterr().out
+
+
+def test_stats_counts_the_library_and_names_the_gaps(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
+) -> None:
+    _write(tmp_path, fair())
+    assert main(["scenarios", "stats", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "scenarios: 1\n" in out
+    assert "apps (share of scenarios using each): email 1 (100%), calendar 1 (100%)" in out
+    assert "kind: proposal 1 (100%), no_proposal 0 (0%)" in out
+    assert "text goals: 1, of which judged by a model: 0 (0%)" in out
+    assert "variants: 1 passing, 2 failing" in out
+    assert "  - library: 1 scenarios, 149 short of 150" in out
+    assert "  - judge checks: 0 of 1 text goals (0%); 1 more to reach 20%" in out
+    assert "  - tag goal_inference: on 0 scenarios, 30 short of 30" in out

@@ -31,6 +31,7 @@ from pare.errors import UserInputError
 from pare.scenarios.matchers import OPERATORS, TEXT_OPERATORS, compile_matcher
 from pare.scenarios.model import Scenario, Solution
 from pare.scenarios.oracle import OracleAssistant, OracleUser, SlowUser, UnrelatedAssistant
+from pare.scenarios.stats import FREE_TEXT_FIELDS
 
 PolicyPair = Callable[[Scenario], tuple[UserPolicy, AssistantPolicy]]
 
@@ -240,12 +241,6 @@ def restated_answers(scenario: Scenario) -> Iterator[str]:
                     "with the right answer; condition it on what was written (if_args) or do not restate it"
                 )
                 break
-
-
-FREE_TEXT_FIELDS = frozenset(
-    {"content", "body", "text", "message", "subject", "title", "description", "note"}
-)
-"""Fields that carry what someone wrote (not who it went to): where a restated answer would be."""
 
 
 def _sought_texts(scenario: Scenario) -> Iterator[tuple[str, Any]]:

@@ -13,6 +13,7 @@ from pare.bench.selftest import RUNS, RunVerdict, ScenarioVerdict, check_scenari
 from pare.scenarios.library import load_scenarios, select
 from pare.scenarios.model import Scenario
 from pare.scenarios.schema import SCHEMA_FILE, schema_text
+from pare.scenarios.stats import coverage, format_coverage
 from pare.scenarios.times import parse_time
 
 app = typer.Typer(help="The PARE-Bench scenarios: list, show, self-test, schema.", no_args_is_help=True)
@@ -207,6 +208,22 @@ def _print_details(console: Console, scenario: Scenario, verdict: ScenarioVerdic
             for item in goal.checks:
                 mark = "ok " if item.passed else "NO "
                 console.print(f"  [{name}] {mark}{goal.id}: {item.detail}", markup=False)
+
+
+@app.command("stats")
+def stats(
+    paths: Paths = None,
+    app_name: AppFilter = None,
+    tag: TagFilter = None,
+    difficulty: DifficultyFilter = None,
+    split: SplitFilter = None,
+) -> None:
+    """Coverage of the library: counts per app, tag, difficulty and kind, apps per scenario, text goals
+    judged by a model, variants, and the gaps against PARE-Bench's targets.
+    """
+    scenarios = _chosen(paths, split, app_name, tag, difficulty)
+    for line in format_coverage(coverage(scenarios)):
+        typer.echo(line)
 
 
 @app.command("schema")
