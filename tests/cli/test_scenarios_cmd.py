@@ -126,3 +126,27 @@ def test_stats_counts_the_library_and_names_the_gaps(
     assert "  - library: 1 scenarios, 149 short of 150" in out
     assert "  - judge checks: 0 of 1 text goals (0%); 1 more to reach 20%" in out
     assert "  - tag goal_inference: on 0 scenarios, 30 short of 30" in out
+
+
+def test_similar_finds_a_story_told_again_with_names_changed(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
+) -> None:
+    original = fair()
+    original["story"] = (
+        "Ann emails Sam to ask whether Thursday works for the quarterly planning workshop in Leeds; the "
+        "assistant should reply that it does, after checking the calendar."
+    )
+    _write(tmp_path, original)
+    other = base()
+    other["id"] = "lunch_with_bob"
+    other["story"] = "Bob wonders about a Friday lunch at the noodle bar near the office."
+    _write(tmp_path, other)
+    assert main(["scenarios", "similar", str(tmp_path)]) == 0
+    assert "no pair reaches 0.60" in capsys.readouterr().out
+    renamed = fair()
+    renamed["id"] = "tiny_reply_again"
+    renamed["story"] = original["story"].replace("Ann", "Joan").replace("Sam", "Kim").replace("Leeds", "York")
+    _write(tmp_path, renamed)
+    assert main(["scenarios", "similar", str(tmp_path)]) == 1
+    out = capsys.readouterr().out
+    assert "1 pair(s) tell the same story:" in out and "tiny_reply ~ tiny_reply_again (0.9" in out

@@ -15,6 +15,7 @@ from pare.env import EnvConfig
 from pare.scenarios import TAGS, OracleAssistant, OracleUser, library, load_scenario, splits
 from pare.scenarios.library import BENCH_DIR, scenario_files
 from pare.scenarios.schema import SCHEMA_FILE, schema_text
+from pare.scenarios.similarity import THRESHOLD, similarities
 from pare.scenarios.stats import JUDGE_SHARE_MINIMUM, coverage
 
 FILES = scenario_files()
@@ -73,6 +74,11 @@ def test_library_coverage() -> None:
     assert len(reactive) >= 4, reactive
     report = coverage(scenarios)
     assert report.judge_share >= JUDGE_SHARE_MINIMUM, (report.judged_text_goals, report.text_goals)
+
+
+def test_no_two_scenarios_tell_the_same_story() -> None:
+    most_alike = similarities(list(library().values()))[0]
+    assert most_alike.score < THRESHOLD, most_alike
 
 
 def test_splits() -> None:

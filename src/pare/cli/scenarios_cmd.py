@@ -13,6 +13,7 @@ from pare.bench.selftest import RUNS, RunVerdict, ScenarioVerdict, check_scenari
 from pare.scenarios.library import load_scenarios, select
 from pare.scenarios.model import Scenario
 from pare.scenarios.schema import SCHEMA_FILE, schema_text
+from pare.scenarios.similarity import THRESHOLD, similarities
 from pare.scenarios.stats import coverage, format_coverage
 from pare.scenarios.times import parse_time
 
@@ -224,6 +225,44 @@ def stats(
     scenarios = _chosen(paths, split, app_name, tag, difficulty)
     for line in format_coverage(coverage(scenarios)):
         typer.echo(line)
+
+
+@app.command("similar")
+def similar(
+    paths: Paths = None,
+    top: Annotated[
+        int, typer.Option("--top", "-n", min=1, help="How many of the most alike pairs to show.")
+    ] = 10,
+    threshold: Annotated[
+        float, typer.Option("--threshold", min=0.0, max=1.0, help="Pairs at or above this fail the check.")
+    ] = THRESHOLD,
+) -> None:
+    """The most alike pairs of scenarios by story (names left out), apps and oracle tools. Exits 1 when a
+    pair reaches the threshold: the same story with names changed.
+    """
+    scenarios = _chosen(paths, None, None, None, None)
+    pairs = similarities(scenarios)
+    table = Table(title=f"most alike of {len(pairs)} pairs (threshold {threshold:.2f})")
+    for column in ("score", "story", "apps", "tools", "pair"):
+        table.add_column(column, justify="right" if column != "pair" else "left", overflow="fold")
+    for pair in pairs[:top]:
+        mark = "red" if pair.score >= threshold else "green"
+        table.add_row(
+            f"[{mark}]{pair.score:.2f}[/{mark}]",
+            f"{pair.story:.2f}",
+            f"{pair.apps:.2f}",
+            f"{pair.tools:.2f}",
+            f"{pair.first} ~ {pair.second}",
+        )
+    console = Console()
+    console.print(table)
+    alike = [pair for pair in pairs if pair.score >= threshold]
+    if alike:
+        console.print(f"[red]{len(alike)} pair(s) tell the same story:[/red]")
+        for pair in alike:
+            console.print(f"  {pair.first} ~ {pair.second} ({pair.score:.2f})", markup=False)
+        raise typer.Exit(1)
+    console.print(f"no pair reaches {threshold:.2f}")
 
 
 @app.command("schema")
