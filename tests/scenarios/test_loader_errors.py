@@ -217,7 +217,9 @@ CASES: list[tuple[str, Edit, str, str]] = [
         "events[0].args.subject",
         "only be used in oracle steps",
     ),
-    ("empty interventions", _set("oracle/interventions", []), "oracle.interventions", "at least 1"),
+    ("empty interventions", _set("oracle/interventions", []), "oracle.interventions", "kind: no_proposal"),
+    ("no_proposal with a proposal", _set("kind", "no_proposal"), "oracle.interventions", "makes no proposal"),
+    ("no_proposal without the check", _set("kind", "no_proposal"), "goals", "did not propose"),
     # silent authoring mistakes: each would otherwise quietly match nothing or prove nothing
     (
         "operator misspelt inside where",

@@ -3,6 +3,8 @@ slack and the by-hand run, on a small scenario built for the purpose."""
 
 from __future__ import annotations
 
+from typing import Any
+
 import pytest
 
 from pare.agents import SilentAssistant
@@ -198,3 +200,68 @@ def test_replies_are_read_for_meaning(content: str, passes: bool) -> None:
     )
     verdict = check_scenario(parse(data))
     assert verdict.run("variant:worded").ok, verdict.breaches()
+
+
+def no_proposal() -> dict[str, Any]:
+    """Ann's question is for the user to answer: the right move is to watch and wait."""
+    data = fair()
+    data["id"] = "ann_asks_sam_himself"
+    data["kind"] = "no_proposal"
+    data["events"] = data["events"][:1]
+    data["oracle"] = {"user": data["oracle"]["user"], "interventions": []}
+    data["goals"] = [
+        {
+            "id": "left_alone",
+            "description": "The assistant did not push a reply the user wants to write.",
+            "checks": [{"no_action": {"tool": "agent_ui__send_message_to_user", "mode": "observe"}}],
+        }
+    ]
+    eager = intervention(REPLY)
+    data["variants"] = [
+        {
+            "id": "user_reads_more",
+            "expect": "pass",
+            "why": "The user also reading Bob's email changes nothing.",
+            "user": [
+                *data["oracle"]["user"],
+                {"tool": "go_back"},
+                {"tool": "open_email", "args": {"email_id": "e1"}},
+            ],
+        },
+        {"id": "eager_reply", "expect": "fail", "why": "Replying for the user.", "interventions": [eager]},
+        {
+            "id": "eager_event",
+            "expect": "fail",
+            "why": "Booking Thursday before the user decided.",
+            "interventions": [
+                {
+                    **eager,
+                    "actions": [
+                        {
+                            "tool": "calendar__add_calendar_event",
+                            "args": {
+                                "title": "Ann",
+                                "start_datetime": "day+3 12:00",
+                                "end_datetime": "day+3 13:00",
+                            },
+                        }
+                    ],
+                }
+            ],
+        },
+    ]
+    return data
+
+
+def test_a_no_proposal_scenario_turns_the_gate_round() -> None:
+    verdict = check_scenario(parse(no_proposal()))
+    assert verdict.ok, verdict.breaches()
+    assert [run.run for run in verdict.runs] == [
+        "oracle",
+        "slow_user",
+        "unrelated",
+        "variant:user_reads_more",
+        "variant:eager_reply",
+        "variant:eager_event",
+    ]
+    assert [run.expected_success for run in verdict.runs] == [True, True, False, True, False, False]

@@ -45,6 +45,11 @@ RUNS: dict[str, tuple[PolicyPair, bool]] = {
 }
 """The fixed self-test runs: how to make their two policies, and whether the scenario must succeed."""
 
+NO_PROPOSAL_RUNS = ("oracle", "slow_user", "unrelated")
+"""The runs of a scenario where the right move is not to propose: the watchful silent assistant (the
+oracle's, which has nothing to propose) must pass, also with a slow user, and an eager one must fail. Doing
+nothing, the user alone and the user by hand are the oracle itself there."""
+
 MIN_PASSING_VARIANTS = 1
 MIN_FAILING_VARIANTS = 2
 _SOLUTION_RUNS = ("oracle", "slow_user")
@@ -113,7 +118,9 @@ def check_scenario(scenario: Scenario, settings: EpisodeSettings | None = None) 
     verdicts = []
     details: dict[str, EpisodeResult] = {}
     plays: list[tuple[str, PolicyPair, bool, str]] = [
-        (name, make, expected, "") for name, (make, expected) in RUNS.items()
+        (name, make, expected, "")
+        for name, (make, expected) in RUNS.items()
+        if scenario.kind == "proposal" or name in NO_PROPOSAL_RUNS
     ]
     fails: dict[str, list[str]] = {}
     for variant in scenario.variants:
@@ -158,7 +165,9 @@ def _playing(solution: Solution) -> PolicyPair:
 
 def _problems(name: str, scenario: Scenario, result: EpisodeResult) -> list[str]:
     if name in _SOLUTION_RUNS or name.startswith("variant:"):
-        problems = _solution_problems(result)
+        problems = _solution_problems(
+            result, proposing=bool(scenario.solution(_variant_id(name)).interventions)
+        )
         if name == "oracle":
             problems.extend(_unfired_reactions(scenario, result))
         return problems
@@ -171,7 +180,11 @@ def _problems(name: str, scenario: Scenario, result: EpisodeResult) -> list[str]
     return []
 
 
-def _solution_problems(result: EpisodeResult) -> list[str]:
+def _variant_id(run: str) -> str | None:
+    return run.removeprefix("variant:") if run.startswith("variant:") else None
+
+
+def _solution_problems(result: EpisodeResult, *, proposing: bool) -> list[str]:
     """A solution played as written must run cleanly: every call succeeds, every proposal is accepted."""
     problems = []
     for entry in result.env.log:
@@ -183,7 +196,7 @@ def _solution_problems(result: EpisodeResult) -> list[str]:
         f"scheduled event '{entry.event_id}' failed: {entry.error}" for entry in result.env.failed_events()
     )
     proposals = result.env.agent_ui.state.proposals
-    if not proposals:
+    if proposing and not proposals:
         problems.append("the assistant never proposed (its intervention's condition never held)")
     problems.extend(
         f"proposal {p.proposal_id} ended {p.status}, not accepted"
@@ -218,7 +231,7 @@ def _declaration_problems(scenario: Scenario) -> Iterator[str]:
             f"declares {failing} failing variant(s); at least {MIN_FAILING_VARIANTS} tempting near-misses "
             "(wrong person, day or item, a reply that declines, extra items) are required"
         )
-    if not scenario.oracle.by_hand:
+    if scenario.kind == "proposal" and not scenario.oracle.by_hand:
         yield "declares no oracle.by_hand steps: how the user would do the task alone through the screens"
 
 

@@ -151,7 +151,7 @@ def check(
     for scenario in scenarios:
         verdict = check_scenario(scenario)
         total += verdict.seconds
-        failing = [verdict.run(name) for name in FAILING_RUNS]
+        failing = [run for run in verdict.runs if run.run in FAILING_RUNS]
         variants = [run for run in verdict.runs if run.run.startswith("variant:")]
         table.add_row(
             scenario.id,

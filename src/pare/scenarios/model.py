@@ -408,7 +408,10 @@ class Oracle(_Strict):
     """
 
     user: list[UserStep] = Field(default_factory=list, description="The user's scripted steps, in order.")
-    interventions: list[Intervention] = Field(min_length=1)
+    interventions: list[Intervention] = Field(
+        default_factory=list,
+        description="The assistant's proposals, in order (none in a no_proposal scenario).",
+    )
     by_hand: list[UserStep] = Field(
         default_factory=list,
         description="The user doing the task through the screens while the assistant stays silent: the "
@@ -474,6 +477,12 @@ class Scenario(_Strict):
     story: str = Field(min_length=1, description="The situation in a few sentences.")
     tags: list[Tag] = Field(min_length=1)
     difficulty: Difficulty
+    kind: Literal["proposal", "no_proposal"] = Field(
+        default="proposal",
+        description="'no_proposal': the right move is not to propose (a notification that needs nothing, a "
+        "plan still open, a task the user is doing); the gate turns round: the watchful silent assistant "
+        "passes and an eager one fails.",
+    )
     apps: list[str] = Field(min_length=1, description="The apps on the phone besides the core ones.")
     start: datetime = Field(description="When the episode starts (UTC if no zone is given).")
     user: UserProfile = Field(default_factory=UserProfile)

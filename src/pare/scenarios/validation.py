@@ -206,12 +206,32 @@ class _Validator:
     # -- the oracle ------------------------------------------------------------------------------------
     def _oracle(self) -> Iterator[Problem]:
         oracle = self.scenario.oracle
+        if self.scenario.kind == "proposal" and not oracle.interventions:
+            yield Problem(
+                ("oracle", "interventions"),
+                "no intervention; a scenario where the right move is not to propose says kind: no_proposal",
+            )
+        if self.scenario.kind == "no_proposal" and oracle.interventions:
+            yield Problem(
+                ("oracle", "interventions"),
+                "a no_proposal scenario's oracle makes no proposal: the right move is to watch and wait",
+            )
         yield from self._user_steps(oracle.user, ("oracle", "user"))
         yield from self._user_steps(oracle.by_hand, ("oracle", "by_hand"))
         yield from self._interventions(oracle.interventions, ("oracle", "interventions"))
 
     def _variants(self) -> Iterator[Problem]:
         seen: set[str] = set()
+        if self.scenario.kind == "no_proposal" and not any(
+            check.no_action is not None and _forbids_proposing(check.no_action)
+            for goal in self.scenario.goals
+            for check in goal.checks
+        ):
+            yield Problem(
+                ("goals",),
+                "a no_proposal scenario needs a check that the assistant did not propose: "
+                "no_action: {tool: agent_ui__send_message_to_user, mode: observe} (optionally with args)",
+            )
         oracle_ids = list(self.action_ids)
         for number, variant in enumerate(self.scenario.variants):
             where: Path = ("variants", number)
@@ -286,7 +306,10 @@ class _Validator:
     # -- goals -----------------------------------------------------------------------------------------
     def _goals(self) -> Iterator[Problem]:
         seen: set[str] = set()
-        if not any(needs_assistant(check) for goal in self.scenario.goals for check in goal.checks):
+        proposing = self.scenario.kind == "proposal"
+        if proposing and not any(
+            needs_assistant(check) for goal in self.scenario.goals for check in goal.checks
+        ):
             yield Problem(
                 ("goals",),
                 "no goal needs the assistant's own work, so a user who does the task by hand succeeds: "
@@ -296,7 +319,7 @@ class _Validator:
             if goal.id in seen:
                 yield Problem(("goals", number, "id"), f"two goals share the id '{goal.id}'")
             seen.add(goal.id)
-            if not any(is_positive(check) for check in goal.checks):
+            if proposing and not any(is_positive(check) for check in goal.checks):
                 yield Problem(
                     ("goals", number, "checks"),
                     f"goal '{goal.id}' has no positive check (only things that must not happen), so doing "
@@ -476,6 +499,14 @@ class _Validator:
             if isinstance(value, str) and reference(value) is None and value not in self.known_ids:
                 hint = did_you_mean(value, self.known_ids)
                 yield Problem(where, f"'{value}' is not an id in the seed data or created by an event.{hint}")
+
+
+def _forbids_proposing(pattern: ActionPattern) -> bool:
+    """Whether a no_action pattern forbids the assistant's proposals."""
+    return pattern.actor in ("assistant", "any") and (
+        pattern.tool == "agent_ui__send_message_to_user"
+        or (pattern.tool is None and pattern.app == "agent_ui")
+    )
 
 
 def _parameters(specs: Iterable[ToolSpec]) -> dict[str, Any]:
