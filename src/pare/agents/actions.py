@@ -49,6 +49,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, NoReturn
 
+from pare.agents.models.text import valid_json_value
 from pare.agents.policy import Action
 from pare.errors import ActionFormatError, did_you_mean
 
@@ -206,6 +207,34 @@ def parse_action(text: str) -> ParsedAction:
     return ParsedAction(thought=_thought(text[: marker.start()]), tool=tool, args=args, raw=text)
 
 
+def parse_tool_arguments(tool: str, arguments: str) -> dict[str, Any]:
+    """Decode the JSON arguments of a native tool call, held to the same rules as the text format's.
+
+    Raises:
+        ActionFormatError: the arguments are not one JSON object (invalid JSON, ``NaN`` or
+            ``Infinity``, which JSON lacks, or another kind of value); the message is for the model.
+    """
+    text = arguments.strip() or "{}"
+    try:
+        value, end = _DECODER.raw_decode(text)
+    except _NonFiniteNumberError as exc:
+        raise ActionFormatError(
+            f"The arguments of {tool} contain {exc}, which is not a JSON number; write a number or a string.",
+            kind="non_finite_number",
+        ) from None
+    except (ValueError, RecursionError) as exc:
+        raise ActionFormatError(
+            f"The arguments of {tool} are not valid JSON ({exc}).", kind="invalid_json"
+        ) from None
+    if end != len(text):
+        raise ActionFormatError(
+            f"The arguments of {tool} hold more than one JSON value.", kind="invalid_json"
+        )
+    if not isinstance(value, dict):
+        raise ActionFormatError(f"The arguments of {tool} must be a JSON object.", kind="invalid_json")
+    return dict(valid_json_value(value))
+
+
 def _multiple_actions() -> NoReturn:
     _fail(
         "multiple_actions",
@@ -217,7 +246,7 @@ def _multiple_actions() -> NoReturn:
 def _decode_object(text: str, start: int, observations: Sequence[re.Match[str]]) -> tuple[Any, int]:
     """Decode the JSON object at ``text[start]`` (a ``{``), or fail with a message for the model."""
     try:
-        return _DECODER.raw_decode(text, start)
+        value, end = _DECODER.raw_decode(text, start)
     except _NonFiniteNumberError as exc:
         _fail(
             "non_finite_number",
@@ -229,6 +258,8 @@ def _decode_object(text: str, start: int, observations: Sequence[re.Match[str]])
         _fail("invalid_json", "Your Action JSON is nested too deeply to read.")
     except ValueError as exc:  # e.g. an integer with too many digits
         _fail("invalid_json", f"Your Action JSON could not be read: {exc}.")
+    # An escape such as "\\ud800" decodes to a lone surrogate, which no file of the run could hold.
+    return valid_json_value(value), end
 
 
 def _invalid_json(

@@ -9,12 +9,11 @@ the loop records it. Execute mode starts a fresh conversation for each accepted 
 
 from __future__ import annotations
 
-import json
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
-from pare.agents.actions import parse_action
+from pare.agents.actions import parse_action, parse_tool_arguments
 from pare.agents.models.types import ChatMessage, Completion
 from pare.agents.policy import Action, AssistantPolicy, Task, UserPolicy
 from pare.agents.prompts import execute_system_prompt, observe_system_prompt, user_system_prompt
@@ -85,14 +84,7 @@ class Conversation:
             if len(completion.tool_calls) > 1:
                 raise ActionFormatError("Call exactly one tool per answer; you called several.")
             call = completion.tool_calls[0]
-            try:
-                args = json.loads(call.arguments or "{}")
-            except json.JSONDecodeError as error:
-                raise ActionFormatError(
-                    f"The arguments of {call.name} are not valid JSON ({error})."
-                ) from None
-            if not isinstance(args, dict):
-                raise ActionFormatError(f"The arguments of {call.name} must be a JSON object.")
+            args = parse_tool_arguments(call.name, call.arguments)
             self.messages.append(ChatMessage(role="assistant", content=completion.text, tool_calls=(call,)))
             self._pending_call_id = call.id
             return call.name, args

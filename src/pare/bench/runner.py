@@ -20,6 +20,7 @@ Failures are sorted by who is to blame:
 from __future__ import annotations
 
 import asyncio
+import json
 import math
 import time
 import traceback
@@ -207,7 +208,9 @@ class EpisodeOutput:
     """A finished (or failed) episode, ready for the store."""
 
     record: EpisodeRecord
-    trajectory: dict[str, Any] | None
+    trajectory: str | None
+    """The trajectory file's JSON text, serialised where the episode was played (so a value no file can
+    hold fails this episode, not the run)."""
 
 
 def _base_fields(plan: EpisodePlan) -> dict[str, Any]:
@@ -263,15 +266,23 @@ async def play_episode(
         "scenario_hash": plan.scenario_hash,
         **result.to_dict(),
     }
-    record = EpisodeRecord(
-        **_base_fields(plan),
-        status="complete",
-        attempts=attempt,
-        trajectory=trajectory_path(plan.scenario.id, plan.run),
-        wall_s=round(time.perf_counter() - started, 3),
-        **summarize(result, usage=ledger.roles()),
-    )
-    return EpisodeOutput(record, trajectory)
+    try:
+        # Strict JSON (no NaN or Infinity) in valid UTF-8: every file of the run stays readable.
+        text = json.dumps(trajectory, ensure_ascii=False, allow_nan=False, separators=(",", ":"))
+        text.encode("utf-8")
+        record = EpisodeRecord(
+            **_base_fields(plan),
+            status="complete",
+            attempts=attempt,
+            trajectory=trajectory_path(plan.scenario.id, plan.run),
+            wall_s=round(time.perf_counter() - started, 3),
+            **summarize(result, usage=ledger.roles()),
+        )
+        record.model_dump_json()
+    except (ValueError, UnicodeEncodeError) as error:  # a bug in PARE: something let such a value through
+        detail = "".join(traceback.format_exception(error, limit=-8)).strip()
+        return failed_output(plan, "internal_error", f"the episode cannot be stored: {detail}", attempt)
+    return EpisodeOutput(record, text)
 
 
 async def play_with_retries(

@@ -216,13 +216,12 @@ class RunStore:
         record = self.records.get(key)
         return record is not None and record.complete
 
-    def append(self, record: EpisodeRecord, trajectory: Mapping[str, Any] | None = None) -> None:
-        """Store one finished episode: its trajectory first, then its line (the commit point)."""
+    def append(self, record: EpisodeRecord, trajectory: str | None = None) -> None:
+        """Store one finished episode: its trajectory (JSON text) first, then its line (the commit point)."""
         if self._episodes is None:
             raise RuntimeError("the run store is closed")
         if trajectory is not None and record.trajectory is not None:
-            text = json.dumps(trajectory, ensure_ascii=False, separators=(",", ":"))
-            _write_atomically(self.path / record.trajectory, text + "\n")
+            _write_atomically(self.path / record.trajectory, trajectory + "\n")
         self._episodes.write(record.model_dump_json() + "\n")
         self._episodes.flush()
         os.fsync(self._episodes.fileno())

@@ -70,11 +70,14 @@ REPORT = "Done: I took care of it as proposed."
 # -- replies ------------------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class Reply:
-    """One HTTP answer: its status, its JSON body and extra headers."""
+    """One HTTP answer: its status, its JSON body and extra headers; ``raw``, when given, is sent as the
+    body instead of ``body`` (for tests of providers whose answers are truncated, empty or not UTF-8).
+    """
 
     status: int = 200
     body: dict[str, Any] = field(default_factory=dict)
     headers: dict[str, str] = field(default_factory=dict)
+    raw: bytes | None = None
 
 
 Responder = Callable[[dict[str, Any]], Reply]
@@ -295,7 +298,7 @@ class ChatServer:
                 self._send(failure(404, f"no route GET {self.path}"))
 
             def _send(self, reply: Reply) -> None:
-                payload = json.dumps(reply.body).encode("utf-8")
+                payload = reply.raw if reply.raw is not None else json.dumps(reply.body).encode("utf-8")
                 self.send_response(reply.status)
                 self.send_header("Content-Type", "application/json")
                 self.send_header("Content-Length", str(len(payload)))

@@ -8,6 +8,8 @@ exceptions from the OpenAI SDK's tree (litellm's exceptions subclass the OpenAI 
 from __future__ import annotations
 
 import email.utils
+import json
+import math
 import os
 import re
 import time
@@ -16,6 +18,7 @@ from types import ModuleType
 from typing import Any, Literal, Protocol
 
 from pare.agents.models.config import ModelConfig
+from pare.agents.models.text import valid_text
 from pare.agents.models.types import ToolCall, Usage
 from pare.errors import UserInputError
 
@@ -39,7 +42,13 @@ class BackendResponse:
 
 
 class MalformedResponse(Exception):
-    """The provider answered 200 but without a usable choice; treated as a transient failure."""
+    """The provider answered 200 but with nothing usable (no choice, a body that is not JSON or not UTF-8,
+    impossible usage); a provider fault, treated as a transient failure.
+    """
+
+
+UNDECODABLE_BODY = (json.JSONDecodeError, UnicodeDecodeError)
+"""What the SDKs raise reading a 200 response whose body is truncated, empty or not UTF-8."""
 
 
 class ModelBackend(Protocol):
@@ -106,7 +115,10 @@ class OpenAIBackend:
         body: dict[str, Any] = {"model": self.config.model, "messages": messages, **self._body_params}
         if tools:
             body["tools"] = tools
-        response = await client.post("/chat/completions", body=body, cast_to=ChatCompletion)
+        try:
+            response = await client.post("/chat/completions", body=body, cast_to=ChatCompletion)
+        except UNDECODABLE_BODY as error:
+            raise MalformedResponse(f"the provider's response body is not valid JSON ({error})") from error
         return parse_response(response, self.config.model)
 
     def _request_body_params(self) -> dict[str, Any]:
@@ -160,7 +172,10 @@ class LiteLLMBackend:
             # request with tools through its MCP gateway, which imports the optional `mcp` package and
             # fails without it; litellm strips this internal flag before calling the provider.
             kwargs["_skip_mcp_handler"] = True
-        response = await self._litellm.acompletion(**kwargs)
+        try:
+            response = await self._litellm.acompletion(**kwargs)
+        except UNDECODABLE_BODY as error:
+            raise MalformedResponse(f"the provider's response body is not valid JSON ({error})") from error
         return parse_response(response, self.config.model)
 
     async def prepare(self) -> None:
@@ -223,32 +238,44 @@ def parse_response(response: Any, requested_model: str) -> BackendResponse:
         arguments = getattr(function, "arguments", None)
         calls.append(
             ToolCall(
-                id=str(getattr(call, "id", None) or f"call_{len(calls)}"),
-                name=str(getattr(function, "name", "")),
-                arguments=arguments if isinstance(arguments, str) else "{}",
+                id=valid_text(str(getattr(call, "id", None) or f"call_{len(calls)}")),
+                name=valid_text(str(getattr(function, "name", ""))),
+                arguments=valid_text(arguments) if isinstance(arguments, str) else "{}",
             )
         )
     usage_object = getattr(response, "usage", None)
     usage = Usage()
     if usage_object is not None:
         details = getattr(usage_object, "prompt_tokens_details", None)
-        cached = getattr(details, "cached_tokens", None) if details is not None else None
         usage = Usage(
-            prompt_tokens=int(getattr(usage_object, "prompt_tokens", 0) or 0),
-            completion_tokens=int(getattr(usage_object, "completion_tokens", 0) or 0),
-            cached_tokens=int(cached or 0),
+            prompt_tokens=_token_count(usage_object, "prompt_tokens"),
+            completion_tokens=_token_count(usage_object, "completion_tokens"),
+            cached_tokens=_token_count(details, "cached_tokens") if details is not None else 0,
         )
     content = getattr(message, "content", None)
     model = getattr(response, "model", None)
     finish = getattr(choice, "finish_reason", None)
     return BackendResponse(
-        text=content if isinstance(content, str) else "",
+        text=valid_text(content) if isinstance(content, str) else "",
         tool_calls=tuple(calls),
         usage=usage,
         usage_reported=usage_object is not None,
-        model=model if isinstance(model, str) and model else requested_model,
-        finish_reason=finish if isinstance(finish, str) else None,
+        model=valid_text(model) if isinstance(model, str) and model else requested_model,
+        finish_reason=valid_text(finish) if isinstance(finish, str) else None,
     )
+
+
+def _token_count(usage: Any, name: str) -> int:
+    """A token count from the response's usage: missing is 0; negative, fractional or not a number is a
+    provider fault (the SDKs build responses without validating them).
+    """
+    value = getattr(usage, name, None)
+    if value is None:
+        return 0
+    number = isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+    if not number or value < 0 or value != int(value):
+        raise MalformedResponse(f"the provider reported an impossible usage: {name}={value!r}")
+    return int(value)
 
 
 FailureKind = Literal[

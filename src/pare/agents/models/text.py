@@ -1,0 +1,31 @@
+"""Text a model returns, made safe to store: every string PARE writes must encode as UTF-8.
+
+A model can produce lone UTF-16 surrogates (directly, or through a JSON escape of one in its action),
+which Python strings hold but UTF-8 cannot encode: left in, they break hashing, the cache and every JSON
+file of the run. They are replaced by U+FFFD, the replacement character, where the text enters PARE,
+so whatever the model wrote is still judged as its behaviour.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Any
+
+_LONE_SURROGATE = re.compile("[\ud800-\udfff]")
+REPLACEMENT = "\ufffd"
+
+
+def valid_text(text: str) -> str:
+    """Return ``text`` with each lone surrogate replaced by U+FFFD (the same object when it has none)."""
+    return _LONE_SURROGATE.sub(REPLACEMENT, text) if _LONE_SURROGATE.search(text) else text
+
+
+def valid_json_value(value: Any) -> Any:
+    """Return a decoded JSON value with :func:`valid_text` applied to every string in it, keys included."""
+    if isinstance(value, str):
+        return valid_text(value)
+    if isinstance(value, dict):
+        return {valid_text(key): valid_json_value(item) for key, item in value.items()}
+    if isinstance(value, list):
+        return [valid_json_value(item) for item in value]
+    return value
