@@ -32,22 +32,39 @@ EndReason = Literal["max_turns", "idle", "context_limit"]
 StepActor = Literal["user", "assistant"]
 
 
+MAX_TURNS = 1_000
+"""The most turns an episode may be given (the paper's protocol uses 10)."""
+MAX_STEPS = 200
+"""The most actions one actor may be given per turn, or to carry out a task."""
+MAX_TURN_DURATION = timedelta(days=1)
+
+
 class EpisodeSettings(BaseModel):
-    """The turn protocol's numbers and the world's settings; every count is configurable."""
+    """The turn protocol's numbers and the world's settings; every count is configurable, within bounds
+    that keep one episode finite.
+    """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
-    max_turns: int = Field(default=10, ge=1, description="Turns before the episode is cut off.")
-    user_steps: int = Field(default=1, ge=1, description="User actions per turn.")
-    observe_steps: int = Field(default=5, ge=1, description="Assistant actions per turn in observe mode.")
+    max_turns: int = Field(default=10, ge=1, le=MAX_TURNS, description="Turns before the episode is cut off.")
+    user_steps: int = Field(default=1, ge=1, le=MAX_STEPS, description="User actions per turn.")
+    observe_steps: int = Field(
+        default=5, ge=1, le=MAX_STEPS, description="Assistant actions per turn in observe mode."
+    )
     execute_steps: int = Field(
-        default=10, ge=1, description="Assistant actions to carry out an accepted task."
+        default=10, ge=1, le=MAX_STEPS, description="Assistant actions to carry out an accepted task."
     )
     proposal_ttl_turns: int = Field(
-        default=3, ge=1, description="Turns a proposal may wait for an answer before it expires."
+        default=3,
+        ge=1,
+        le=MAX_TURNS,
+        description="Turns a proposal may wait for an answer before it expires.",
     )
     turn_duration: timedelta = Field(
-        default=timedelta(minutes=1), description="Simulated time one turn takes when someone acted."
+        default=timedelta(minutes=1),
+        gt=timedelta(0),
+        le=MAX_TURN_DURATION,
+        description="Simulated time one turn takes when someone acted.",
     )
     env: EnvConfig = Field(
         default_factory=EnvConfig, description="Seed, tool failures, noise, notifications."

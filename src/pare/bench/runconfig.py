@@ -22,16 +22,17 @@ from datetime import timedelta
 from pathlib import Path
 from typing import Any, Literal
 
-import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from pare.agents.models.cache import CacheMode
 from pare.agents.models.config import ModelConfig
-from pare.bench.episode import EpisodeSettings
+from pare.bench.episode import MAX_STEPS, MAX_TURN_DURATION, MAX_TURNS, EpisodeSettings
 from pare.env import EnvConfig
+from pare.env.config import MAX_NOISE_RATE_PER_MINUTE
 from pare.errors import UserInputError
 from pare.scenarios.times import TimeFormatError, parse_duration
 from pare.sim.notifications import NotificationPolicy
+from pare.yaml_source import UnreadableFile, YamlSyntaxError, load_yaml, read_text_file
 
 ExecutionBackend = Literal["local", "ray"]
 
@@ -41,10 +42,16 @@ concurrency and prices cannot). The endpoint is left out, as in the model-call c
 server that comes back on another port still serves the same run (the manifest records the endpoint)."""
 
 
+MAX_RUNS = 1_000
+"""The most runs per scenario (the paper's protocol uses 4)."""
+MAX_CONCURRENCY = 4_096
+"""The most episodes in flight at once."""
+
+
 class ScenarioSelection(BaseModel):
     """Which scenarios to run: from the library (or ``paths``), narrowed by every filter given."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     ids: list[str] = Field(default_factory=list, description="Scenario ids; empty means all.")
     split: str | None = Field(default=None, description="A split from the library's splits.yaml.")
@@ -62,7 +69,7 @@ class Models(BaseModel):
     ``assistant`` is a shorthand for the paper's symmetric setup: the same model observes and executes.
     """
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     user: ModelConfig | None = Field(default=None, description="The user simulator; none: oracle user.")
     assistant: ModelConfig | None = Field(
@@ -114,26 +121,26 @@ class Models(BaseModel):
 class WorldSettings(BaseModel):
     """The episode world's settings a run may change (the seed is derived per episode)."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     tool_failure_probability: float = Field(default=0.0, ge=0.0, le=1.0)
-    noise_rate_per_minute: float = Field(default=0.0, ge=0.0)
+    noise_rate_per_minute: float = Field(default=0.0, ge=0.0, le=MAX_NOISE_RATE_PER_MINUTE)
     notifications: NotificationPolicy = Field(default_factory=NotificationPolicy)
 
 
 class ProtocolSettings(BaseModel):
     """The turn protocol's numbers (see :class:`pare.bench.EpisodeSettings`)."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
-    max_turns: int = Field(default=10, ge=1)
-    user_steps: int = Field(default=1, ge=1)
-    observe_steps: int = Field(default=5, ge=1)
-    execute_steps: int = Field(default=10, ge=1)
-    proposal_ttl_turns: int = Field(default=3, ge=1)
-    turn_duration: timedelta = Field(default=timedelta(minutes=1))
+    max_turns: int = Field(default=10, ge=1, le=MAX_TURNS)
+    user_steps: int = Field(default=1, ge=1, le=MAX_STEPS)
+    observe_steps: int = Field(default=5, ge=1, le=MAX_STEPS)
+    execute_steps: int = Field(default=10, ge=1, le=MAX_STEPS)
+    proposal_ttl_turns: int = Field(default=3, ge=1, le=MAX_TURNS)
+    turn_duration: timedelta = Field(default=timedelta(minutes=1), gt=timedelta(0), le=MAX_TURN_DURATION)
     max_format_retries: int = Field(
-        default=2, ge=0, description="Times a malformed model answer is sent back within one step."
+        default=2, ge=0, le=20, description="Times a malformed model answer is sent back within one step."
     )
 
     @field_validator("turn_duration", mode="before")
@@ -150,18 +157,20 @@ class ProtocolSettings(BaseModel):
 class RunConfig(BaseModel):
     """Everything one benchmark run needs."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     name: str | None = Field(default=None, description="A label for reports and the output folder.")
     scenarios: ScenarioSelection = Field(default_factory=ScenarioSelection)
-    runs: int = Field(default=4, ge=1, description="Runs per scenario (k of Success@k).")
-    seed: int = Field(default=0, description="Base seed; each episode's seed derives from it.")
+    runs: int = Field(default=4, ge=1, le=MAX_RUNS, description="Runs per scenario (k of Success@k).")
+    seed: int = Field(
+        default=0, ge=0, lt=2**63, description="Base seed; each episode's seed derives from it."
+    )
     models: Models = Field(default_factory=Models)
     protocol: ProtocolSettings = Field(default_factory=ProtocolSettings)
     world: WorldSettings = Field(default_factory=WorldSettings)
-    concurrency: int = Field(default=8, ge=1, description="Episodes in flight at once.")
+    concurrency: int = Field(default=8, ge=1, le=MAX_CONCURRENCY, description="Episodes in flight at once.")
     episode_retries: int = Field(
-        default=2, ge=0, description="Reruns of an episode that failed for infrastructure reasons."
+        default=2, ge=0, le=100, description="Reruns of an episode that failed for infrastructure reasons."
     )
     cache: CacheMode = Field(default="read_write", description="Model-call cache: off, read_write, replay.")
     cache_path: str | None = Field(
@@ -264,11 +273,14 @@ def read_config_file(path: str | Path) -> dict[str, Any]:
     """The mapping in a YAML configuration file, with a clear error when it cannot be read."""
     file = Path(path)
     try:
-        data = yaml.safe_load(file.read_text(encoding="utf-8"))
-    except OSError as error:
-        raise UserInputError(f"cannot read the configuration file {file}: {error.strerror}") from None
-    except yaml.YAMLError as error:
-        raise UserInputError(f"{file}: not valid YAML: {error}") from None
+        data = load_yaml(read_text_file(file))
+    except FileNotFoundError:
+        raise UserInputError(f"cannot read the configuration file {file}: no such file") from None
+    except UnreadableFile as error:
+        raise UserInputError(f"cannot read the configuration file {file}: {error}") from None
+    except YamlSyntaxError as error:
+        where = f"{file}:{error.line}" if error.line is not None else str(file)
+        raise UserInputError(f"{where}: {error}") from None
     if data is None:
         return {}
     if not isinstance(data, dict):
@@ -300,9 +312,9 @@ def parse_assignment(text: str) -> tuple[str, Any]:
     if not sep or not path.strip():
         raise UserInputError(f"--set expects path=value (e.g. protocol.max_turns=20), got '{text}'")
     try:
-        value = yaml.safe_load(raw) if raw.strip() else ""
-    except yaml.YAMLError as error:
-        raise UserInputError(f"--set {text}: the value is not valid YAML: {error}") from None
+        value = load_yaml(raw) if raw.strip() else ""
+    except YamlSyntaxError as error:
+        raise UserInputError(f"--set {text}: the value cannot be read: {error}") from None
     return path.strip(), value
 
 

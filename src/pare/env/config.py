@@ -8,11 +8,15 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from pare.sim.notifications import NotificationPolicy
 
+MAX_NOISE_RATE_PER_MINUTE = 60.0
+"""The most distractor events per simulated minute (one a second): beyond it an episode drowns in noise
+and its memory grows without bound."""
+
 
 class EnvConfig(BaseModel):
     """Everything that shapes an episode's world besides the scenario's data."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     seed: int = Field(default=0, description="Seed of every random stream in the episode.")
     start_time: datetime = Field(default=datetime(2025, 1, 6, 9, 0, tzinfo=UTC))
@@ -20,7 +24,10 @@ class EnvConfig(BaseModel):
         default=0.0, ge=0.0, le=1.0, description="Chance that an assistant app-tool call fails transiently."
     )
     noise_rate_per_minute: float = Field(
-        default=0.0, ge=0.0, description="Distractor events per simulated minute (Poisson arrivals)."
+        default=0.0,
+        ge=0.0,
+        le=MAX_NOISE_RATE_PER_MINUTE,
+        description="Distractor events per simulated minute (Poisson arrivals).",
     )
     notifications: NotificationPolicy = Field(default_factory=NotificationPolicy)
     raise_internal_errors: bool = Field(

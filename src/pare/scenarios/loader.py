@@ -12,7 +12,7 @@ from pare.errors import UserInputError, did_you_mean
 from pare.scenarios.annotations import model_fields, step_into
 from pare.scenarios.model import Scenario
 from pare.scenarios.validation import Problem, format_path, validate_scenario
-from pare.scenarios.yaml_source import Path, YamlDocument, YamlSyntaxError, parse_yaml
+from pare.yaml_source import Path, UnreadableFile, YamlDocument, YamlSyntaxError, parse_yaml, read_text_file
 
 
 @dataclass(frozen=True, slots=True)
@@ -46,11 +46,11 @@ def load_scenario(path: str | FilePath) -> Scenario:
     """
     file = FilePath(path)
     try:
-        text = file.read_text(encoding="utf-8")
+        text = read_text_file(file)
     except FileNotFoundError:
         raise UserInputError(f"{file}: no such scenario file") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise UserInputError(f"{file}: cannot read it ({error})") from None
+    except UnreadableFile as error:
+        raise UserInputError(f"{file}: {error}") from None
     scenario = parse_scenario(text, source=str(file))
     if file.stem != scenario.id:
         line = None

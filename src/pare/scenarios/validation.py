@@ -32,7 +32,7 @@ from pare.scenarios.model import (
 )
 from pare.scenarios.seed import SeedError, original_location, prepare_seed
 from pare.scenarios.times import parse_time, resolve_relative_times
-from pare.scenarios.yaml_source import Path
+from pare.yaml_source import Path
 
 
 @dataclass(frozen=True, slots=True)

@@ -52,7 +52,7 @@ RESERVED_REQUEST_KEYS = frozenset(
 class Prices(BaseModel):
     """Prices of one model in US dollars per million tokens."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     input: float = Field(ge=0.0, description="USD per million prompt tokens that were not served from cache.")
     output: float = Field(ge=0.0, description="USD per million completion tokens.")
@@ -75,7 +75,7 @@ class Prices(BaseModel):
 class ModelConfig(BaseModel):
     """Everything needed to call one role's model. Secrets never live here, only their variable's name."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     model: str = Field(
         min_length=1,
@@ -93,18 +93,27 @@ class ModelConfig(BaseModel):
         "the openai backend). None: no key (a local server; a dummy key is sent) or, with litellm, the "
         "provider's usual variable.",
     )
-    temperature: float = Field(default=0.0, ge=0.0)
-    max_tokens: int | None = Field(default=None, gt=0, description="Most tokens the model may generate.")
+    temperature: float = Field(default=0.0, ge=0.0, le=10.0)
+    max_tokens: int | None = Field(
+        default=None, gt=0, le=10_000_000, description="Most tokens the model may generate."
+    )
     seed: int | None = Field(default=None, description="Sampling seed, for providers that honour one.")
     extra: dict[str, JsonValue] = Field(
         default_factory=dict, description="Further request parameters, sent as they are (top_p, stop, ...)."
     )
-    timeout_s: float = Field(default=60.0, gt=0.0, description="Seconds one request may take.")
-    max_retries: int = Field(default=5, ge=0, description="Retries of a transient failure before giving up.")
-    retry_initial_s: float = Field(default=1.0, ge=0.0, description="First wait before a retry.")
-    retry_max_s: float = Field(default=30.0, ge=0.0, description="Longest wait between two attempts.")
+    timeout_s: float = Field(default=60.0, gt=0.0, le=86_400.0, description="Seconds one request may take.")
+    max_retries: int = Field(
+        default=5, ge=0, le=100, description="Retries of a transient failure before giving up."
+    )
+    retry_initial_s: float = Field(default=1.0, ge=0.0, le=3_600.0, description="First wait before a retry.")
+    retry_max_s: float = Field(
+        default=30.0, ge=0.0, le=3_600.0, description="Longest wait between two attempts."
+    )
     max_concurrency: int = Field(
-        default=16, ge=1, description="Most requests in flight at once to this endpoint (from one process)."
+        default=16,
+        ge=1,
+        le=10_000,
+        description="Most requests in flight at once to this endpoint (from one process).",
     )
     prices: Prices | None = Field(
         default=None, description="Prices to use instead of litellm's price table (USD per million tokens)."
