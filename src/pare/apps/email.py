@@ -470,6 +470,8 @@ class EmailApp(App):
             content = files.state.files[source].content
             target = self._free_name(files, folder, posixpath.basename(source), content, plan)
             plan[target] = content
+        for target in plan:  # all or nothing: a failed call leaves the files as they were
+            files.check_can_store(target)
         for target, content in plan.items():
             if not files.exists(target) or files.state.files[target].content != content:
                 files.store(target, content)
@@ -483,7 +485,10 @@ class EmailApp(App):
         while True:
             name = filename if number == 1 else f"{stem} ({number}){ext}"
             target = posixpath.join(folder, name)
-            free = not files.exists(target) or files.state.files[target].content == content
+            if files.exists(target):
+                free = files.state.files[target].content == content
+            else:
+                free = not files.is_directory(target)
             if free and target not in planned:
                 return target
             number += 1

@@ -138,10 +138,16 @@ class FilesApp(App):
         """The normalised path of an existing file; :class:`ToolError` naming it otherwise."""
         normalized = normalize_path(path)
         if normalized not in self.state.files:
-            if self._is_directory(normalized):
+            if self.is_directory(normalized):
                 raise ToolError(f"{normalized} is a directory, not a file.")
             raise ToolError(f"No file at {normalized}. Use files__list_directory to see what is stored.")
         return normalized
+
+    def check_can_store(self, path: str) -> None:
+        """Raise :class:`ToolError` when :meth:`store` at ``path`` would fail (so a caller storing several
+        files can check them all before writing any).
+        """
+        self._check_can_hold_file(normalize_path(path))
 
     def store(self, path: str, content: str) -> str:
         """Write ``content`` at ``path`` (creating or replacing it) and return the normalised path."""
@@ -150,7 +156,8 @@ class FilesApp(App):
         self.state.files[normalized] = StoredFile(content=content, modified=self.ctx.now())
         return normalized
 
-    def _is_directory(self, path: str) -> bool:
+    def is_directory(self, path: str) -> bool:
+        """Whether ``path`` is a directory (made explicitly, or holding files)."""
         if path == "/" or path in self.state.directories:
             return True
         prefix = path + "/"
@@ -159,7 +166,7 @@ class FilesApp(App):
     def _check_can_hold_file(self, path: str) -> None:
         if path == "/":
             raise ToolError("A file needs a name, not just '/'.")
-        if self._is_directory(path):
+        if self.is_directory(path):
             raise ToolError(f"{path} is a directory; choose a file name inside it.")
         for ancestor in _ancestors(path):
             if ancestor in self.state.files:
@@ -184,7 +191,7 @@ class FilesApp(App):
         directory = normalize_path(path)
         if directory in self.state.files:
             raise ToolError(f"{directory} is a file; use files__read_file to read it.")
-        if not self._is_directory(directory):
+        if not self.is_directory(directory):
             raise ToolError(f"No directory at {directory}.")
         depth = 0 if directory == "/" else directory.count("/")
         files, directories = self._entries_under(directory)
@@ -280,9 +287,11 @@ class FilesApp(App):
             the normalised path of the directory.
         """
         normalized = normalize_path(path)
-        if normalized == "/" or self._is_directory(normalized):
+        if normalized == "/" or self.is_directory(normalized):
             raise ToolError(f"The directory {normalized} already exists.")
-        self._check_can_hold_file(normalized)  # no file there or above
+        if normalized in self.state.files:
+            raise ToolError(f"{normalized} is a file; a directory cannot have the same path.")
+        self._check_can_hold_file(normalized)  # no file above
         self.state.directories = sorted({*self.state.directories, normalized})
         return normalized
 
@@ -300,9 +309,9 @@ class FilesApp(App):
         src = normalize_path(source)
         dst = normalize_path(destination)
         is_file = src in self.state.files
-        if not is_file and (src == "/" or not self._is_directory(src)):
+        if not is_file and (src == "/" or not self.is_directory(src)):
             raise ToolError(f"Nothing to move at {src}." if src != "/" else "The root cannot be moved.")
-        if self._is_directory(dst):
+        if self.is_directory(dst):
             dst = (
                 (dst.rstrip("/") + "/" + src.rsplit("/", 1)[1]) if dst != "/" else "/" + src.rsplit("/", 1)[1]
             )
@@ -310,7 +319,7 @@ class FilesApp(App):
             raise ToolError(f"{src} is already there.")
         if not is_file and _inside(dst, src):
             raise ToolError(f"A directory cannot be moved inside itself ({src} -> {dst}).")
-        if dst in self.state.files or self._is_directory(dst):
+        if dst in self.state.files or self.is_directory(dst):
             raise ToolError(f"{dst} already exists; delete it first or choose another name.")
         for ancestor in _ancestors(dst):
             if ancestor in self.state.files:
@@ -339,7 +348,7 @@ class FilesApp(App):
         """
         src = self.require(source)
         dst = normalize_path(destination)
-        if self._is_directory(dst):
+        if self.is_directory(dst):
             dst = (
                 (dst.rstrip("/") + "/" + src.rsplit("/", 1)[1]) if dst != "/" else "/" + src.rsplit("/", 1)[1]
             )
@@ -364,7 +373,7 @@ class FilesApp(App):
             return f"Deleted file {normalized}."
         if normalized == "/":
             raise ToolError("The root of the phone's storage cannot be deleted.")
-        if not self._is_directory(normalized):
+        if not self.is_directory(normalized):
             raise ToolError(f"Nothing to delete at {normalized}.")
         files, directories = self._entries_under(normalized)
         if (files or directories) and not recursive:
