@@ -254,7 +254,7 @@ def test_records_round_trip(tmp_path: Path) -> None:
 
 
 def test_manifest_masks_secret_looking_settings_but_keeps_variable_names(tmp_path: Path) -> None:
-    from pare.bench.store import redact_secrets
+    from pare.agents.models.secrets import redact_secrets
 
     public = {"api_key_env": "OPENAI_API_KEY", "extra": {"extra_headers": {"Authorization": "Bearer abc"}}}
     assert redact_secrets(public) == {

@@ -19,7 +19,6 @@ import hashlib
 import json
 import os
 import platform
-import re
 import sys
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
@@ -31,6 +30,7 @@ from typing import IO, Any
 from pydantic import ValidationError
 
 from pare import __version__
+from pare.agents.models.secrets import redact_secrets
 from pare.bench.records import EpisodeRecord
 from pare.bench.runconfig import RunConfig
 from pare.errors import UserInputError
@@ -49,7 +49,6 @@ LOCK = ".lock"
 SWEEP_FILE = "sweep.json"
 MANIFEST_FORMAT = 1
 
-SECRET_NAME = re.compile(r"(api[_-]?key|token|secret|password|authorization|credential)", re.IGNORECASE)
 PROVENANCE_PACKAGES = ("pydantic", "openai", "litellm", "ray", "jinja2", "rich", "typer")
 
 EpisodeKey = tuple[str, int]
@@ -65,22 +64,6 @@ def scenario_set_hash(hashes: Mapping[str, str]) -> str:
     """A content hash of a set of scenarios (ids and their hashes)."""
     text = "\n".join(f"{scenario_id}:{hashes[scenario_id]}" for scenario_id in sorted(hashes))
     return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
-
-
-def redact_secrets(value: Any) -> Any:
-    """``value`` with every mapping entry whose name suggests a secret replaced by ``"***"``."""
-    if isinstance(value, dict):
-        return {
-            key: "***" if _secret_name(key) and item else redact_secrets(item) for key, item in value.items()
-        }
-    if isinstance(value, list):
-        return [redact_secrets(item) for item in value]
-    return value
-
-
-def _secret_name(key: object) -> bool:
-    """Whether a field's name suggests it holds a secret (``*_env`` fields name a variable: not secret)."""
-    return isinstance(key, str) and not key.endswith("_env") and SECRET_NAME.search(key) is not None
 
 
 def provenance() -> dict[str, Any]:
@@ -332,7 +315,7 @@ def _manifest(
         "format": MANIFEST_FORMAT,
         "label": config.label(),
         "identity_hash": config.identity_hash(),
-        "identity": config.identity(),
+        "identity": redact_secrets(config.identity()),
         "config": redact_secrets(config.public_dict()),
         "sweep_point": dict(sweep_point or (previous or {}).get("sweep_point", {})),
         "plan": {"runs": config.runs, "scenarios": dict(hashes)},

@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any, Literal
 
 from pare.agents.models.config import ModelConfig
+from pare.agents.models.secrets import redact_secrets
 from pare.agents.models.types import ChatMessage, Completion
 from pare.errors import UserInputError, did_you_mean
 
@@ -163,7 +164,7 @@ class ModelCallCache:
                     str(request.get("model", "")),
                     role,
                     datetime.now(UTC).isoformat(timespec="seconds"),
-                    canonical_json(request),
+                    canonical_json(redact_secrets(request)),  # the key is a hash: it keeps nothing
                     stored,
                 ),
             )

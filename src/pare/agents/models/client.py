@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import asyncio
+import dataclasses
 import logging
 import os
 import time
@@ -32,6 +33,7 @@ from pare.agents.models.cache import ModelCallCache, cache_key, request_record
 from pare.agents.models.config import ModelConfig
 from pare.agents.models.ledger import UsageLedger
 from pare.agents.models.pricing import call_cost
+from pare.agents.models.secrets import scrub, secret_values
 from pare.agents.models.types import ChatMessage, Completion
 from pare.errors import CacheMiss, ModelRequestError, ProviderUnavailable
 
@@ -300,7 +302,7 @@ class ModelClient:
             failure = classify_error(error)
             if failure is None:
                 raise
-            raise self._failure_error(failure, attempts, messages) from error
+            raise self._failure_error(self._scrubbed(failure), attempts, messages) from error
         return self._completion(response, latency)
 
     def _completion(self, response: BackendResponse, latency: float) -> Completion:
@@ -314,6 +316,12 @@ class ModelClient:
             finish_reason=response.finish_reason,
         )
 
+    def _scrubbed(self, failure: Failure) -> Failure:
+        """``failure`` without the key or secret ``extra`` values a provider may echo in its message."""
+        key = os.environ.get(self.config.api_key_env or "", "") if self.config.api_key_env else None
+        detail = scrub(failure.detail, [key, *secret_values(self.config.extra)])
+        return dataclasses.replace(failure, detail=detail)
+
     def _log_retry(self, state: RetryCallState) -> None:
         outcome = state.outcome
         error = outcome.exception() if outcome is not None else None
@@ -323,7 +331,7 @@ class ModelClient:
             "%s: attempt %d failed (%s); retrying in %.2fs",
             self._where(),
             state.attempt_number,
-            _describe(failure) if failure is not None else repr(error),
+            _describe(self._scrubbed(failure)) if failure is not None else "an unexpected error",
             wait,
         )
 
