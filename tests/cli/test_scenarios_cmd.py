@@ -90,7 +90,7 @@ def test_show_by_id_and_by_path(
 ) -> None:
     assert main(["scenarios", "show", "dentist_moves_checkup"]) == 0
     out = capsys.readouterr().out
-    assert "Thursday" in out and "calendar__edit_calendar_event" in out and "calendar_moved" in out
+    assert "Thursday" in out and "calendar__edit_calendar_event" in out and "checkup_moved" in out
     path = _write(tmp_path, base())
     assert main(["scenarios", "show", str(path)]) == 0
     assert "tiny_reply" in capsys.readouterr().out

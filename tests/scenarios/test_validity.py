@@ -75,6 +75,19 @@ def test_the_gate_demands_variants_and_by_hand_steps() -> None:
     ]
 
 
+def test_the_by_hand_user_gets_turns_for_every_step_and_each_must_be_played() -> None:
+    data = fair()
+    # Longer than the default 10 turns: still played to the end, and still failing (the work is the user's).
+    data["oracle"]["by_hand"] = [{"tool": "get_current_time"}] * 12 + data["oracle"]["by_hand"]
+    runs = {run.run: run for run in check_scenario(parse(data)).runs}
+    assert runs["by_hand"].ok and runs["by_hand"].turns is not None and runs["by_hand"].turns > 12
+
+    never = {"action": {"actor": "user", "tool": "email__delete"}}  # nobody deletes anything
+    data["oracle"]["by_hand"].append({"tool": "go_home", "when": never})
+    breaches = check_scenario(parse(data)).breaches()
+    assert any("by_hand played" in line and "never came" in line for line in breaches), breaches
+
+
 def test_a_reactive_event_that_never_fires_is_a_breach() -> None:
     data = fair()
     data["events"][1]["when"]["args"]["email_id"] = "e1"

@@ -130,12 +130,17 @@ def check_scenario(scenario: Scenario, settings: EpisodeSettings | None = None) 
     for name, make, expected, why in plays:
         user, assistant = make(scenario)
         try:
-            result = run_episode(scenario, user, assistant, settings)
+            result = run_episode(scenario, user, assistant, _settings_for(name, scenario, settings))
         except UserInputError as error:
             verdicts.append(RunVerdict(name, expected, None, (str(error),), why=why))
             continue
         details[name] = result
         problems = _problems(name, scenario, result)
+        if name == "by_hand" and isinstance(user, OracleUser) and user.position < len(user.steps):
+            problems.append(
+                f"by_hand played {user.position} of its {len(user.steps)} steps: step "
+                f"#{user.position + 1} ({user.steps[user.position].tool}) never came (its 'when' never held)"
+            )
         met = {goal.id for goal in result.outcome.goals if goal.passed}
         problems.extend(
             f"goal '{goal_id}' should fail ({why}) but was met"
@@ -156,6 +161,17 @@ def check_scenario(scenario: Scenario, settings: EpisodeSettings | None = None) 
         tuple(_declaration_problems(scenario)),
         tuple(restated_answers(scenario)),
     )
+
+
+def _settings_for(name: str, scenario: Scenario, settings: EpisodeSettings | None) -> EpisodeSettings | None:
+    """The by-hand user is given turns enough for every one of its steps: the run must show that the
+    user's own complete work is not credited to the assistant, not that the user ran out of time.
+    """
+    if name != "by_hand":
+        return settings
+    base = settings or EpisodeSettings()
+    turns = max(base.max_turns, len(scenario.by_hand().user) + base.max_turns)
+    return base.model_copy(update={"max_turns": turns})
 
 
 def _playing(solution: Solution) -> PolicyPair:
