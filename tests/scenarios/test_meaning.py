@@ -29,6 +29,8 @@ THURSDAY_1815 = datetime(2025, 3, 20, 18, 15, tzinfo=UTC)
         ("t.nowak@lindenlets.example", "t.nowak@lindenlets.example", True),
         ("see   the\nflat", "see the flat", True),
         ("Thursday", "THURSDAY", True),
+        ("I can\u2019t share the cab", "can't share", True),
+        ("I can't share the cab", "can\u2019t share", True),
     ],
 )
 def test_words_are_found_at_their_boundaries(text: str, piece: str, found: bool) -> None:
@@ -48,6 +50,10 @@ def test_words_are_found_at_their_boundaries(text: str, piece: str, found: bool)
         ("No problem, Thursday it is", True),
         ("Unfortunately Thursday is impossible", False),
         ("Any day except Thursday", False),
+        ("Thursday's out for Hannah", False),
+        ("Thursday is taken by the budget review", False),
+        ("Thursday clashes with the review", False),
+        ("Thursday\u2019s out, so Friday", False),
     ],
 )
 def test_negated_clauses_affirm_nothing(text: str, affirmed: bool) -> None:
@@ -62,6 +68,9 @@ def test_negated_clauses_affirm_nothing(text: str, affirmed: bool) -> None:
         ("Thursday doesn't work for me", True),
         ("No worries, Thursday works", False),
         ("Thursday works, see you then", False),
+        ("Sorry, the cab's full, can't take you", True),
+        ("There's no room in the car", True),
+        ("I can\u2019t share the cab tonight", True),
     ],
 )
 def test_declines(text: str, declined: bool) -> None:

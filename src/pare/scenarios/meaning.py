@@ -52,8 +52,8 @@ def word_pattern(piece: str) -> re.Pattern[str]:
 
 
 def has_word(text: str, piece: str) -> bool:
-    """Whether ``text`` contains ``piece`` at word boundaries."""
-    return word_pattern(piece).search(text) is not None
+    """Whether ``text`` contains ``piece`` at word boundaries (curly and straight apostrophes alike)."""
+    return word_pattern(_normalise_quotes(piece)).search(_normalise_quotes(text)) is not None
 
 
 # -- clauses and negation -------------------------------------------------------------------------------
@@ -84,6 +84,11 @@ NEGATION_CUES: tuple[str, ...] = (
     "other than",
     "unlike",
     "is out",
+    "'s out",
+    "are out",
+    "is taken",
+    "'s taken",
+    "clash*",
     "no good",
     "impossible",
     "busy",
@@ -118,6 +123,11 @@ DECLINE_CUES: tuple[str, ...] = (
     "must cancel",
     "won't make it",
     "not going to make",
+    "can't take",
+    "cannot take",
+    "can't share",
+    "cannot share",
+    "no room",
 )
 """Phrases that make a whole message a refusal or a cancellation."""
 
