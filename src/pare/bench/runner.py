@@ -269,7 +269,7 @@ async def play_episode(
     try:
         # Strict JSON (no NaN or Infinity) in valid UTF-8: every file of the run stays readable.
         text = json.dumps(trajectory, ensure_ascii=False, allow_nan=False, separators=(",", ":"))
-        text.encode("utf-8")
+        text.encode("utf-8")  # the record's text comes from the same result, so it is checked too
         record = EpisodeRecord(
             **_base_fields(plan),
             status="complete",
@@ -278,7 +278,6 @@ async def play_episode(
             wall_s=round(time.perf_counter() - started, 3),
             **summarize(result, usage=ledger.roles()),
         )
-        record.model_dump_json()
     except (ValueError, UnicodeEncodeError) as error:  # a bug in PARE: something let such a value through
         detail = "".join(traceback.format_exception(error, limit=-8)).strip()
         return failed_output(plan, "internal_error", f"the episode cannot be stored: {detail}", attempt)

@@ -170,8 +170,7 @@ def _settings_for(name: str, scenario: Scenario, settings: EpisodeSettings | Non
     if name != "by_hand":
         return settings
     base = settings or EpisodeSettings()
-    turns = max(base.max_turns, len(scenario.by_hand().user) + base.max_turns)
-    return base.model_copy(update={"max_turns": turns})
+    return base.model_copy(update={"max_turns": base.max_turns + len(scenario.by_hand().user)})
 
 
 def _playing(solution: Solution) -> PolicyPair:
