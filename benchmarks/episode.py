@@ -48,12 +48,17 @@ class OracleDrivenModel:
         self.count = count
         self.prompt_tokens = 0
         self.calls = 0
+        self.sizes: list[int] = []
+        """The prompt size of each call, in order: how the conversation grows."""
 
     async def complete(
         self, messages: Sequence[ChatMessage], tools: Sequence[dict[str, Any]] | None = None
     ) -> Completion:
         self.calls += 1
-        self.prompt_tokens += count_tokens(messages) if self.count else 0
+        if self.count:
+            size = count_tokens(messages)
+            self.prompt_tokens += size
+            self.sizes.append(size)
         action: Action = await self.decide()
         return Completion(
             text=format_action(action.tool, action.args, "Following the plan."),
@@ -74,9 +79,9 @@ class Bridge(UserPolicy, AssistantPolicy):
         self.previous: ToolResult | None = None
         self.task: Task | None = None
 
-    def start(self, env: Environment) -> None:
-        self.user.start(env)
-        self.assistant.start(env)
+    def start(self, env: Environment, *budget: Any) -> None:
+        self.user.start(env, *budget)
+        self.assistant.start(env, *budget)
 
     async def step(self, view: UserView, previous: ToolResult | None) -> Action:
         return await self.user.step(view, previous)
@@ -94,9 +99,9 @@ class ShimUser(LLMUser):
         self.model = OracleDrivenModel(lambda: bridge.step(self._view, self._previous), count)
         super().__init__(self.model)
 
-    def start(self, env: Environment) -> None:
-        self.bridge.start(env)
-        super().start(env)
+    def start(self, env: Environment, *budget: Any) -> None:
+        self.bridge.start(env, *budget)
+        super().start(env, *budget)
 
     async def step(self, view: UserView, previous: ToolResult | None) -> Action:
         self._view, self._previous = view, previous
@@ -120,17 +125,23 @@ class ShimAssistant(LLMAssistant):
         return await super().execute(task, previous)
 
 
-async def play(scenario: Scenario, count: bool) -> tuple[int, int, dict[str, int], bool]:
+Outcome = tuple[int, int, dict[str, int], bool, dict[str, list[int]]]
+
+
+async def play(scenario: Scenario, count: bool) -> Outcome:
     """One episode; with ``count``, prompt tokens are counted (slow, so not while timing)."""
     bridge = Bridge(scenario)
     user, assistant = ShimUser(bridge, count), ShimAssistant(bridge, count)
     result = await arun_episode(scenario, user, assistant)
-    tokens = {
-        "user": user.model.prompt_tokens,
-        "observe": assistant.observe_model.prompt_tokens,
-        "execute": assistant.execute_model.prompt_tokens,
-    }
-    return result.turns, len(result.steps), tokens, result.success
+    models = {"user": user.model, "observe": assistant.observe_model, "execute": assistant.execute_model}
+    tokens = {role: model.prompt_tokens for role, model in models.items()}
+    sizes = {role: model.sizes for role, model in models.items()}
+    return result.turns, len(result.steps), tokens, result.success, sizes
+
+
+def growth_per_call(sizes: list[int]) -> float | None:
+    """How much a conversation's prompt grows per call, from its first call to its last."""
+    return (sizes[-1] - sizes[0]) / (len(sizes) - 1) if len(sizes) > 1 else None
 
 
 def main() -> None:
@@ -139,7 +150,7 @@ def main() -> None:
     options = parser.parse_args()
     scenarios = load_scenarios()
 
-    async def all_episodes(count: bool = False) -> list[tuple[int, int, dict[str, int], bool]]:
+    async def all_episodes(count: bool = False) -> list[Outcome]:
         return [await play(scenario, count) for scenario in scenarios]
 
     samples = []
@@ -163,6 +174,16 @@ def main() -> None:
         print(f"  {role:8s} mean {statistics.mean(values):9.0f}   max {max(values):9.0f}")
     totals = [sum(o[2].values()) for o in outcomes]
     print(f"  {'total':8s} mean {statistics.mean(totals):9.0f}   max {max(totals):9.0f}")
+    print("prompt tokens per turn (per episode: a role's prompt tokens / the episode's turns), and growth:")
+    for role in ("user", "observe", "execute"):
+        per_turn_values = [o[2][role] / o[0] for o in outcomes if o[0]]
+        first = [o[4][role][0] for o in outcomes if o[4][role]]
+        growth = [g for o in outcomes if (g := growth_per_call(o[4][role])) is not None]
+        print(
+            f"  {role:8s} {statistics.mean(per_turn_values):7.0f} per turn;"
+            f" first prompt {statistics.mean(first):6.0f};"
+            f" grows {statistics.mean(growth) if growth else 0:5.0f} per call"
+        )
 
 
 if __name__ == "__main__":

@@ -4,7 +4,7 @@ from datetime import timedelta
 
 import pytest
 
-from pare.apps.calendar import EventEdit
+from pare.apps.calendar import Agenda, EventEdit
 from pare.env import Environment
 from pare.errors import UserInputError
 from tests.conftest import err, make_env, ok, screen_of
@@ -101,6 +101,13 @@ def test_seed_rejects_an_event_stored_under_another_id() -> None:
 
 def test_opens_on_the_agenda(env: Environment) -> None:
     assert screen_of(env) == "Agenda"
+
+
+def test_the_agenda_opens_on_the_simulated_day_and_says_which() -> None:
+    env = make_env(["calendar"], SEED)
+    env.advance(timedelta(days=2))
+    ok(env.call("user", "open_app", {"app_name": "calendar"}))
+    assert env.system.current_screen().label() == "Agenda(day='2025-03-05', tag=None, attendee=None)"
 
 
 def test_list_events_shows_today_sorted_by_start(env: Environment) -> None:
@@ -209,9 +216,16 @@ def test_read_today_ignores_the_day_and_filters_shown(env: Environment) -> None:
 
 def test_today_follows_the_simulated_clock(env: Environment) -> None:
     env.advance(timedelta(days=2))
+    # the agenda stays on the day it shows (it opened on Monday), today's events follow the clock
+    assert ok(env.call("user", "list_events"))["day"] == "2025-03-03"
+    today = ["ev-standup-wed", "ev-team-lunch", "ev-review"]
+    assert ids(ok(env.call("user", "read_today_calendar_events"))) == today
+    assert ids(agent(env, "read_today_calendar_events")) == today
+    # an agenda that lost its day (None) shows today's
+    env.system.stacks["calendar"][-1] = Agenda()
     shown = ok(env.call("user", "list_events"))
     assert shown["day"] == "2025-03-05"
-    assert ids(shown["events"]) == ["ev-standup-wed", "ev-team-lunch", "ev-review"]
+    assert ids(shown["events"]) == today
 
 
 def test_get_all_tags(env: Environment) -> None:

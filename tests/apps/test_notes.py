@@ -119,8 +119,11 @@ NOTES_ORDER = [
 
 @pytest.fixture
 def env() -> Environment:
+    """The app open on the "Notes" folder (it opens on every folder's notes; most tests look at one)."""
     env = make_env(["notes"], SEED)
     ok(env.call("user", "open_app", {"app_name": "notes"}))
+    ok(env.call("user", "list_folders", {}))
+    ok(env.call("user", "open_folder", {"folder": "Notes"}))
     return env
 
 
@@ -196,9 +199,40 @@ def test_seed_is_validated(data: dict, message: str) -> None:
 # -- List --------------------------------------------------------------------------------------------
 
 
-def test_opens_on_the_notes_folder(env: Environment) -> None:
+def test_opens_on_every_folders_notes_with_their_folders() -> None:
+    env = make_env(["notes"], SEED)
+    ok(env.call("user", "open_app", {"app_name": "notes"}))
     assert screen_of(env) == "List"
+    assert stack(env) == ["List(all folders)"]
+    page = user(env, "list_notes", limit=4)
+    assert page["folder"] is None
+    assert page["total"] == len(NOTES)
+    # pinned first, then the most recently updated of any folder, each with its folder
+    assert [(n["note_id"], n["folder"]) for n in page["notes"]] == [
+        ("note-groceries", "Notes"),
+        ("note-standup", "Work"),
+        ("note-parking", "Notes"),
+        ("note-review", "Work"),
+    ]
+    err(env.call("user", "list_notes", {"limit": 0}), "limit between 1 and 100")
+    # a new note from here goes to the default folder
+    assert user(env, "new_note")["folder"] == "Notes"
+
+
+def test_opens_on_the_notes_of_other_folders_when_the_default_one_is_empty() -> None:
+    seed = {"notes": {"notes": {"w": note("w", "Standup", "Alice: done", "Work", "03-01 10:00")}}}
+    env = make_env(["notes"], seed)
+    ok(env.call("user", "open_app", {"app_name": "notes"}))
+    assert ids(user(env, "list_notes")["notes"]) == ["w"]
+
+
+def test_show_all_notes_from_the_folders(env: Environment) -> None:
     assert stack(env) == ["List(folder='Notes')"]
+    user(env, "list_folders")
+    assert env.call("user", "show_all_notes", {}).value is None
+    assert screen_of(env) == "List"
+    assert stack(env) == ["List(all folders)"]
+    assert user(env, "list_notes")["total"] == len(NOTES)
 
 
 def test_list_notes_pinned_first_then_most_recently_updated(env: Environment) -> None:

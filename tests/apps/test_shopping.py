@@ -262,10 +262,18 @@ def test_listing_shows_price_range_and_availability(env: Environment) -> None:
     listed = {p["product_id"]: p for p in ok(env.call("user", "list_products", {"limit": 20}))["products"]}
     assert (listed["prod-trail"]["min_price"], listed["prod-trail"]["max_price"]) == (89.99, 94.99)
     assert listed["prod-trail"]["variant_count"] == 3
-    assert listed["prod-headphones"]["in_stock"] is True  # black is, silver is not
+    # black is in stock, silver is not: the listing says which, not a plain "in stock"
+    assert (listed["prod-headphones"]["in_stock"], listed["prod-headphones"]["out_of_stock"]) == (
+        ["Black"],
+        ["Silver"],
+    )
+    assert listed["prod-trail"]["out_of_stock"] == ["Blue / 43"]
     world(env, "update_item_stock", item_id="hp-black", new_stock=0)
     listed = {p["product_id"]: p for p in ok(env.call("user", "list_products", {"limit": 20}))["products"]}
-    assert listed["prod-headphones"]["in_stock"] is False
+    assert listed["prod-headphones"]["in_stock"] == []
+    assert listed["prod-headphones"]["out_of_stock"] == ["Black", "Silver"]
+    found = ok(env.call("user", "search_products", {"query": "headphones"}))
+    assert (found[0]["in_stock"], found[0]["out_of_stock"]) == ([], ["Black", "Silver"])
 
 
 def test_search_products_matches_every_word(env: Environment) -> None:

@@ -97,6 +97,18 @@ def test_report_formats(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> N
     assert "100.0\\% $\\pm$ 0.0\\%" in latex  # escaped for LaTeX, like the paper's tables
 
 
+def test_an_oracle_run_has_no_cost_rather_than_a_zero_cost(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(["run", "--split", "smoke", "--runs", "1", "-o", str(tmp_path / "run")]) == 0
+    progress = capsys.readouterr().err
+    assert "cost n/a" in progress and "$0.0000" not in progress
+    assert main(["report", str(tmp_path / "run"), "--section", "cost"]) == 0
+    table = capsys.readouterr().out
+    row = next(line for line in table.splitlines() if "total" in line)
+    assert "$0.0000" not in row and row.count("n/a") == 6
+
+
 def test_report_refuses_what_is_not_a_run(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["report", str(tmp_path)]) == 2
     assert "holds no PARE run" in capsys.readouterr().err

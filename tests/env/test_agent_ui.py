@@ -36,7 +36,10 @@ def test_user_sees_the_proposal_in_full_and_the_assistant_the_answer(env: Enviro
     propose(env, long)
     view = env.user_view()
     assert view.pending_proposal == long
-    assert any(long in note for note in view.notifications)
+    # shown once, as the pending proposal with how to answer it, not again as a notification
+    assert not any(long in note for note in view.notifications)
+    assert view.render().count(long) == 1
+    assert "accept_proposal or reject_proposal" in view.render()
     ok(env.call("user", "reject_proposal", {"reason": "too many"}))
     seen = env.assistant_observation().notifications
     assert any("rejected your proposal" in n and "too many" in n for n in seen)
@@ -67,7 +70,10 @@ def test_expire_pending(env: Environment) -> None:
     expired = env.agent_ui.expire_pending()
     assert expired is not None and expired.status == "expired"
     assert env.agent_ui.pending is None
-    assert any("did not answer" in n for n in env.assistant_observation().notifications)
+    told = env.assistant_observation().notifications
+    assert any("did not answer" in n and "propose again" in n for n in told)
+    # the user learns the proposal is gone, with what it was
+    assert any("withdrew its proposal" in n and "milk" in n for n in env.user_view().notifications)
 
 
 def test_assistant_tool_sets_per_mode(env: Environment) -> None:

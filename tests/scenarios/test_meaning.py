@@ -7,7 +7,15 @@ from datetime import UTC, date, datetime, time
 import pytest
 
 from pare.scenarios.matchers import compile_matcher
-from pare.scenarios.meaning import affirms, declines, has_word, mentions_clock, mentions_day, mentions_moment
+from pare.scenarios.meaning import (
+    affirms,
+    clauses,
+    declines,
+    has_word,
+    mentions_clock,
+    mentions_day,
+    mentions_moment,
+)
 
 START = datetime(2025, 3, 18, 9, 10, tzinfo=UTC)  # a Tuesday
 THURSDAY_1815 = datetime(2025, 3, 20, 18, 15, tzinfo=UTC)
@@ -148,3 +156,16 @@ def test_the_matchers_read_for_meaning() -> None:
     assert not compile_matcher({"contains": "wed"}).test("reviewed", START)
     described = compile_matcher({"mentions_clock": "18:15", "affirms": "x"}).describe()
     assert described == "mentions_clock 18:15 and affirms ['x']"
+
+
+def test_a_thousands_comma_does_not_cut_a_number_in_two() -> None:
+    assert clauses("My salary is 44,200 pounds, as agreed.") == ["My salary is 44,200 pounds", "as agreed"]
+    assert compile_matcher({"affirms": "44,200"}).test("My salary is now 44,200 a year", START)
+    assert not compile_matcher({"affirms": "44,200"}).test("It is not 44,200 any more", START)
+
+
+def test_an_unquoted_yaml_date_names_a_day() -> None:
+    import yaml
+
+    matcher = compile_matcher(yaml.safe_load("{mentions_day: 2025-03-20}"))
+    assert matcher.test("Thursday 20 March is fine", START)

@@ -15,7 +15,7 @@ from typing import Any, Protocol
 
 from pare.agents.actions import parse_action, parse_tool_arguments
 from pare.agents.models.types import ChatMessage, Completion
-from pare.agents.policy import Action, AssistantPolicy, Task, UserPolicy
+from pare.agents.policy import DEFAULT_BUDGET, Action, AssistantPolicy, Task, TurnBudget, UserPolicy
 from pare.agents.prompts import execute_system_prompt, observe_system_prompt, user_system_prompt
 from pare.env import AssistantObservation, Environment, ToolResult, UserView
 from pare.errors import ActionFormatError
@@ -132,17 +132,24 @@ class LLMUser(UserPolicy):
         self.persona = persona
         self.goal = goal
         self.conversation = Conversation(model, native_tools, max_format_retries)
+        self.described: set[str] = set()
+        """Tool lines already shown in full: later observations list those tools by signature only."""
 
-    def start(self, env: Environment) -> None:
+    def start(self, env: Environment, budget: TurnBudget = DEFAULT_BUDGET) -> None:
         """Write the system prompt for this episode's phone."""
         prompt = user_system_prompt(
-            env, persona=self.persona, goal=self.goal, native_tools=self.conversation.native_tools
+            env,
+            persona=self.persona,
+            goal=self.goal,
+            native_tools=self.conversation.native_tools,
+            budget=budget,
         )
         self.conversation.reset(prompt)
+        self.described = set()
 
     async def step(self, view: UserView, previous: ToolResult | None) -> Action:
         """Show the model the result of its last action and the current screen; take its next action."""
-        self.conversation.tell(_observation_text(previous, view.render()))
+        self.conversation.tell(_observation_text(previous, view.render(self.described)))
         return await self.conversation.decide([tool.function_schema() for tool in view.tools])
 
 
@@ -167,10 +174,13 @@ class LLMAssistant(AssistantPolicy):
         self.execute_steps = execute_steps
         self.env: Environment | None = None
 
-    def start(self, env: Environment) -> None:
+    def start(self, env: Environment, budget: TurnBudget = DEFAULT_BUDGET) -> None:
         """Write the observe-mode system prompt for this episode's phone."""
         self.env = env
-        self.observer.reset(observe_system_prompt(env, native_tools=self.observer.native_tools))
+        self.execute_steps = budget.execute_steps  # the turn loop's limit is the one to tell the model
+        self.observer.reset(
+            observe_system_prompt(env, native_tools=self.observer.native_tools, budget=budget)
+        )
 
     async def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
         """Show the model what happened (and its last action's result); take its next action."""

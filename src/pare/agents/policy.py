@@ -50,6 +50,24 @@ class Action:
 
 
 @dataclass(frozen=True, slots=True)
+class TurnBudget:
+    """The turn protocol's limits, which each actor is told: how long the session lasts, how many
+    actions a turn allows, how long a proposal waits for its answer.
+    """
+
+    max_turns: int = 10
+    user_steps: int = 1
+    observe_steps: int = 5
+    execute_steps: int = 10
+    proposal_ttl_turns: int = 3
+    turn_minutes: float = 1.0
+    """Simulated minutes one turn takes when someone acted (time jumps further when everyone waits)."""
+
+
+DEFAULT_BUDGET = TurnBudget()
+
+
+@dataclass(frozen=True, slots=True)
 class Task:
     """What execute mode starts from: the accepted proposal and the user's answer."""
 
@@ -63,8 +81,8 @@ class UserPolicy(ABC):
 
     name: str = "user"
 
-    def start(self, env: Environment) -> None:  # noqa: B027 - optional hook
-        """Called once before the episode's first turn."""
+    def start(self, env: Environment, budget: TurnBudget = DEFAULT_BUDGET) -> None:  # noqa: B027 - optional hook
+        """Called once before the episode's first turn, with the limits of the episode's turn protocol."""
 
     @abstractmethod
     async def step(self, view: UserView, previous: ToolResult | None) -> Action:
@@ -76,8 +94,8 @@ class AssistantPolicy(ABC):
 
     name: str = "assistant"
 
-    def start(self, env: Environment) -> None:  # noqa: B027 - optional hook
-        """Called once before the episode's first turn."""
+    def start(self, env: Environment, budget: TurnBudget = DEFAULT_BUDGET) -> None:  # noqa: B027 - optional hook
+        """Called once before the episode's first turn, with the limits of the episode's turn protocol."""
 
     @abstractmethod
     async def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:

@@ -16,7 +16,7 @@ from typing import Any
 
 import jinja2
 
-from pare.agents.policy import ASSISTANT_WAIT, SEND_MESSAGE, Task
+from pare.agents.policy import ASSISTANT_WAIT, DEFAULT_BUDGET, SEND_MESSAGE, Task, TurnBudget
 from pare.apps.registry import CORE_APPS
 from pare.env import Environment, NamedTool
 from pare.sim.notifications import DetailLevel
@@ -62,11 +62,35 @@ def _now(env: Environment) -> str:
     return env.clock.now.strftime("%A %Y-%m-%d %H:%M")
 
 
+def _start(env: Environment) -> str:
+    """When the session started: prompts that last the whole episode say this, not a "now" that goes
+    stale; every observation carries the current time.
+    """
+    return env.clock.start.strftime("%A %Y-%m-%d %H:%M")
+
+
 def _apps(env: Environment) -> list[AppLine]:
     return [
         AppLine(app.name, app.description)
         for app in env.apps.values()
         if app.name not in CORE_APPS or app.name == "files"
+    ]
+
+
+def _first_sentence(text: str) -> str:
+    head, dot, _ = text.partition(". ")
+    return head + "." if dot else text
+
+
+def execute_only_lines(env: Environment) -> list[ToolLine]:
+    """The tools execute mode adds to observe mode's, by name with the first sentence of their
+    description: what the assistant will be able to do once a proposal is accepted.
+    """
+    observe = {tool.name for tool in env.assistant_tools("observe")}
+    return [
+        ToolLine(tool.name, _first_sentence(tool.spec.summary))
+        for tool in env.assistant_tools("execute")
+        if tool.name not in observe
     ]
 
 
@@ -100,7 +124,12 @@ def _assistant_notifications(env: Environment) -> str:
 
 
 def user_system_prompt(
-    env: Environment, *, persona: str | None = None, goal: str | None = None, native_tools: bool = False
+    env: Environment,
+    *,
+    persona: str | None = None,
+    goal: str | None = None,
+    native_tools: bool = False,
+    budget: TurnBudget = DEFAULT_BUDGET,
 ) -> str:
     """The user simulator's system prompt for ``env``, with the scenario's persona and hidden goal."""
     example = example_answer(
@@ -112,7 +141,8 @@ def user_system_prompt(
         "user.j2",
         native_tools,
         apps=_apps(env),
-        now=_now(env),
+        start=_start(env),
+        budget=budget,
         notification_policy=_user_notifications(env),
         persona=persona,
         goal=goal,
@@ -120,7 +150,9 @@ def user_system_prompt(
     )
 
 
-def observe_system_prompt(env: Environment, *, native_tools: bool = False) -> str:
+def observe_system_prompt(
+    env: Environment, *, native_tools: bool = False, budget: TurnBudget = DEFAULT_BUDGET
+) -> str:
     """The assistant's system prompt in observe mode."""
     example = example_answer(
         "The user received an invitation for Friday; I check the calendar for that day before proposing.",
@@ -131,11 +163,13 @@ def observe_system_prompt(env: Environment, *, native_tools: bool = False) -> st
         "observe.j2",
         native_tools,
         apps=_apps(env),
-        now=_now(env),
+        start=_start(env),
+        budget=budget,
         notification_policy=_assistant_notifications(env),
         propose_tool=SEND_MESSAGE,
         wait_tool=ASSISTANT_WAIT,
         tools=tool_lines(env.assistant_tools("observe")),
+        execute_tools=execute_only_lines(env),
         example=example,
     )
 

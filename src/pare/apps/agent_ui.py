@@ -47,6 +47,17 @@ class AgentUIState(BaseModel):
     messages: list[AssistantMessage] = Field(default_factory=list)
 
 
+_ANSWER_HEADLINES: dict[ProposalStatus, str] = {
+    "accepted": "The user accepted your proposal",
+    "rejected": "The user rejected your proposal; nothing was done",
+    "expired": (
+        "The user did not answer your proposal in time: it expired and nothing was done. "
+        "You may propose again when it is still useful"
+    ),
+    "pending": "",
+}
+
+
 def _pending(ui: AgentUIApp) -> bool:
     return ui.pending is not None
 
@@ -106,14 +117,7 @@ class AgentUIApp(App):
             )
         proposal_id = f"proposal-{len(self.state.proposals) + 1}"
         self.state.proposals.append(Proposal(proposal_id=proposal_id, content=content, time=now))
-        self.notify(
-            "proposal",
-            "Proposal from your assistant",
-            body=content,
-            data={"proposal_id": proposal_id},
-            recipients=("user",),
-            always_full=True,
-        )
+        # No notification: the user's view shows the pending proposal itself, with how to answer it.
         return {"proposal_id": proposal_id, "status": "pending"}
 
     def _answer(self, status: ProposalStatus, reason: str) -> dict[str, str]:
@@ -123,14 +127,21 @@ class AgentUIApp(App):
         proposal.status = status
         proposal.answered_at = self.ctx.now()
         proposal.reason = reason
-        verb = {"accepted": "accepted", "rejected": "rejected", "expired": "did not answer"}[status]
         self.notify(
             f"proposal_{status}",
-            f"The user {verb} your proposal",
+            _ANSWER_HEADLINES[status],
             body=reason,
             data={"proposal_id": proposal.proposal_id},
             recipients=("assistant",),
         )
+        if status == "expired":  # the user is told it is gone, so that a later proposal is not a surprise
+            self.notify(
+                "proposal_expired",
+                "Your assistant withdrew its proposal, which you did not answer",
+                body=proposal.content,
+                recipients=("user",),
+                always_full=True,
+            )
         return {"proposal_id": proposal.proposal_id, "status": status}
 
     @tool("control", actors=("user",), available=_pending)

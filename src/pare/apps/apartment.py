@@ -12,7 +12,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 
 from pare.apps.base import App
 from pare.apps.screens import Screen, Transition, action, push
-from pare.apps.text import optional_text, unique_names
+from pare.apps.text import PAGE, optional_text, unique_names
 from pare.apps.tools import tool
 from pare.apps.types import SimTime
 from pare.errors import ToolError
@@ -319,7 +319,8 @@ class ApartmentApp(App):
         match a filter on it.
 
         Args:
-            location: part of the neighbourhood, city or street address, case-insensitive, e.g. "mission".
+            location: part of the neighbourhood, city or street address, case-insensitive, e.g. "mission";
+                it matches parts of words too: "park" finds "Parkside".
             min_price: lowest monthly rent in dollars.
             max_price: highest monthly rent in dollars.
             min_bedrooms: fewest bedrooms (0 is a studio).
@@ -604,11 +605,35 @@ class ApartmentApp(App):
 # -- screens -----------------------------------------------------------------------------------------
 
 
+def _row(app: ApartmentApp, apartment: Apartment) -> dict[str, Any]:
+    """A listing as a list shows it: its name and place, rent, rooms and whether the user saved it."""
+    return {
+        "apartment_id": apartment.apartment_id,
+        "name": apartment.name,
+        "location": apartment.location,
+        "rent": money(apartment.price),
+        "bedrooms": apartment.bedrooms,
+        "bathrooms": apartment.bathrooms,
+        "saved": apartment.apartment_id in app.state.saved,
+    }
+
+
 class ListingsHome(Screen):
     """Every listing, with the way to search and to the saved ones."""
 
     name = "Home"
     title = "Apartment listings"
+
+    def display(self, app: ApartmentApp) -> dict[str, Any]:
+        """The first listings by name, as list_apartments orders them (rent, rooms, whether saved), with
+        the number of listings and of saved ones.
+        """
+        page = app.list_all_apartments(limit=PAGE)
+        return {
+            "total": page.total,
+            "saved": len(app.state.saved),
+            "listings": [_row(app, apartment) for apartment in page.apartments],
+        }
 
     @action(kind="read")
     def list_apartments(self, app: ApartmentApp, offset: int = 0, limit: int = 10) -> ApartmentPage:
@@ -647,6 +672,10 @@ class SearchListings(Screen):
     name = "Search"
     title = "Search apartments"
 
+    def display(self, app: ApartmentApp) -> dict[str, Any]:
+        """An empty search form: how many listings there are to search (the filters are the search's)."""
+        return {"listings": len(app.state.apartments), "filters": "none yet: every filter given must match"}
+
     @action(kind="read")
     def search(
         self,
@@ -671,7 +700,8 @@ class SearchListings(Screen):
         """Show the listings matching every filter given, cheapest first.
 
         Args:
-            location: part of the neighbourhood, city or street address, e.g. "mission".
+            location: part of the neighbourhood, city or street address, e.g. "mission"; it matches parts
+                of words too: "park" finds "Parkside".
             min_price: lowest monthly rent in dollars.
             max_price: highest monthly rent in dollars.
             min_bedrooms: fewest bedrooms (0 is a studio).
@@ -723,6 +753,11 @@ class SavedListings(Screen):
     name = "Saved"
     title = "Saved apartments"
 
+    def display(self, app: ApartmentApp) -> dict[str, Any]:
+        """The first saved listings, oldest saved first as list_saved orders them, with their number."""
+        saved = app.list_saved_apartments()
+        return {"total": len(saved), "listings": [_row(app, apartment) for apartment in saved[:PAGE]]}
+
     @action(kind="read")
     def list_saved(self, app: ApartmentApp) -> list[Apartment]:
         """Show your saved apartments, oldest saved first."""
@@ -744,6 +779,14 @@ class ListingDetail(Screen):
     name = "Detail"
     title = "Apartment details"
     apartment_id: str
+
+    def display(self, app: ApartmentApp) -> ApartmentDetails | str:
+        """The listing in full with whether it is saved, as view_apartment shows it (or a line saying it
+        was taken down).
+        """
+        if self.apartment_id not in app.state.apartments:
+            return f"Apartment {self.apartment_id} is no longer listed."
+        return app.details(self.apartment_id)
 
     @action(kind="read")
     def view_details(self, app: ApartmentApp) -> ApartmentDetails:

@@ -14,12 +14,13 @@ import hashlib
 import json
 from datetime import datetime, timedelta
 from decimal import ROUND_HALF_UP, Decimal
-from typing import Literal
+from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from pare.apps.base import App
 from pare.apps.screens import Screen, Transition, action, back_to, push, replace
+from pare.apps.text import PAGE, short_time
 from pare.apps.tools import tool
 from pare.apps.types import SimTime
 from pare.errors import ToolError
@@ -639,11 +640,33 @@ class CabApp(App):
 # -- screens -----------------------------------------------------------------------------------------
 
 
+def _ride_row(ride: Ride) -> dict[str, Any]:
+    """A past ride as the start screen lists it: where, when, with what, how it ended and the price."""
+    return {
+        "ride_id": ride.ride_id,
+        "route": _route(ride),
+        "pickup": short_time(ride.pickup_time),
+        "service_type": ride.service_type,
+        "status": ride.status,
+        "price": ride.price,
+    }
+
+
 class CabHome(Screen):
     """Where to? The entry point: ask for prices, open the current ride, see past rides."""
 
     name = "Home"
     title = "Where to?"
+
+    def display(self, app: CabApp) -> dict[str, Any]:
+        """The ride under way, if any, in full, and the most recent rides in short, with their number."""
+        history = app.get_ride_history(limit=PAGE)
+        current = app.current_ride()
+        return {
+            "current_ride": current,
+            "total_rides": history.total,
+            "recent_rides": [_ride_row(ride) for ride in history.rides if ride is not current],
+        }
 
     @action("Options", kind="read")
     def list_rides(
@@ -694,6 +717,34 @@ class RideOptions(Screen):
     ride_time: SimTime | None = Field(default=None, description="the pickup time; None means now")
     service_types: list[str] = Field(default_factory=list, description="the service types on offer")
 
+    def display(self, app: CabApp) -> dict[str, Any]:
+        """The trip and, per service type, its latest quotation (id, price, duration, seats), as
+        list_rides gave them; nothing new is quoted, since showing must not change data.
+        """
+        start, end = _norm(self.start_location), _norm(self.end_location)
+        latest: dict[str, Quotation] = {}
+        for quote in app.state.quotations.values():  # stored in the order given: later ones win
+            same_trip = (_norm(quote.start_location), _norm(quote.end_location)) == (start, end)
+            same_time = self.ride_time is None or quote.pickup_time == self.ride_time
+            if same_trip and same_time:
+                latest[quote.service_type] = quote
+        options = []
+        for name in self.service_types:
+            quotation = latest.get(name)
+            service = app.state.service_types.get(name)
+            option: dict[str, Any] = {"service_type": name}
+            if quotation is not None:
+                option.update(
+                    quotation_id=quotation.quotation_id,
+                    price=quotation.price,
+                    duration_minutes=quotation.duration_minutes,
+                    pickup=short_time(quotation.pickup_time),
+                )
+            if service is not None:
+                option["max_passengers"] = service.max_passengers
+            options.append(option)
+        return {"from": self.start_location, "to": self.end_location, "options": options}
+
     @action(kind="read")
     def list_service_types(self, app: CabApp) -> dict[str, ServiceType]:
         """Show the kinds of ride offered, with their fares and seats."""
@@ -717,6 +768,11 @@ class RideQuote(Screen):
     title = "Quotation"
     quotation_id: str
 
+    def display(self, app: CabApp) -> Quotation | str:
+        """The quotation in full, as show_quotation shows it."""
+        quotation = app.state.quotations.get(self.quotation_id)
+        return quotation if quotation is not None else f"Quotation {self.quotation_id} no longer exists."
+
     @action(kind="read")
     def show_quotation(self, app: CabApp) -> Quotation:
         """Show this quotation: places, service type, pickup time, distance, duration and price."""
@@ -735,6 +791,11 @@ class RideDetail(Screen):
     name = "Ride"
     title = "Your ride"
     ride_id: str
+
+    def display(self, app: CabApp) -> Ride | str:
+        """The ride as it is now (status, driver, vehicle, pickup, price), as view_ride shows it."""
+        ride = app.state.rides.get(self.ride_id)
+        return ride if ride is not None else f"Ride {self.ride_id} no longer exists."
 
     @action(kind="read")
     def view_ride(self, app: CabApp) -> Ride:

@@ -4,12 +4,13 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from datetime import UTC, date, datetime, time, timedelta
+from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from pare.apps.base import App
 from pare.apps.screens import BACK, Screen, Transition, action, back, back_to, push, replace
-from pare.apps.text import optional_text, unique_names
+from pare.apps.text import PAGE, optional_text, unique_names
 from pare.apps.tools import tool
 from pare.apps.types import SimTime
 from pare.errors import ToolError
@@ -136,6 +137,15 @@ class CalendarApp(App):
     def today(self) -> date:
         """Return the simulated date."""
         return self.ctx.now().date()
+
+    def root_screen(self) -> Agenda:  # type: ignore[override]
+        """The agenda of today, in simulated time: a phone's calendar opens on the current day, and says
+        which day it is.
+
+        An instance method (the base class's is a class method) because the day comes from the clock;
+        the environment always calls it on the app.
+        """
+        return Agenda(day=self.today())
 
     def events_between(self, start: datetime, end: datetime) -> list[CalendarEvent]:
         """Return the events overlapping ``[start, end)``, sorted by start."""
@@ -323,7 +333,8 @@ class CalendarApp(App):
     def search_events(self, query: str) -> list[CalendarEvent]:
         """Search events by title, description, location, tag or attendee.
 
-        The search is case-insensitive and every word of the query must match.
+        The search is case-insensitive and every word of the query must match. It matches parts of words
+        too: "Priya" finds "Priyanka".
 
         Args:
             query: words to look for, e.g. "dentist" or "alice standup".
@@ -461,6 +472,24 @@ class CalendarApp(App):
 # -- screens -----------------------------------------------------------------------------------------
 
 
+def _row(event: CalendarEvent, day: date) -> dict[str, Any]:
+    """An event as a day's agenda shows it: its id, title, times (hours alone when it is within the
+    day) and place.
+    """
+    start, end = event.start_datetime, event.end_datetime
+    within = start.date() == day and end.date() == day
+    row: dict[str, Any] = {
+        "event_id": event.event_id,
+        "title": event.title,
+        "when": f"{start:%H:%M}-{end:%H:%M}" if within else describe_when(start, end),
+    }
+    if event.location:
+        row["location"] = event.location
+    if event.tag:
+        row["tag"] = event.tag
+    return row
+
+
 class Agenda(Screen):
     """One day's events, optionally filtered."""
 
@@ -469,6 +498,20 @@ class Agenda(Screen):
     day: date | None = Field(default=None, description="the day shown; None means today")
     tag: str | None = None
     attendee: str | None = None
+
+    def display(self, app: CalendarApp) -> dict[str, Any]:
+        """The day's first events, soonest first as list_events lists them (so positions match
+        open_event_by_index), with the filters and the number of events that day.
+        """
+        listing = self.listing(app)
+        shown: dict[str, Any] = {"day": f"{listing.day:%a %Y-%m-%d}"}
+        if listing.tag is not None:
+            shown["tag"] = listing.tag
+        if listing.attendee is not None:
+            shown["attendee"] = listing.attendee
+        shown["total"] = len(listing.events)
+        shown["events"] = [_row(event, listing.day) for event in listing.events[:PAGE]]
+        return shown
 
     def listing(self, app: CalendarApp) -> AgendaDay:
         """Return the day's events with the filters applied."""
@@ -489,7 +532,8 @@ class Agenda(Screen):
 
     @action(kind="read")
     def search_events(self, app: CalendarApp, query: str) -> list[CalendarEvent]:
-        """Search all events (any day) by title, description, location, tag or attendee.
+        """Search all events (any day) by title, description, location, tag or attendee. It matches parts
+        of words too: "Priya" finds "Priyanka".
 
         Args:
             query: what to look for.
@@ -586,6 +630,11 @@ class EventDetail(Screen):
     title = "Event details"
     event_id: str
 
+    def display(self, app: CalendarApp) -> CalendarEvent | str:
+        """The event in full, as open_event shows it (or a line saying it is gone)."""
+        event = app.state.events.get(self.event_id)
+        return event if event is not None else f"Event {self.event_id} is no longer in the calendar."
+
     @action(kind="read")
     def refresh(self, app: CalendarApp) -> CalendarEvent:
         """Show this event's details as they are now."""
@@ -646,6 +695,10 @@ class EventEdit(Screen):
             location=self.location,
             attendees=list(self.attendees),
         )
+
+    def display(self, app: CalendarApp) -> EventDraft:
+        """The draft as it stands."""
+        return self.draft()
 
     @action()
     def set_title(self, app: CalendarApp, title: str) -> EventDraft:

@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 from pydantic import BaseModel, ConfigDict, Field
 
 from pare.apps.base import App
 from pare.apps.screens import BACK, Screen, Transition, action, back, back_to, push
+from pare.apps.text import PAGE
 from pare.apps.tools import tool
 from pare.errors import ToolError
 
@@ -122,7 +125,7 @@ class ContactsApp(App):
     @tool("read")
     def search_contacts(self, query: str) -> list[Contact]:
         """Search contacts by name, phone, email, company, city or relationship (case-insensitive; every
-        word of the query must match).
+        word of the query must match). It matches parts of words too: "Priya" finds "Priyanka".
 
         Args:
             query: words to look for, e.g. "alice" or "dentist".
@@ -244,11 +247,35 @@ class ContactsApp(App):
 # -- screens -----------------------------------------------------------------------------------------
 
 
+def _row(contact: Contact) -> dict[str, Any]:
+    """A contact as the address book lists it: name, and the phone, email and relationship it has."""
+    row: dict[str, Any] = {"contact_id": contact.contact_id, "name": contact.full_name}
+    for field in ("phone", "email", "relationship"):
+        value = getattr(contact, field)
+        if value:
+            row[field] = value
+    if contact.is_user:
+        row["me"] = True
+    return row
+
+
+def _contact_or_gone(app: ContactsApp, contact_id: str) -> Contact | str:
+    contact = app.state.contacts.get(contact_id)
+    return contact if contact is not None else f"Contact {contact_id} no longer exists."
+
+
 class ContactList(Screen):
     """The address book."""
 
     name = "List"
     title = "All contacts"
+
+    def display(self, app: ContactsApp) -> dict[str, Any]:
+        """The first contacts by name, as list_contacts orders them, with the total; each row has the id
+        open_contact takes and what an address book row shows.
+        """
+        page = app.get_contacts(limit=PAGE)
+        return {"total": page.total, "contacts": [_row(contact) for contact in page.contacts]}
 
     @action(kind="read")
     def list_contacts(self, app: ContactsApp, offset: int = 0, limit: int = 10) -> ContactPage:
@@ -262,7 +289,8 @@ class ContactList(Screen):
 
     @action(kind="read")
     def search_contacts(self, app: ContactsApp, query: str) -> list[Contact]:
-        """Search contacts by name, phone, email or company.
+        """Search contacts by name, phone, email or company. It matches parts of words too: "Priya" finds
+        "Priyanka".
 
         Args:
             query: what to look for.
@@ -322,6 +350,10 @@ class ContactDetail(Screen):
     title = "Contact details"
     contact_id: str
 
+    def display(self, app: ContactsApp) -> Contact | str:
+        """The contact in full, as open_contact shows it (or a line saying it is gone)."""
+        return _contact_or_gone(app, self.contact_id)
+
     @action(kind="read")
     def view_contact(self, app: ContactsApp) -> Contact:
         """Show this contact's details."""
@@ -344,6 +376,10 @@ class ContactEdit(Screen):
     name = "Edit"
     title = "Edit contact"
     contact_id: str
+
+    def display(self, app: ContactsApp) -> Contact | str:
+        """The contact being edited as it stands: the edit is one update_contact call, with no draft."""
+        return _contact_or_gone(app, self.contact_id)
 
     @action(kind="read")
     def view_contact(self, app: ContactsApp) -> Contact:

@@ -15,6 +15,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 from pare.apps.base import App
 from pare.apps.files import DirectoryEntry, FilesApp, browse, files_of, normalize_path
 from pare.apps.screens import BACK, Screen, Transition, action, back, push, replace
+from pare.apps.text import PAGE, preview, short_time
 from pare.apps.tools import tool
 from pare.apps.types import SimTime
 from pare.errors import ToolError
@@ -185,6 +186,15 @@ class EmailApp(App):
             return list(original.recipients)
         return [original.sender]
 
+    def mark_read(self, email: Email) -> Email:
+        """Mark ``email`` read because the user opened it, as a phone does; return it.
+
+        Not a tool and not counted as a write: the user did not choose to change the mailbox, so the call
+        that opened the email stays a navigation in the log and in attribution.
+        """
+        email.is_read = True
+        return email
+
     def require_sent(self, email_id: str, verb: str) -> Email:
         """Return the email with ``email_id``, which must not be an unsent draft."""
         email = self.require(email_id)
@@ -279,7 +289,8 @@ class EmailApp(App):
     def search_emails(self, query: str, folder: Folder | None = None) -> list[Email]:
         """Search emails by sender, recipients (To and Cc), subject and content.
 
-        The search is case-insensitive and every word of the query must appear.
+        The search is case-insensitive and every word of the query must appear. It matches parts of words
+        too: "Priya" finds "Priyanka".
 
         Args:
             query: words to look for, e.g. "lease renewal" or "alice@example.com".
@@ -596,12 +607,45 @@ class EmailApp(App):
 # -- screens -----------------------------------------------------------------------------------------
 
 
+def _row(email: Email, outgoing: bool) -> dict[str, Any]:
+    """An email as a mailbox row shows it: who it is from (to, in SENT and DRAFT), subject, time, a
+    preview; enough to choose which one to open.
+    """
+    row: dict[str, Any] = {"email_id": email.email_id}
+    if outgoing:
+        row["to"] = ", ".join(email.recipients)
+    else:
+        row["from"] = email.sender
+    row.update(
+        subject=email.subject,
+        time=short_time(email.timestamp),
+        read=email.is_read,
+        preview=preview(email.content),
+    )
+    if email.attachments:
+        row["attachments"] = len(email.attachments)
+    return row
+
+
 class Mailbox(Screen):
     """A folder of the mailbox."""
 
     name = "Mailbox"
     title = "Mailbox"
     folder: Folder = Folder.INBOX
+
+    def display(self, app: EmailApp) -> dict[str, Any]:
+        """The folder's newest emails as a phone lists them (who, subject, time, read, a preview), with
+        the total and the number unread; the email ids are those open_email takes.
+        """
+        emails = app.in_folder(self.folder)
+        outgoing = self.folder in (Folder.SENT, Folder.DRAFT)
+        return {
+            "folder": self.folder.value,
+            "total": len(emails),
+            "unread": sum(not email.is_read for email in emails),
+            "emails": [_row(email, outgoing) for email in emails[:PAGE]],
+        }
 
     @action(kind="read")
     def list_emails(self, app: EmailApp, offset: int = 0, limit: int = 10) -> EmailPage:
@@ -615,7 +659,8 @@ class Mailbox(Screen):
 
     @action(kind="read")
     def search_emails(self, app: EmailApp, query: str) -> list[Email]:
-        """Search this folder's emails by sender, recipients, subject or text.
+        """Search this folder's emails by sender, recipients, subject or text. It matches parts of words
+        too: "Priya" finds "Priyanka".
 
         Args:
             query: what to look for.
@@ -624,21 +669,22 @@ class Mailbox(Screen):
 
     @action("Detail")
     def open_email(self, app: EmailApp, email_id: str) -> Transition:
-        """Open an email.
+        """Open an email; opening it marks it read.
 
         Args:
             email_id: the email's id.
         """
-        return push(EmailDetail(email_id=email_id), app.require(email_id))
+        email = app.mark_read(app.require(email_id))
+        return push(EmailDetail(email_id=email_id), email)
 
     @action("Detail")
     def open_email_by_index(self, app: EmailApp, index: int) -> Transition:
-        """Open the email at a position of this folder's list (0 is the newest).
+        """Open the email at a position of this folder's list (0 is the newest); opening it marks it read.
 
         Args:
             index: the position in the list, starting at 0.
         """
-        email = app.get_email_by_index(index, folder=self.folder)
+        email = app.mark_read(app.get_email_by_index(index, folder=self.folder))
         return push(EmailDetail(email_id=email.email_id), email)
 
     @action("Mailbox")
@@ -648,8 +694,8 @@ class Mailbox(Screen):
         Args:
             folder: the folder to show.
         """
-        name = normalize_folder(folder)
-        return replace(Mailbox(folder=name), app.list_emails(folder=name))
+        screen = Mailbox(folder=normalize_folder(folder))
+        return replace(screen, screen.display(app))  # the folder's first page, as the screen shows it
 
     @action("Compose")
     def start_compose(self, app: EmailApp) -> Transition:
@@ -664,6 +710,11 @@ class EmailDetail(Screen):
     name = "Detail"
     title = "Email"
     email_id: str
+
+    def display(self, app: EmailApp) -> Email | str:
+        """The email in full, as open_email shows it (or a line saying it is gone)."""
+        email = app.state.emails.get(self.email_id)
+        return email if email is not None else f"Email {self.email_id} no longer exists."
 
     @action(kind="read")
     def refresh(self, app: EmailApp) -> Email:
@@ -739,6 +790,10 @@ class Compose(Screen):
     def draft(self) -> dict[str, Any]:
         """Return the draft as shown on screen."""
         return self.model_dump()
+
+    def display(self, app: EmailApp) -> dict[str, Any]:
+        """The draft as it stands."""
+        return self.draft()
 
     def _not_in_reply(self, what: str) -> None:
         if self.reply_to is not None:

@@ -12,6 +12,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 from pare.apps.base import App
 from pare.apps.files import DirectoryEntry, FilesApp, browse, files_of, normalize_path
 from pare.apps.screens import Screen, Transition, action, push
+from pare.apps.text import PAGE, preview, short_time
 from pare.apps.tools import tool
 from pare.apps.types import SimTime
 from pare.errors import ToolError, did_you_mean
@@ -405,7 +406,7 @@ class MessagingApp(App):
         """Search conversations by group title, participant names and message contents.
 
         The search is case-insensitive, and every word of the query must appear somewhere in the
-        conversation.
+        conversation. It matches parts of words too: "Priya" finds "Priyanka".
 
         Args:
             query: words to look for, e.g. "dinner friday" or "alice".
@@ -761,11 +762,36 @@ def _check_page(offset: int, limit: int) -> None:
 # -- screens -----------------------------------------------------------------------------------------
 
 
+def _row(app: MessagingApp, conversation: Conversation) -> dict[str, Any]:
+    """A conversation as the list shows it: its name, the last message (who, a preview) and when."""
+    row: dict[str, Any] = {
+        "conversation_id": conversation.conversation_id,
+        "title": app.display_title(conversation),
+    }
+    if conversation.is_group:
+        row["group"] = True
+    if conversation.messages:
+        last = conversation.messages[-1]
+        who = "You" if last.sender_id == app.me else app.state.users.get(last.sender_id, last.sender_id)
+        text = last.content or f"[attachment: {posixpath.basename(last.attachment or '')}]"
+        row["last_message"] = f"{who}: {preview(text)}"
+    row["time"] = short_time(conversation.last_updated)
+    row["messages"] = len(conversation.messages)
+    return row
+
+
 class ConversationList(Screen):
     """The list of conversations."""
 
     name = "List"
     title = "Conversations"
+
+    def display(self, app: MessagingApp) -> dict[str, Any]:
+        """The most recent conversations as a phone lists them: who, the last message and when, with the
+        total; the conversation ids are those open_conversation takes.
+        """
+        ordered = app._recent_first(list(app.state.conversations.values()))
+        return {"total": len(ordered), "conversations": [_row(app, c) for c in ordered[:PAGE]]}
 
     @action(kind="read")
     def list_recent_conversations(
@@ -782,7 +808,8 @@ class ConversationList(Screen):
 
     @action(kind="read")
     def search_conversations(self, app: MessagingApp, query: str) -> list[ConversationMatch]:
-        """Search conversations by name, group title or message text.
+        """Search conversations by name, group title or message text. It matches parts of words too:
+        "Priya" finds "Priyanka".
 
         Args:
             app: the messaging app.
@@ -808,6 +835,14 @@ class ConversationOpened(Screen):
     name = "Opened"
     title = "Conversation"
     conversation_id: str
+
+    def display(self, app: MessagingApp) -> ConversationMessages | str:
+        """The conversation's latest messages in full, newest first, as read_messages shows them; a
+        message arriving while it is open appears here whole.
+        """
+        if self.conversation_id not in app.state.conversations:
+            return f"Conversation {self.conversation_id} no longer exists."
+        return app.read_conversation(self.conversation_id)
 
     @action(kind="write")
     def send_message(self, app: MessagingApp, content: str, attachment: str | None = None) -> MessageView:

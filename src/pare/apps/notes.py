@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 from collections.abc import Iterable
+from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from pare.apps.base import App
 from pare.apps.files import DirectoryEntry, FilesApp, browse, files_of, normalize_path
 from pare.apps.screens import BACK, Screen, Transition, action, back, back_to, push, replace
+from pare.apps.text import PAGE, preview, short_time
 from pare.apps.tools import tool
 from pare.apps.types import SimTime
 from pare.errors import ToolError
@@ -82,9 +84,9 @@ class NotesState(BaseModel):
 
 
 class NotePage(BaseModel):
-    """One page of a folder's notes."""
+    """One page of a folder's notes, or of every folder's."""
 
-    folder: str
+    folder: str | None = Field(description="the folder listed; null when the notes of every folder are")
     notes: list[Note]
     total: int
     offset: int
@@ -142,10 +144,19 @@ class NotesApp(App):
         """Return the Files app, where attachments live."""
         return files_of(self)
 
-    def in_folder(self, folder: str) -> list[Note]:
-        """Return the notes of ``folder`` as listed: pinned first, then most recently updated first."""
-        notes = _newest_first(n for n in self.state.notes.values() if n.folder == folder)
+    def in_folder(self, folder: str | None) -> list[Note]:
+        """Return the notes of ``folder`` (of every folder for ``None``) as listed: pinned first, then most
+        recently updated first.
+        """
+        notes = _newest_first(n for n in self.state.notes.values() if folder is None or n.folder == folder)
         return [n for n in notes if n.pinned] + [n for n in notes if not n.pinned]
+
+    def folder_counts(self) -> dict[str, int]:
+        """How many notes each folder holds, in the order the app shows the folders."""
+        counts = {folder: 0 for folder in self.state.folders}
+        for note in self.state.notes.values():
+            counts[note.folder] += 1
+        return counts
 
     def _check_new_folder_name(self, name: str, *, renaming: str | None = None) -> str:
         """Return ``name`` stripped, refusing an empty name or one another folder has (any case)."""
@@ -264,6 +275,7 @@ class NotesApp(App):
         """Search the notes of every folder by title and content.
 
         The search is case-insensitive and every word of the query must appear in the title or content.
+        It matches parts of words too: "Priya" finds "Priyanka".
 
         Args:
             query: words to look for, e.g. "wifi password" or "lisbon".
@@ -331,10 +343,7 @@ class NotesApp(App):
         Returns:
             the folders, in the order the app shows them.
         """
-        counts = {folder: 0 for folder in self.state.folders}
-        for note in self.state.notes.values():
-            counts[note.folder] += 1
-        return [FolderInfo(name=folder, note_count=count) for folder, count in counts.items()]
+        return [FolderInfo(name=folder, note_count=count) for folder, count in self.folder_counts().items()]
 
     @tool("write")
     def new_folder(self, name: str) -> str:
@@ -484,26 +493,70 @@ class NotesApp(App):
 # -- screens -----------------------------------------------------------------------------------------
 
 
+def _row(note: Note) -> dict[str, Any]:
+    """A note as the list shows it: title, folder, when it was last changed and the start of its text."""
+    row: dict[str, Any] = {
+        "note_id": note.note_id,
+        "title": note.title,
+        "folder": note.folder,
+        "updated": short_time(note.updated_at),
+        "preview": preview(note.content),
+    }
+    if note.pinned:
+        row["pinned"] = True
+    if note.attachments:
+        row["attachments"] = len(note.attachments)
+    return row
+
+
 class NoteList(Screen):
-    """The notes of one folder."""
+    """The notes of one folder, or of every folder (where the app opens, so that the user's notes show
+    wherever they are filed).
+    """
 
     name = "List"
-    title = "Notes in a folder"
-    folder: str = DEFAULT_FOLDER
+    title = "Notes"
+    folder: str | None = Field(default=None, description="the folder shown; None shows every folder's notes")
+
+    def label(self) -> str:
+        """``List(folder='Work')``, or ``List(all folders)`` rather than a bare None."""
+        return super().label() if self.folder is not None else f"{self.screen_name()}(all folders)"
+
+    def display(self, app: NotesApp) -> dict[str, Any]:
+        """The first notes listed (pinned first, then most recently updated), each with its folder and a
+        preview, the total, and every folder with its note count.
+        """
+        folder = self.folder
+        if folder is not None and folder not in app.state.folders:
+            return {"folder": folder, "gone": "This folder no longer exists.", "folders": app.folder_counts()}
+        notes = app.in_folder(folder)
+        return {
+            "folder": folder or "all folders",
+            "total": len(notes),
+            "notes": [_row(note) for note in notes[:PAGE]],
+            "folders": app.folder_counts(),
+        }
 
     @action(kind="read")
     def list_notes(self, app: NotesApp, offset: int = 0, limit: int = 10) -> NotePage:
-        """Show a page of this folder's notes: pinned first, then most recently updated.
+        """Show a page of the notes on screen (this folder's, or every folder's): pinned first, then most
+        recently updated.
 
         Args:
             offset: how many notes to skip.
             limit: how many to show.
         """
-        return app.list_notes(self.folder, offset=offset, limit=limit)
+        if self.folder is not None:
+            return app.list_notes(self.folder, offset=offset, limit=limit)
+        if offset < 0 or not 1 <= limit <= 100:
+            raise ToolError("offset must be >= 0 and limit between 1 and 100.")
+        notes = app.in_folder(None)
+        return NotePage(folder=None, notes=notes[offset : offset + limit], total=len(notes), offset=offset)
 
     @action(kind="read")
     def search_notes(self, app: NotesApp, query: str) -> list[Note]:
-        """Search the notes of every folder by title and content.
+        """Search the notes of every folder by title and content. It matches parts of words too: "Priya"
+        finds "Priyanka".
 
         Args:
             query: what to look for.
@@ -521,8 +574,8 @@ class NoteList(Screen):
 
     @action("Edit")
     def new_note(self, app: NotesApp) -> Transition:
-        """Start writing a new note in this folder."""
-        draft = NoteEdit(folder=app.folder_named(self.folder))
+        """Start writing a new note in this folder (in "Notes" when every folder is shown)."""
+        draft = NoteEdit(folder=app.folder_named(self.folder or DEFAULT_FOLDER))
         return push(draft, draft.draft())
 
     @action("Folders")
@@ -537,10 +590,19 @@ class FolderList(Screen):
     name = "Folders"
     title = "Folders"
 
+    def display(self, app: NotesApp) -> list[FolderInfo]:
+        """Every folder with its note count, as list_folders shows them."""
+        return app.list_folders()
+
     @action(kind="read")
     def list_folders(self, app: NotesApp) -> list[FolderInfo]:
         """Show the folders with their note counts."""
         return app.list_folders()
+
+    @action("List")
+    def show_all_notes(self, app: NotesApp) -> Transition:
+        """Show the notes of every folder together, as the app does when it opens."""
+        return back_to("List", None, NoteList())
 
     @action("List")
     def open_folder(self, app: NotesApp, folder: str) -> Transition:
@@ -559,6 +621,11 @@ class NoteDetail(Screen):
     name = "Detail"
     title = "Note"
     note_id: str
+
+    def display(self, app: NotesApp) -> Note | str:
+        """The note in full, as open_note shows it (or a line saying it is gone)."""
+        note = app.state.notes.get(self.note_id)
+        return note if note is not None else f"Note {self.note_id} no longer exists."
 
     @action(kind="read")
     def refresh(self, app: NotesApp) -> Note:
@@ -652,6 +719,10 @@ class NoteEdit(Screen):
             content=self.content,
             attachments=list(self.attachments),
         )
+
+    def display(self, app: NotesApp) -> NoteDraft:
+        """The draft as it stands."""
+        return self.draft()
 
     @action()
     def set_title(self, app: NotesApp, title: str) -> NoteDraft:

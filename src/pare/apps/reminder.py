@@ -12,6 +12,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from pare.apps.base import App
 from pare.apps.screens import Screen, Transition, action, back_to, push, replace
+from pare.apps.text import PAGE, preview, short_time
 from pare.apps.tools import tool
 from pare.apps.types import SimTime
 from pare.errors import ToolError
@@ -382,11 +383,39 @@ class ReminderApp(App):
 # -- screens -----------------------------------------------------------------------------------------
 
 
+def _row(reminder: Reminder, now: datetime) -> dict[str, Any]:
+    """A reminder as the list shows it: title, when it is due (and whether that has come), repetition."""
+    row: dict[str, Any] = {
+        "reminder_id": reminder.reminder_id,
+        "title": reminder.title,
+        "due": short_time(reminder.due_datetime),
+    }
+    if reminder.due_datetime <= now:
+        row["due_now"] = True
+    if reminder.repetition != Repetition.NONE:
+        row["repeats"] = reminder.repetition.value
+    if reminder.description:
+        row["preview"] = preview(reminder.description)
+    return row
+
+
 class ReminderList(Screen):
     """Every reminder."""
 
     name = "List"
     title = "Reminders"
+
+    def display(self, app: ReminderApp) -> dict[str, Any]:
+        """The first reminders by due time, as list_all_reminders orders them (so the ones due now or
+        overdue come first), with the total and how many are due.
+        """
+        reminders = app.get_all_reminders()
+        now = app.ctx.now()
+        return {
+            "total": len(reminders),
+            "due_now": sum(r.due_datetime <= now for r in reminders),
+            "reminders": [_row(reminder, now) for reminder in reminders[:PAGE]],
+        }
 
     @action(kind="read")
     def list_all_reminders(self, app: ReminderApp) -> list[Reminder]:
@@ -430,6 +459,11 @@ class ReminderDetail(Screen):
     name = "Detail"
     title = "Reminder details"
     reminder_id: str
+
+    def display(self, app: ReminderApp) -> Reminder | str:
+        """The reminder in full, as open_reminder shows it (or a line saying it is gone)."""
+        reminder = app.state.reminders.get(self.reminder_id)
+        return reminder if reminder is not None else f"Reminder {self.reminder_id} no longer exists."
 
     @action(kind="read")
     def refresh(self, app: ReminderApp) -> Reminder:
@@ -480,6 +514,10 @@ class ReminderEdit(Screen):
             repetition=self.repetition,
             repeat_until=self.repeat_until,
         )
+
+    def display(self, app: ReminderApp) -> ReminderDraft:
+        """The draft as it stands."""
+        return self.draft()
 
     @action()
     def set_title(self, app: ReminderApp, title: str) -> ReminderDraft:

@@ -102,6 +102,15 @@ class Screen(BaseModel):
         """The screen's name as the FSM knows it."""
         return cls.name or cls.__name__
 
+    def display(self, app: Any) -> Any:
+        """What the screen shows when the user arrives on it or when its app's data changes while it is
+        open: a compact, JSON-ready value (a page of a list with the ids needed to act, the item open,
+        the draft), or ``None`` when the label says everything.
+
+        It is shown to the user, never logged as a call: it must not change any data.
+        """
+        return None
+
     def label(self) -> str:
         """The screen with its parameters, e.g. ``Mailbox(folder='INBOX')``; long text is shortened."""
         params = ", ".join(f"{key}={_short(value)}" for key, value in self.model_dump().items())

@@ -13,6 +13,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 
 from pare.apps.base import App
 from pare.apps.screens import Screen, Transition, action, push, replace
+from pare.apps.text import PAGE, short_time
 from pare.apps.tools import tool
 from pare.apps.types import SimTime
 from pare.errors import ToolError
@@ -258,7 +259,11 @@ class ShoppingState(BaseModel):
 
 
 class ProductSummary(BaseModel):
-    """A product as listed: its price range and whether any variant is in stock."""
+    """A product as listed: its price range and which of its variants are in stock.
+
+    Availability is per variant: a product whose black model sells and whose silver one is sold out is
+    neither simply in stock nor out of it, and the variant the user needs may be the missing one.
+    """
 
     product_id: str
     name: str
@@ -268,7 +273,8 @@ class ProductSummary(BaseModel):
     min_price: float
     max_price: float
     variant_count: int
-    in_stock: bool = Field(description="whether at least one variant is in stock")
+    in_stock: list[str] = Field(description="the names of the variants in stock; [] when none is")
+    out_of_stock: list[str] = Field(description="the names of the variants sold out; [] when none is")
 
 
 class ProductPage(BaseModel):
@@ -356,7 +362,8 @@ def _summary(product: Product) -> ProductSummary:
         min_price=min(prices),
         max_price=max(prices),
         variant_count=len(product.variants),
-        in_stock=any(v.stock > 0 for v in product.variants.values()),
+        in_stock=[v.name or v.item_id for v in product.variants.values() if v.stock > 0],
+        out_of_stock=[v.name or v.item_id for v in product.variants.values() if v.stock == 0],
     )
 
 
@@ -517,7 +524,8 @@ class ShoppingApp(App):
             limit: how many products to return (1-100).
 
         Returns:
-            the page of products (with price range and availability) and the total number of products.
+            the page of products (with price range and which variants are in stock and which sold out)
+            and the total number of products.
         """
         if offset < 0 or not 1 <= limit <= 100:
             raise ToolError("offset must be >= 0 and limit between 1 and 100.")
@@ -529,13 +537,15 @@ class ShoppingApp(App):
     def search_product(self, product_name: str) -> list[ProductSummary]:
         """Search products by name, brand, category or description.
 
-        The search is case-insensitive and every word of the query must match.
+        The search is case-insensitive and every word of the query must match. It matches parts of words
+        too: "Priya" finds "Priyanka".
 
         Args:
             product_name: words to look for, e.g. "running shoes" or "acme kettle".
 
         Returns:
-            the matching products, sorted by name.
+            the matching products, sorted by name, each with its price range and which variants are in
+            stock and which sold out.
         """
         words = product_name.lower().split()
         if not words:
@@ -1012,11 +1022,53 @@ class ShoppingApp(App):
 # -- screens -----------------------------------------------------------------------------------------
 
 
+def _product_row(summary: ProductSummary) -> dict[str, Any]:
+    """A product as the front page lists it: name, brand, price (or range), variants in stock or not."""
+    low, high = summary.min_price, summary.max_price
+    row: dict[str, Any] = {
+        "product_id": summary.product_id,
+        "name": summary.name,
+        "brand": summary.brand,
+        "price": _fmt(_cents(low)) if low == high else f"{_fmt(_cents(low))}-{_fmt(_cents(high))}",
+        "in_stock": summary.in_stock,
+    }
+    if summary.out_of_stock:
+        row["out_of_stock"] = summary.out_of_stock
+    return row
+
+
+def _order_row(order: Order) -> dict[str, Any]:
+    """An order as a list shows it: id, status, total, when it was placed and what it holds."""
+    return {
+        "order_id": order.order_id,
+        "status": order.status,
+        "total": order.total,
+        "placed": short_time(order.placed_at),
+        "items": "; ".join(f"{i.quantity} x {_label(i.product_name, i.variant_name)}" for i in order.items),
+    }
+
+
 class ShopHome(Screen):
     """The store's front page."""
 
     name = "Home"
     title = "Shop"
+
+    def display(self, app: ShoppingApp) -> dict[str, Any]:
+        """The store's front page: the first products by name (price, which variants are in stock), the
+        number of products, what the cart holds, and the latest order's status.
+        """
+        page = app.list_all_products(limit=PAGE)
+        cart = app.cart_contents()
+        shown: dict[str, Any] = {
+            "total_products": page.total,
+            "products": [_product_row(summary) for summary in page.products],
+            "cart": {"items": cart.item_count, "subtotal": cart.subtotal},
+        }
+        orders = app.orders_newest_first()
+        if orders:
+            shown["latest_order"] = _order_row(orders[0])
+        return shown
 
     @action(kind="read")
     def list_products(self, app: ShoppingApp, offset: int = 0, limit: int = 10) -> ProductPage:
@@ -1030,7 +1082,8 @@ class ShopHome(Screen):
 
     @action(kind="read")
     def search_products(self, app: ShoppingApp, query: str) -> list[ProductSummary]:
-        """Search products by name, brand, category or description.
+        """Search products by name, brand, category or description. It matches parts of words too: "Priya"
+        finds "Priyanka".
 
         Args:
             query: what to look for, e.g. "running shoes".
@@ -1064,6 +1117,11 @@ class ProductScreen(Screen):
     title = "Product"
     product_id: str
 
+    def display(self, app: ShoppingApp) -> Product | str:
+        """The product with every variant (item id, options, price, stock), as view_product shows it."""
+        product = app.state.products.get(self.product_id)
+        return product if product is not None else f"Product {self.product_id} is no longer sold."
+
     @action(kind="read")
     def view_product(self, app: ShoppingApp) -> Product:
         """Show this product's details and variants as they are now."""
@@ -1090,6 +1148,13 @@ class VariantScreen(Screen):
     title = "Product variant"
     item_id: str
 
+    def display(self, app: ShoppingApp) -> ItemDetails | str:
+        """The variant's price, stock and how many the cart holds, as view_variant shows it."""
+        try:
+            return app.item_details(self.item_id)
+        except ToolError:
+            return f"Item {self.item_id} is no longer sold."
+
     @action(kind="read")
     def view_variant(self, app: ShoppingApp) -> ItemDetails:
         """Show this variant's price and stock as they are now."""
@@ -1110,6 +1175,10 @@ class CartScreen(Screen):
 
     name = "Cart"
     title = "Cart"
+
+    def display(self, app: ShoppingApp) -> CartContents:
+        """The cart at the current prices, as view_cart shows it."""
+        return app.cart_contents()
 
     @action(kind="read")
     def view_cart(self, app: ShoppingApp) -> CartContents:
@@ -1143,6 +1212,11 @@ class OrdersScreen(Screen):
     name = "Orders"
     title = "Your orders"
 
+    def display(self, app: ShoppingApp) -> dict[str, Any]:
+        """The most recent orders (id, status, total, what they hold), with the number of orders."""
+        orders = app.orders_newest_first()
+        return {"total": len(orders), "orders": [_order_row(order) for order in orders[:PAGE]]}
+
     @action(kind="read")
     def list_orders(self, app: ShoppingApp) -> list[Order]:
         """Show your orders, the most recent first."""
@@ -1164,6 +1238,11 @@ class OrderDetailScreen(Screen):
     name = "OrderDetail"
     title = "Order details"
     order_id: str
+
+    def display(self, app: ShoppingApp) -> Order | str:
+        """The order in full (items, amounts, status), as view_order shows it."""
+        order = app.state.orders.get(self.order_id)
+        return order if order is not None else f"Order {self.order_id} no longer exists."
 
     @action(kind="read")
     def view_order(self, app: ShoppingApp) -> Order:

@@ -13,6 +13,7 @@ import inspect
 import re
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
+from datetime import date, datetime
 from enum import Enum
 from functools import cached_property
 from types import UnionType
@@ -146,7 +147,7 @@ class ToolSpec:
         """A one-line Python-like signature, e.g. ``search_emails(query: str, limit: int = 10)``."""
         parts = []
         for field_name, info in self.params.model_fields.items():
-            annotation = _type_name(info.annotation)
+            annotation = _type_name(info.annotation, expand_models=True)
             if info.is_required():
                 parts.append(f"{field_name}: {annotation}")
             else:
@@ -181,29 +182,57 @@ def describe_argument_errors(spec: ToolSpec, errors: Iterable[ErrorDetails]) -> 
     return f"Invalid arguments for {spec.name}: " + "; ".join(problems) + f". Expected {spec.signature}."
 
 
-def _type_name(annotation: Any) -> str:
+DATETIME_FORMAT_HINT = "YYYY-MM-DD HH:MM"
+"""How a datetime argument is written; ISO 8601 with a ``T`` or seconds is accepted too."""
+
+
+def _type_name(annotation: Any, *, expand_models: bool = False) -> str:
     """A short, readable, run-independent type: ``list[str] | None``, ``datetime``, ``Folder``.
 
     ``Annotated`` metadata (validators) is dropped: its text holds memory addresses, which would make
-    error messages, and so logs, differ between runs.
+    error messages, and so logs, differ between runs. With ``expand_models`` (what a model reads in a
+    tool's signature), dates say how they are written and a nested model lists its fields, so that
+    ``updates: EventUpdate`` does not leave the reader guessing what it holds.
     """
     origin = get_origin(annotation)
     if origin is Annotated:
-        return _type_name(get_args(annotation)[0])
+        return _type_name(get_args(annotation)[0], expand_models=expand_models)
     if origin in (Union, UnionType):
-        return " | ".join(_type_name(arg) for arg in get_args(annotation))
+        return " | ".join(_type_name(arg, expand_models=expand_models) for arg in get_args(annotation))
     if origin is Literal:
         return " | ".join(repr(arg) for arg in get_args(annotation))
     if origin is not None:
         name = getattr(origin, "__name__", str(origin))
-        return f"{name}[{', '.join(_type_name(arg) for arg in get_args(annotation))}]"
+        inner = ", ".join(_type_name(arg, expand_models=expand_models) for arg in get_args(annotation))
+        return f"{name}[{inner}]"
     if annotation is type(None):
         return "None"
     if isinstance(annotation, type) and issubclass(annotation, Enum):
         return " | ".join(repr(member.value) for member in annotation)  # models need the choices
+    if expand_models and annotation is datetime:
+        return f"datetime ({DATETIME_FORMAT_HINT})"
+    if expand_models and annotation is date:
+        return "date (YYYY-MM-DD)"
+    if expand_models and isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return _model_fields(annotation)
     if isinstance(annotation, type):
         return annotation.__name__
     return re.sub(r"\b(?:[A-Za-z_]\w*\.)+([A-Za-z_]\w*)", r"\1", str(annotation))
+
+
+def _model_fields(model: type[BaseModel]) -> str:
+    """``EventUpdate{title?: str, start_datetime?: datetime (YYYY-MM-DD HH:MM)}``: ``?`` marks a field
+    that may be left out; a field that may be ``None`` only to be optional is shown without ``None``.
+    """
+    parts = []
+    for name, info in model.model_fields.items():
+        annotation: Any = info.annotation
+        optional = not info.is_required()
+        if optional and info.default is None and get_origin(annotation) in (Union, UnionType):
+            kept = [arg for arg in get_args(annotation) if arg is not type(None)]
+            annotation = kept[0] if len(kept) == 1 else Union[tuple(kept)]  # noqa: UP007 - built at run time
+        parts.append(f"{name}{'?' if optional else ''}: {_type_name(annotation, expand_models=True)}")
+    return f"{model.__name__}{{{', '.join(parts)}}}"
 
 
 type_name = _type_name

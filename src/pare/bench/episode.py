@@ -7,7 +7,8 @@ accepts, execute mode runs up to ``execute_steps`` actions, ending with a report
 moves on: by ``turn_duration``, or straight to the next scheduled event when everyone waited (no noise
 arrives across such a jump: distractors come while someone is active). The episode
 ends after ``max_turns`` turns, or earlier when nothing can happen any more (no event to come, no proposal
-pending, both actors waiting).
+pending, both actors waiting), or, for a scenario marked ``end_when_met``, when both actors wait with every
+goal met.
 """
 
 from __future__ import annotations
@@ -19,7 +20,16 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from pare.agents.policy import ASSISTANT_WAIT, SEND_MESSAGE, WAIT, Action, AssistantPolicy, Task, UserPolicy
+from pare.agents.policy import (
+    ASSISTANT_WAIT,
+    SEND_MESSAGE,
+    WAIT,
+    Action,
+    AssistantPolicy,
+    Task,
+    TurnBudget,
+    UserPolicy,
+)
 from pare.env import EnvConfig, Environment, ToolResult
 from pare.errors import ModelRequestError
 from pare.scenarios.build import build_environment
@@ -69,6 +79,17 @@ class EpisodeSettings(BaseModel):
     env: EnvConfig = Field(
         default_factory=EnvConfig, description="Seed, tool failures, noise, notifications."
     )
+
+    def budget(self) -> TurnBudget:
+        """The limits the actors are told."""
+        return TurnBudget(
+            max_turns=self.max_turns,
+            user_steps=self.user_steps,
+            observe_steps=self.observe_steps,
+            execute_steps=self.execute_steps,
+            proposal_ttl_turns=self.proposal_ttl_turns,
+            turn_minutes=self.turn_duration.total_seconds() / 60,
+        )
 
 
 @dataclass(frozen=True, slots=True)
@@ -180,8 +201,9 @@ class _Episode:
 
     async def run(self, judge: Judge | None) -> EpisodeResult:
         env = self.env
-        self.user.start(env)
-        self.assistant.start(env)
+        budget = self.settings.budget()
+        self.user.start(env, budget)
+        self.assistant.start(env, budget)
         try:
             ended = await self._turns()
         except ModelRequestError as error:
@@ -227,7 +249,7 @@ class _Episode:
             assistant_waited = await self._assistant_turn(turn)
             if user_waited and assistant_waited and env.agent_ui.pending is None:
                 upcoming = env.next_event_time()
-                if upcoming is None:
+                if upcoming is None or self._settled():
                     return "idle"
                 resume_at = max(upcoming, env.clock.now)
                 jumped = True
@@ -235,6 +257,15 @@ class _Episode:
                 resume_at = env.clock.now + self.settings.turn_duration
                 jumped = False
         return "max_turns"
+
+    def _settled(self) -> bool:
+        """For a scenario that ends when met: every goal is met now, so what is still to come cannot
+        change the verdict (judge checks are read with their deterministic fallbacks here).
+        """
+        if not self.scenario.end_when_met:
+            return False
+        env = self.env
+        return evaluate(self.scenario, env.log.entries, env.snapshot(), attribution=env.attribution).success
 
     # -- the user --------------------------------------------------------------------------------------
     async def _user_turn(self, turn: int) -> bool:

@@ -39,6 +39,7 @@ class RichProgress:
         self.failed = 0
         self.known_cost = 0.0
         self.unpriced = False
+        self.model_calls = 0
 
     def started(self, total: int, done: int, label: str) -> None:
         """Show the bar; episodes finished in earlier sessions count as done."""
@@ -57,6 +58,7 @@ class RichProgress:
         for usage in record.usage.values():
             self.known_cost += usage.known_cost_usd
             self.unpriced = self.unpriced or usage.unknown_cost_calls > 0
+            self.model_calls += usage.calls
         if self.task is not None:
             successes, failed, cost = self._fields()
             self.progress.update(self.task, advance=1, successes=successes, failed=failed, cost=cost)
@@ -67,6 +69,9 @@ class RichProgress:
 
     def _fields(self) -> tuple[str, str, str]:
         """The bar's successes, failures and cost texts."""
-        cost = f"${self.known_cost:.4f}" + (" + unpriced calls" if self.unpriced else "")
+        if not self.model_calls:  # no model was called (oracle runs): cost does not apply, it is not zero
+            cost = "n/a"
+        else:
+            cost = f"${self.known_cost:.4f}" + (" + unpriced calls" if self.unpriced else "")
         failed = f"[red]{self.failed} failed (missing coverage)[/red]" if self.failed else ""
         return str(self.successes), failed, cost

@@ -222,7 +222,8 @@ def _cost_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
             "Cost / success",
         ),
         text_columns=2,
-        note="Over complete episodes; 'unknown' when a model's price is not known.",
+        note="Over complete episodes; 'unknown' when a model's price is not known; "
+        "n/a where no model was called.",
     )
     for m in metrics:
         for role, usage in m.usage.items():
@@ -232,6 +233,8 @@ def _cost_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
 
 def _usage_cells(usage: UsageSummary) -> tuple[str, ...]:
     known = usage.cost_usd is not None
+    if not usage.calls:  # no model played this role (the oracle): cost and tokens do not apply
+        return ("0", NA, NA, NA, NA, NA, NA)
     return (
         str(usage.calls),
         _format_count(usage.tokens_per_episode),

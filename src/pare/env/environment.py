@@ -89,6 +89,8 @@ class Environment:
             spec.qualified_name: spec for app in self.apps.values() for spec in app.tools.values()
         }
         self._assistant_cursor = 0
+        self._shown_versions: dict[str, int] = {}
+        """Per app, its data version (write count) when the user last saw the screen on view."""
         self.attribution = Attribution()
         """Who created or last changed each place of the app data (the user's and assistant's writes)."""
 
@@ -209,6 +211,11 @@ class Environment:
 
     def _call_user(self, call: _Call, tool: str) -> ToolResult:
         call.screen = self.system.location()
+        result = self._dispatch_user(call, tool)
+        self._mark_screen_seen()
+        return result
+
+    def _dispatch_user(self, call: _Call, tool: str) -> ToolResult:
         screen = self.system.current_screen()
         if screen is not None and tool in screen.actions:
             return self._run_screen_action(
@@ -221,8 +228,30 @@ class Environment:
                 call.app, call.kind = shell_app.name, spec.kind
                 if spec.available is not None and not spec.available(shell_app):
                     return self._fail(call, self._unavailable_message(tool))
-                return self._call_shell(call, shell_app, spec)
+                result = self._call_shell(call, shell_app, spec)
+                if result.ok and shell_app is self.system and self.system.current_screen() is not screen:
+                    return self._with_display(result)
+                return result
         return self._fail(call, self._unavailable_message(tool))
+
+    def _with_display(self, result: ToolResult) -> ToolResult:
+        """``result`` with what the screen the user arrived on displays (opening an app shows its list)."""
+        shown = self._screen_display()
+        if shown is None:
+            return result
+        return ToolResult(ok=True, value=result.value, entry=result.entry, screen_display=shown)
+
+    def _screen_display(self) -> Any:
+        screen = self.system.current_screen()
+        if screen is None:
+            return None
+        return to_jsonable_python(screen.display(self.apps[cast(str, self.system.foreground)]))
+
+    def _mark_screen_seen(self) -> None:
+        """The user has seen the screen on view as its app's data stands now."""
+        if self.system.foreground is not None:
+            app = self.apps[self.system.foreground]
+            self._shown_versions[app.name] = app.write_count
 
     def _unavailable_message(self, tool: str) -> str:
         here = self.system.location()
@@ -275,7 +304,11 @@ class Environment:
             call.kind = "ui"
         result = self._succeed(call, transition.result)
         self._attribute(result, before)
-        return result
+        # Landing on a screen shows it, unless the action's own result already is what it shows.
+        arrived = transition.how in ("back", "back_to") or (
+            transition.how in ("push", "replace") and transition.result is None
+        )
+        return self._with_display(result) if arrived else result
 
     def _restore_screen(self, app_name: str, screen: Screen, draft: Screen) -> None:
         """Undo changes a failing action made to its screen's parameters (a half-edited draft)."""
@@ -408,14 +441,24 @@ class Environment:
         """What the user sees now; the new notifications are marked read."""
         screen = self.system.current_screen()
         pending = self.agent_ui.pending
+        update = None
+        foreground = self.system.foreground
+        changed = (
+            foreground is not None
+            and self._shown_versions.get(foreground) != self.apps[foreground].write_count
+        )
+        if changed:
+            update = self._screen_display()  # its data changed under the user's eyes: the screen follows
+        self._mark_screen_seen()
         return UserView(
             time=self.clock.now.isoformat(),
-            app=self.system.foreground,
+            app=foreground,
             screen=None if screen is None else screen.label(),
             background_apps=list(self.system.background),
             tools=self.user_tools(),
             notifications=self.notifications.take_unread("user"),
             pending_proposal=None if pending is None else pending.content,
+            screen_update=update,
         )
 
     def assistant_tools(self, mode: AssistantMode) -> list[NamedTool]:
@@ -426,12 +469,13 @@ class Environment:
 
     def assistant_observation(self) -> AssistantObservation:
         """The user's actions and the notifications since the assistant last looked (marked seen)."""
-        new = [entry for entry in self.log.since(self._assistant_cursor) if entry.actor == "user"]
+        since = self.log.since(self._assistant_cursor)
         self._assistant_cursor = len(self.log)
         return AssistantObservation(
             time=self.clock.now.isoformat(),
-            user_actions=new,
+            user_actions=[entry for entry in since if entry.actor == "user"],
             notifications=self.notifications.take_unread("assistant"),
+            executed=[entry for entry in since if entry.actor == "assistant" and entry.mode == "execute"],
         )
 
     # -- time and events ------------------------------------------------------------------------------

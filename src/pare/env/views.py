@@ -20,14 +20,18 @@ class ToolResult:
     error: str | None = None
     entry: LogEntry | None = None
     """The action-log entry the call produced."""
+    screen_display: Any = None
+    """For a user action that brought the user to a screen without showing it (opening or switching
+    apps, going back): what that screen displays. Shown to the user, not logged as the call's result."""
 
     def observation(self) -> str:
-        """The text an actor is shown: the result as JSON, or the error."""
+        """The text an actor is shown: the result as JSON, or the error, then the screen arrived on."""
         if not self.ok:
             return f"Error: {self.error}"
-        if isinstance(self.value, str):
-            return self.value
-        return json.dumps(self.value, ensure_ascii=False)
+        text = self.value if isinstance(self.value, str) else json.dumps(self.value, ensure_ascii=False)
+        if self.screen_display is not None:
+            text += f"\nOn screen: {json.dumps(self.screen_display, ensure_ascii=False)}"
+        return text
 
 
 @dataclass(frozen=True, slots=True)
@@ -55,27 +59,51 @@ class UserView:
     tools: list[NamedTool]
     notifications: list[str] = field(default_factory=list)
     pending_proposal: str | None = None
+    screen_update: Any = None
+    """What the screen on view displays now, when its app's data changed since the user last saw it
+    (a message arriving in the open conversation)."""
 
     @property
     def tool_names(self) -> list[str]:
         """Names of the tools available now."""
         return [tool.name for tool in self.tools]
 
-    def render(self) -> str:
-        """A plain-text rendering for a model's prompt."""
+    def render(self, described: set[str] | None = None) -> str:
+        """A plain-text rendering for a model's prompt.
+
+        ``described`` holds the tool lines (signature and description) this reader has already been
+        shown: those are listed by signature only, so that a long episode does not repeat every screen's
+        descriptions each turn. New lines are added to it. ``None`` describes every tool.
+        """
         lines = [f"Current time: {self.time}"]
         if self.app is None:
             lines.append("You are on the home screen.")
         else:
             lines.append(f"Current app: {self.app}; screen: {self.screen}")
         lines.append(f"Apps open in the background: {', '.join(self.background_apps) or 'none'}")
+        if self.screen_update is not None:
+            shown = json.dumps(self.screen_update, ensure_ascii=False)
+            lines.append(f"The screen has changed; it now shows: {shown}")
         if self.notifications:
             lines.append("New notifications:")
             lines.extend(f"- {n}" for n in self.notifications)
         if self.pending_proposal:
-            lines.append(f"The assistant proposes: {self.pending_proposal}")
+            answer = "accept_proposal or reject_proposal"
+            lines.append(f"The assistant proposes ({answer}): {self.pending_proposal}")
         lines.append("Available tools:")
-        lines.extend(f"- {tool.spec.signature}: {tool.spec.summary}" for tool in self.tools)
+        abridged = False
+        for tool in self.tools:
+            line = f"{tool.spec.signature}: {tool.spec.summary}"
+            if described is None:
+                lines.append(f"- {line}")
+            elif line in described:
+                lines.append(f"- {tool.spec.signature}")
+                abridged = True
+            else:
+                described.add(line)
+                lines.append(f"- {line}")
+        if abridged:
+            lines.append("(Tools listed without a description were described earlier.)")
         return "\n".join(lines)
 
 
@@ -86,19 +114,42 @@ class AssistantObservation:
     time: str
     user_actions: list[LogEntry]
     notifications: list[str]
+    executed: list[LogEntry] = field(default_factory=list)
+    """The assistant's own execute-mode calls since it last observed: the changes it made for an
+    accepted task, and its report. Observe mode remembers what execute mode did."""
 
     def render(self) -> str:
         """A plain-text rendering for a model's prompt."""
         lines = [f"Current time: {self.time}"]
+        if self.executed:
+            lines.extend(_execution_lines(self.executed))
         if self.user_actions:
             lines.append("User actions:")
             lines.extend(f"- {describe_action(entry)}" for entry in self.user_actions)
         if self.notifications:
             lines.append("Notifications:")
             lines.extend(f"- {n}" for n in self.notifications)
-        if not self.user_actions and not self.notifications:
+        if not self.user_actions and not self.notifications and not self.executed:
             lines.append("Nothing new.")
         return "\n".join(lines)
+
+
+def _execution_lines(entries: list[LogEntry]) -> list[str]:
+    """What the assistant did for its accepted task: each change it made (or tried), then its report."""
+    changes = [entry for entry in entries if entry.kind == "write"]
+    reports = [entry for entry in entries if entry.app == "agent_ui" and entry.tool == "send_message_to_user"]
+    reads = sum(1 for entry in entries if entry.kind == "read")
+    lines = ["You carried out the task the user accepted (execute mode):"]
+    lines.extend(f"- {describe_action(entry)}" for entry in changes)
+    if not changes:
+        lines.append("- no change was made")
+    if reads:
+        lines.append(f"- and {reads} read call{'s' if reads != 1 else ''}")
+    for report in reports:
+        lines.append(f"Your report to the user: {report.args.get('content', '')}")
+    if not reports:
+        lines.append("You sent no report: the task ran out of actions before you finished it.")
+    return lines
 
 
 def describe_action(entry: LogEntry) -> str:

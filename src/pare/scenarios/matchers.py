@@ -19,7 +19,7 @@ import math
 import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from datetime import UTC, datetime, time
+from datetime import UTC, date, datetime, time
 from typing import Any
 
 from pare.scenarios import meaning
@@ -171,6 +171,8 @@ def _compile_operator(name: str, value: Any) -> tuple[str, Any]:
         return name, float(value)
     if name == "mentions_day" and isinstance(value, str) and _DAY_ONLY.fullmatch(value):
         value = f"{value.strip()} 00:00"  # a day alone: its clock time does not matter
+    if name == "mentions_day" and isinstance(value, date) and not isinstance(value, datetime):
+        value = f"{value.isoformat()} 00:00"  # YAML reads an unquoted 2025-07-05 as a date: a day alone
     if name in _TIME_OPERATORS:
         if not isinstance(value, str | datetime):
             raise MatcherError(f"'{name}' needs a time, got {value!r}")

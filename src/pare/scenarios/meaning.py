@@ -58,7 +58,9 @@ def has_word(text: str, piece: str) -> bool:
 
 # -- clauses and negation -------------------------------------------------------------------------------
 _CLAUSE_BREAK = re.compile(
-    r"[;!?\n,]|\.(?=\s|$)|\s(?=(?:but|however|although|though|whereas|except|instead of|rather than|"
+    # a comma breaks a clause, except inside a number written with thousands separators (44,200)
+    r"[;!?\n]|,(?!(?<=\d,)\d{3}\b)|\.(?=\s|$)|"
+    r"\s(?=(?:but|however|although|though|whereas|except|instead of|rather than|"
     r"apart from|other than|unlike)\b)",
     re.IGNORECASE,
 )

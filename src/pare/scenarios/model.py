@@ -483,6 +483,14 @@ class Scenario(_Strict):
         "plan still open, a task the user is doing); the gate turns round: the watchful silent assistant "
         "passes and an eager one fails.",
     )
+    end_when_met: bool = Field(
+        default=False,
+        description="End the episode once every goal is met while the user and the assistant both wait "
+        "and no proposal is pending: what is still to come (a later event, a reminder falling due) cannot "
+        "change the verdict, so playing on to the turn limit only spends model calls. Decided with the "
+        "judge checks' deterministic fallbacks. Not for no_proposal scenarios, whose goals hold from the "
+        "start.",
+    )
     apps: list[str] = Field(min_length=1, description="The apps on the phone besides the core ones.")
     start: datetime = Field(description="When the episode starts (UTC if no zone is given).")
     user: UserProfile = Field(default_factory=UserProfile)

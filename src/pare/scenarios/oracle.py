@@ -15,7 +15,17 @@ from __future__ import annotations
 
 from typing import Any
 
-from pare.agents.policy import ASSISTANT_WAIT, SEND_MESSAGE, WAIT, Action, AssistantPolicy, Task, UserPolicy
+from pare.agents.policy import (
+    ASSISTANT_WAIT,
+    DEFAULT_BUDGET,
+    SEND_MESSAGE,
+    WAIT,
+    Action,
+    AssistantPolicy,
+    Task,
+    TurnBudget,
+    UserPolicy,
+)
 from pare.env import AssistantObservation, Environment, ToolResult, UserView
 from pare.errors import UserInputError
 from pare.scenarios.checks import MISSING, lookup
@@ -101,7 +111,7 @@ class OracleUser(UserPolicy):
         self.conditions = Conditions(scenario, self.solution)
         self.env: Environment | None = None
 
-    def start(self, env: Environment) -> None:
+    def start(self, env: Environment, budget: TurnBudget = DEFAULT_BUDGET) -> None:
         """Remember the environment (the oracle may look at the log to time its steps)."""
         self.env = env
 
@@ -168,7 +178,7 @@ class OracleAssistant(AssistantPolicy):
         self._current: Intervention | None = None
         self._last: OracleAction | None = None
 
-    def start(self, env: Environment) -> None:
+    def start(self, env: Environment, budget: TurnBudget = DEFAULT_BUDGET) -> None:
         """Remember the environment (conditions are checked against its log)."""
         self.env = env
 

@@ -216,6 +216,12 @@ class _Validator:
                 ("oracle", "interventions"),
                 "a no_proposal scenario's oracle makes no proposal: the right move is to watch and wait",
             )
+        if self.scenario.kind == "no_proposal" and self.scenario.end_when_met:
+            yield Problem(
+                ("end_when_met",),
+                "a no_proposal scenario's goals hold from the start, so end_when_met would end it before "
+                "the moment that tempts the assistant; leave it out",
+            )
         yield from self._user_steps(oracle.user, ("oracle", "user"))
         yield from self._user_steps(oracle.by_hand, ("oracle", "by_hand"))
         yield from self._interventions(oracle.interventions, ("oracle", "interventions"))
