@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from datetime import UTC, date, datetime, time
+from datetime import UTC, date, datetime, time, timedelta
 
 import pytest
 
@@ -169,3 +169,21 @@ def test_an_unquoted_yaml_date_names_a_day() -> None:
 
     matcher = compile_matcher(yaml.safe_load("{mentions_day: 2025-03-20}"))
     assert matcher.test("Thursday 20 March is fine", START)
+
+
+def test_being_out_or_away_negates_the_day_it_names() -> None:
+    thursday = START.date() + timedelta(days=2)
+    assert mentions_day("Thursday works for me.", thursday, START)
+    away = ("I'm away on Thursday.", "I'm out on Thursday.", "We'll be away Thursday", "I am out Thursday")
+    for text in away:
+        assert not mentions_day(text, thursday, START), text
+    assert mentions_day("Thursday works, I'm back from being away by then.", thursday, START)
+
+
+def test_an_unquoted_yaml_time_compares_as_a_time_with_the_state() -> None:
+    import yaml
+
+    listed = compile_matcher(yaml.safe_load("{one_of: [2025-03-20T14:00:00Z]}"))
+    assert listed.test("2025-03-20T14:00:00+00:00", START)
+    assert not listed.test("2025-03-20T15:00:00+00:00", START)
+    assert compile_matcher(yaml.safe_load("{equals: 2025-03-20 14:00:00}")).test("2025-03-20 14:00", START)

@@ -323,6 +323,10 @@ def _looks_like_time(text: str) -> bool:
 
 
 def _equal(expected: Any, value: Any, start: datetime) -> bool:
+    if isinstance(expected, datetime) and isinstance(value, str | datetime):
+        # YAML reads an unquoted 2024-12-14T14:00:00Z as a datetime; the state holds text
+        right = _time(value, start)
+        return right is not None and right == (expected if expected.tzinfo else expected.replace(tzinfo=UTC))
     if isinstance(expected, str) and isinstance(value, str | datetime) and _looks_like_time(expected):
         left, right = _time(expected, start), _time(value, start)
         if left is not None and right is not None:

@@ -35,7 +35,7 @@ Difficulty = Literal["easy", "medium", "hard"]
 ActorPattern = Literal["user", "assistant", "env", "any"]
 
 _ID = re.compile(r"^[a-z][a-z0-9_]*$")
-_REF = re.compile(r"^\$\{([A-Za-z0-9_-]+)\.([A-Za-z0-9_.\[\]-]+)\}$")
+_REF = re.compile(r"^\$\{([A-Za-z0-9_-]+)(?:\.([A-Za-z0-9_.\[\]-]+))?\}$")
 
 _MATCHER_SCHEMA: dict[str, Any] = {
     "description": "A value (equal to it), a mapping of operators that must all hold ("
@@ -65,11 +65,13 @@ DurationText = Annotated[
 
 
 def reference(value: Any) -> tuple[str, str] | None:
-    """For a ``${step.field}`` string (a value produced while the scenario runs): the step and field."""
+    """For a ``${step.field}`` string (a value produced while the scenario runs): the step and field;
+    for ``${step}`` (a tool that returns a bare id, such as a new group's), the step and ``""``.
+    """
     if isinstance(value, str):
         found = _REF.match(value.strip())
         if found:
-            return found.group(1), found.group(2)
+            return found.group(1), found.group(2) or ""
     return None
 
 
@@ -384,7 +386,7 @@ class UserStep(_Strict):
 
 class OracleAction(_Strict):
     """An action the oracle assistant takes in execute mode. ``id`` names its result for later
-    arguments written ``${id.field}``.
+    arguments written ``${id.field}``, or ``${id}`` for the whole result (a bare id).
     """
 
     id: str | None = None

@@ -78,21 +78,24 @@ class _References:
         return dict(resolve_relative_times(resolved, self.scenario.start))
 
     def _value(self, source: str, path: str, env: Environment) -> Any:
+        written = "${" + source + (f".{path}" if path else "") + "}"
         if source in self.results:
             value = self.results[source]
         else:
             positions = event_positions(env.log.entries)
             if source not in positions:
                 raise OracleRunError(
-                    f"scenario '{self.scenario.id}': the oracle needs ${{{source}.{path}}}, but '{source}' "
+                    f"scenario '{self.scenario.id}': the oracle needs {written}, but '{source}' "
                     "has not produced a result yet (an oracle action id or an event that has fired)"
                 )
             value = env.log.entries[positions[source]].result
+        if not path:
+            return value  # the whole result: a bare id
         found = lookup(value, path)
         if found is MISSING:
             raise OracleRunError(
-                f"scenario '{self.scenario.id}': ${{{source}.{path}}}: the result of '{source}' has no "
-                f"'{path}' (it is {value!r})"
+                f"scenario '{self.scenario.id}': {written}: the result of '{source}' has no "
+                f"'{path}' (it is {value!r}; ${{{source}}} names the whole result)"
             )
         return found
 

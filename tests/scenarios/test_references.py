@@ -1,0 +1,44 @@
+"""Oracle arguments that name a result produced while the scenario runs: ``${id.field}`` and ``${id}``."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import pytest
+
+from pare.bench import run_episode
+from pare.scenarios import OracleAssistant, OracleUser
+from pare.scenarios.oracle import OracleRunError
+from tests.scenarios.helpers import base, parse
+
+
+def _creates_then_edits(reference: str) -> dict[str, Any]:
+    data = base()
+    data["oracle"]["interventions"][0]["actions"] = [
+        {
+            "id": "made",
+            "tool": "calendar__add_calendar_event",
+            "args": {"title": "Call Ann", "start_datetime": "day+3 10:00", "end_datetime": "day+3 10:30"},
+        },
+        {
+            "tool": "calendar__edit_calendar_event",
+            "args": {"event_id": reference, "updates": {"location": "Zoom"}},
+        },
+        {"tool": "email__reply_to_email", "args": {"email_id": "e_ann", "content": "Thursday works!"}},
+    ]
+    return data
+
+
+def test_a_bare_id_result_is_named_by_its_step_alone() -> None:
+    scenario = parse(_creates_then_edits("${made}"))  # add_calendar_event returns the new id itself
+    result = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
+    assert result.success
+    events = result.env.snapshot()["calendar"]["events"]
+    assert [event["location"] for event in events.values() if event["title"] == "Call Ann"] == ["Zoom"]
+
+
+def test_a_field_of_a_bare_id_is_a_clear_error() -> None:
+    scenario = parse(_creates_then_edits("${made.event_id}"))
+    expected = r"has no 'event_id' \(it is 'event-1'; \$\{made\} names the whole"
+    with pytest.raises(OracleRunError, match=expected):
+        run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
