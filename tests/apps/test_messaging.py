@@ -659,3 +659,19 @@ def test_opened_conversation_can_browse_files_to_send(env: Environment) -> None:
     assert [e["path"] for e in photos] == ["/Photos/summit.jpg"]
     assert screen_of(env) == "Opened"
     err(env.call("user", "browse_files", {"directory": "/Nowhere"}), "no directory")
+
+
+def test_received_messages_are_unread_until_the_user_opens_the_conversation(env: Environment) -> None:
+    sent = ok(env.call("env", "messaging__receive_message", {"sender": "Bob Lee", "content": "Ping"}))
+    conversation = sent["conversation_id"]
+    listed = ok(env.call("assistant", "messaging__list_recent_conversations", {}, mode="observe"))
+    row = next(c for c in listed["conversations"] if c["conversation_id"] == conversation)
+    assert row["unread"] == 1
+    assert env.user_view().screen_update["conversations"][0]["unread"] == 1  # the list on screen shows it
+    opened = env.call("user", "open_conversation", {"conversation_id": conversation})
+    assert opened.ok and opened.entry is not None and opened.entry.kind == "ui"  # seeing is not writing
+    assert state(env)["conversations"][conversation]["unread"] == 0
+    ok(env.call("env", "messaging__receive_message", {"sender": "Bob Lee", "content": "Again"}))
+    assert state(env)["conversations"][conversation]["unread"] == 1
+    ok(env.call("user", "read_messages", {}))
+    assert state(env)["conversations"][conversation]["unread"] == 0

@@ -45,6 +45,9 @@ class Conversation(BaseModel):
     is_group: bool = Field(
         default=False, description="Set automatically when there are more than two participants."
     )
+    unread: int = Field(
+        default=0, ge=0, description="Messages received since the user last opened the conversation."
+    )
 
     @model_validator(mode="after")
     def _check(self) -> Conversation:
@@ -142,6 +145,7 @@ class ConversationSummary(BaseModel):
     participants: list[Participant]
     last_updated: datetime | None
     message_count: int
+    unread: int
     last_message: MessageView | None
 
 
@@ -255,6 +259,14 @@ class MessagingApp(App):
             for p in conversation.participant_ids
         ]
 
+    def mark_read(self, conversation_id: str) -> None:
+        """The user has seen this conversation's messages (it opened or read it), as a phone marks them.
+
+        Not a tool and not counted as a write: the user did not choose to change anything, so the call
+        stays a navigation or a read in the log and in attribution.
+        """
+        self.require(conversation_id).unread = 0
+
     def _summary(self, conversation: Conversation) -> ConversationSummary:
         last = conversation.messages[-1] if conversation.messages else None
         return ConversationSummary(
@@ -264,6 +276,7 @@ class MessagingApp(App):
             participants=self._participants(conversation),
             last_updated=conversation.last_updated,
             message_count=len(conversation.messages),
+            unread=conversation.unread,
             last_message=None if last is None else self.message_view(last),
         )
 
@@ -717,6 +730,7 @@ class MessagingApp(App):
             conversation.participant_ids.append(sender_id)
             conversation.is_group = True
         message = self._post(conversation, sender_id, text, path, message_id)
+        conversation.unread += 1
         name = self.state.users[sender_id]
         headline = f"New message from {name}"
         if conversation.is_group:
@@ -777,6 +791,8 @@ def _row(app: MessagingApp, conversation: Conversation) -> dict[str, Any]:
         row["last_message"] = f"{who}: {preview(text)}"
     row["time"] = short_time(conversation.last_updated)
     row["messages"] = len(conversation.messages)
+    if conversation.unread:
+        row["unread"] = conversation.unread
     return row
 
 
@@ -826,6 +842,7 @@ class ConversationList(Screen):
             conversation_id: the conversation's id.
         """
         shown = app.read_conversation(conversation_id)
+        app.mark_read(conversation_id)
         return push(ConversationOpened(conversation_id=conversation_id), shown)
 
 
@@ -878,7 +895,9 @@ class ConversationOpened(Screen):
             offset: how many of the newest messages to skip.
             limit: how many to show.
         """
-        return app.read_conversation(self.conversation_id, offset=offset, limit=limit)
+        shown = app.read_conversation(self.conversation_id, offset=offset, limit=limit)
+        app.mark_read(self.conversation_id)
+        return shown
 
 
 MessagingApp.set_screens(ConversationList, ConversationOpened)
