@@ -9,11 +9,14 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict, dataclass, replace
+from datetime import datetime
 from typing import Any
 
 from pare.env.attribution import Attribution, item_key, place_of
 from pare.scenarios.matchers import compile_matcher
 from pare.scenarios.model import (
+    WHERE_ANY,
+    WHERE_KEY,
     ActionCheck,
     ActionPattern,
     Check,
@@ -201,6 +204,27 @@ class _Missing:
 MISSING = _Missing()
 
 
+class _ItemCondition:
+    """A state check's ``where``: every field's matcher holds, and of an ``any_of`` list one mapping does."""
+
+    def __init__(self, where: Mapping[str, Any]) -> None:
+        self.fields = tuple((name, compile_matcher(raw)) for name, raw in where.items() if name != WHERE_ANY)
+        self.alternatives = tuple(_ItemCondition(item) for item in where.get(WHERE_ANY, ()))
+
+    def test(self, item: Any, start: datetime, key: str) -> bool:
+        record = item if isinstance(item, Mapping) else {}
+        return all(
+            matcher.test(key if name == WHERE_KEY else record.get(name), start)
+            for name, matcher in self.fields
+        ) and (not self.alternatives or any(option.test(item, start, key) for option in self.alternatives))
+
+    def describe(self) -> str:
+        parts = [f"{name}: {matcher.describe()}" for name, matcher in self.fields]
+        if self.alternatives:
+            parts.append("any of " + " or ".join(option.describe() for option in self.alternatives))
+        return "{" + ", ".join(parts) + "}"
+
+
 def lookup(data: Any, path: str) -> Any:
     """The value at a dotted ``path`` (mapping keys, list indexes) of JSON-like data, or :data:`MISSING`."""
     value: Any = data
@@ -241,17 +265,10 @@ def _state(check: StateCheck, context: _Context) -> tuple[bool, str]:
             False,
             f"{check.path} is not a collection (it is {type(value).__name__}); use 'value' to match it",
         )
-    where = tuple((name, compile_matcher(raw)) for name, raw in check.where.items())
-    matching = [
-        (key, item)
-        for key, item in items
-        if all(
-            matcher.test(item.get(name) if isinstance(item, Mapping) else None, start)
-            for name, matcher in where
-        )
-    ]
+    where = _ItemCondition(check.where)
+    matching = [(key, item) for key, item in items if where.test(item, start, key)]
     count = as_count(check.count, _AT_LEAST_ONE)
-    condition = "{" + ", ".join(f"{name}: {m.describe()}" for name, m in where) + "}" if where else "(any)"
+    condition = where.describe() if check.where else "(any)"
     detail = f"{check.path}: {len(matching)} of {len(items)} items match {condition}"
     if makers is not None:
         place = place_of(state, check.path) or ()

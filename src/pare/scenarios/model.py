@@ -88,6 +88,28 @@ def _valid_matcher(raw: Any, label: str = "") -> Any:
     return raw
 
 
+WHERE_KEY = "_key"
+"""In a state check's ``where``: the item's key in a keyed collection (a file's path in ``files.files``)."""
+WHERE_ANY = "any_of"
+"""In a state check's ``where``: a list of field conditions, of which an item must meet one (a name in
+the first or the last name field)."""
+
+
+def _check_where(where: dict[str, Any]) -> dict[str, Any]:
+    for name, raw in where.items():
+        if name != WHERE_ANY:
+            _valid_matcher(raw, f"field '{name}': ")
+            continue
+        if not isinstance(raw, list) or not raw or not all(isinstance(item, dict) and item for item in raw):
+            raise ValueError(
+                "'any_of' in a where lists alternatives, each a mapping of fields to matchers: "
+                "any_of: [{first_name: {contains: helen}}, {last_name: {contains: helen}}]"
+            )
+        for alternative in raw:
+            _check_where(alternative)
+    return where
+
+
 def _check_matchers(args: dict[str, Any]) -> dict[str, Any]:
     for name, raw in args.items():
         _valid_matcher(raw, f"argument '{name}': ")
@@ -185,7 +207,11 @@ class StateCheck(_Strict):
     """
 
     path: str = Field(description="Dotted path into the final state, starting with an app: calendar.events.")
-    where: dict[str, Matcher] = Field(default_factory=dict, description="Item field to matcher.")
+    where: dict[str, Any] = Field(
+        default_factory=dict,
+        description="Item field to matcher; '_key': the item's key in a keyed collection (a file's path); "
+        "'any_of': a list of such mappings, of which one must hold.",
+    )
     count: int | Count | None = Field(
         default=None, description="Exactly N, or {min, max}. Default: at least 1."
     )
@@ -199,7 +225,7 @@ class StateCheck(_Strict):
     @field_validator("where")
     @classmethod
     def _check_where(cls, value: dict[str, Any]) -> dict[str, Any]:
-        return _check_matchers(value)
+        return _check_where(value)
 
     @model_validator(mode="after")
     def _one_form(self) -> StateCheck:

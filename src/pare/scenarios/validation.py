@@ -20,6 +20,8 @@ from pare.errors import did_you_mean
 from pare.scenarios.annotations import item_type, model_fields
 from pare.scenarios.kinds import matcher_problems
 from pare.scenarios.model import (
+    WHERE_ANY,
+    WHERE_KEY,
     ActionPattern,
     Check,
     Condition,
@@ -382,18 +384,9 @@ class _Validator:
         if check.where and model is not None:
             item_fields = model_fields(item_type(model))
             if item_fields is not None:
-                for name, raw in check.where.items():
-                    if name not in item_fields:
-                        hint = did_you_mean(name, item_fields)
-                        yield Problem(
-                            (*where, "where", name),
-                            f"items of {check.path} have no field '{name}'.{hint} "
-                            f"Fields: {', '.join(item_fields)}",
-                        )
-                    else:
-                        yield from self._fits(raw, item_fields[name], (*where, "where", name))
-            for name, raw in check.where.items():
-                yield from self._id_reference(name, raw, (*where, "where", name))
+                yield from self._where_fields(check.path, check.where, item_fields, (*where, "where"))
+            for place, raw in _where_conditions(check.where, (*where, "where")):
+                yield from self._id_reference(str(place[-1]), raw, place)
 
     # -- shared pieces ---------------------------------------------------------------------------------
     def _pattern(self, pattern: ActionPattern, where: Path) -> Iterator[Problem]:
@@ -494,6 +487,24 @@ class _Validator:
         for name, value in concrete.items():
             yield from self._id_reference(name, value, (*where, name))
 
+    def _where_fields(
+        self, path: str, conditions: Mapping[str, Any], item_fields: Mapping[str, Any], where: Path
+    ) -> Iterator[Problem]:
+        for name, raw in conditions.items():
+            if name == WHERE_ANY:
+                for number, alternative in enumerate(raw):
+                    yield from self._where_fields(path, alternative, item_fields, (*where, name, number))
+            elif name == WHERE_KEY:
+                continue  # the item's key: text, matched as such
+            elif name not in item_fields:
+                hint = did_you_mean(name, item_fields)
+                yield Problem(
+                    (*where, name),
+                    f"items of {path} have no field '{name}'.{hint} Fields: {', '.join(item_fields)}",
+                )
+            else:
+                yield from self._fits(raw, item_fields[name], (*where, name))
+
     def _id_reference(self, name: str, raw: Any, where: Path) -> Iterator[Problem]:
         """An argument or field named ``*_id`` / ``*_ids`` must name ids that exist in the seed data or
         are created by events.
@@ -569,3 +580,13 @@ def _pydantic_message(item: Any) -> str:
     if item["type"] == "extra_forbidden":
         return "unknown field"
     return str(item["msg"])
+
+
+def _where_conditions(conditions: Mapping[str, Any], where: Path) -> Iterator[tuple[Path, Any]]:
+    """Every field condition of a ``where``, those inside ``any_of`` included, with where it is."""
+    for name, raw in conditions.items():
+        if name == WHERE_ANY:
+            for number, alternative in enumerate(raw):
+                yield from _where_conditions(alternative, (*where, name, number))
+        else:
+            yield (*where, name), raw
