@@ -187,3 +187,19 @@ def test_an_unquoted_yaml_time_compares_as_a_time_with_the_state() -> None:
     assert listed.test("2025-03-20T14:00:00+00:00", START)
     assert not listed.test("2025-03-20T15:00:00+00:00", START)
     assert compile_matcher(yaml.safe_load("{equals: 2025-03-20 14:00:00}")).test("2025-03-20 14:00", START)
+
+
+def test_a_weekday_written_with_its_date_names_that_date_only() -> None:
+    monday = datetime(2025, 5, 12, 8, 30, tzinfo=UTC)
+    text = "Baton practice is on Thursday 22 May at 19:30."
+    assert mentions_day(text, date(2025, 5, 22), monday)
+    assert not mentions_day(text, date(2025, 5, 15), monday)  # not this week's Thursday as well
+    assert mentions_day("Thursday works", date(2025, 5, 15), monday)
+    assert mentions_day("Tue the 20th suits", date(2025, 5, 20), monday)
+
+
+def test_a_date_earlier_in_the_text_does_not_swallow_a_later_weekday() -> None:
+    saturday = datetime(2025, 5, 17, 9, 20, tzinfo=UTC)
+    assert mentions_day(
+        "Since 12 May we have had no water. Tue and Thu mornings are free", date(2025, 5, 20), saturday
+    )

@@ -271,6 +271,10 @@ def _weekday_readings(anchor: date, weekday: int, qualifier: str) -> frozenset[d
     return frozenset({first})
 
 
+_WEEKDAY_TO_DATE = re.compile(r"[\s,.]*(?:the\s+)?", re.I)
+"""What may stand between a weekday and the date it is written with."""
+
+
 def mentions(text: str, anchor: datetime) -> list[Mention]:
     """Every day and clock time named in ``text``, in order, resolved against ``anchor``."""
     today = anchor.date()
@@ -303,11 +307,21 @@ def mentions(text: str, anchor: datetime) -> list[Mention]:
         word = match.group(1).lower()
         offset = 2 if word.startswith("the") else 1 if word == "tomorrow" else 0
         add(match, [today + timedelta(days=offset)])
+
+    def before_a_date(match: re.Match[str]) -> bool:
+        """A weekday written with its date ("Thursday 22 May"): the date says which day it is."""
+        return any(
+            start >= match.end() and _WEEKDAY_TO_DATE.fullmatch(text[match.end() : start])
+            for start, _ in taken
+        )
+
     for match in _FULL_WEEKDAY.finditer(text):
-        weekday = _WEEKDAYS.index(match.group(2).lower())
-        add(match, _weekday_readings(today, weekday, match.group(1) or ""))
+        if not before_a_date(match):
+            weekday = _WEEKDAYS.index(match.group(2).lower())
+            add(match, _weekday_readings(today, weekday, match.group(1) or ""))
     for match in _SHORT_WEEKDAY.finditer(text):
-        add(match, _weekday_readings(today, _WEEKDAY_ABBREVIATIONS[match.group(1)], ""))
+        if not before_a_date(match):
+            add(match, _weekday_readings(today, _WEEKDAY_ABBREVIATIONS[match.group(1)], ""))
     for match in _CLOCK.finditer(text):
         add(match, times=_clock_readings(int(match.group(1)), int(match.group(2)), match.group(3)))
     for match in _HOUR_SUFFIX.finditer(text):
