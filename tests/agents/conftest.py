@@ -9,6 +9,8 @@ from typing import Any
 
 import pytest
 
+from tests.agents.models.fake_server import FakeChatServer
+
 LOCAL_NAMES = {"localhost", "127.0.0.1", "::1"}
 
 
@@ -54,3 +56,14 @@ def no_network(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
     monkeypatch.setattr(socket.socket, "connect_ex", connect_ex)
     monkeypatch.setattr(socket, "getaddrinfo", getaddrinfo)
     yield
+
+
+@pytest.fixture
+def servers() -> Iterator[tuple[FakeChatServer, FakeChatServer]]:
+    """Two local OpenAI-compatible servers on 127.0.0.1: one for the user, one for the assistant."""
+    user, assistant = FakeChatServer().start(), FakeChatServer().start()
+    try:
+        yield user, assistant
+    finally:
+        user.stop()
+        assistant.stop()

@@ -8,7 +8,6 @@ the environment and the checks.
 from __future__ import annotations
 
 import json
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -29,16 +28,6 @@ SCENARIO = parse(base())
 @pytest.fixture(autouse=True)
 def api_key(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv(KEY_VARIABLE, "sk-test-not-a-real-key")
-
-
-@pytest.fixture
-def servers() -> Iterator[tuple[FakeChatServer, FakeChatServer]]:
-    user, assistant = FakeChatServer().start(), FakeChatServer().start()
-    try:
-        yield user, assistant
-    finally:
-        user.stop()
-        assistant.stop()
 
 
 def _config(server: FakeChatServer, backend: str) -> ModelConfig:

@@ -5,7 +5,6 @@ descriptions spell out nested arguments and are not repeated every turn, a pendi
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from datetime import timedelta
 from typing import Any
 
@@ -29,16 +28,6 @@ from tests.agents.test_llm_episode import (
     api_key,  # noqa: F401 - the fixture that sets the test key
 )
 from tests.agents.test_scripted_actors import WAIT_USER
-
-
-@pytest.fixture
-def servers() -> Iterator[tuple[FakeChatServer, FakeChatServer]]:
-    user, assistant = FakeChatServer().start(), FakeChatServer().start()
-    try:
-        yield user, assistant
-    finally:
-        user.stop()
-        assistant.stop()
 
 
 def _play(servers: tuple[FakeChatServer, FakeChatServer], backend: str) -> list[dict[str, Any]]:
