@@ -167,17 +167,17 @@ class LLMAssistant(AssistantPolicy):
         *,
         native_tools: bool = False,
         max_format_retries: int = 2,
-        execute_steps: int = 10,
     ) -> None:
         self.observer = Conversation(observe_model, native_tools, max_format_retries)
         self.executor = Conversation(execute_model or observe_model, native_tools, max_format_retries)
-        self.execute_steps = execute_steps
+        self.execute_steps = DEFAULT_BUDGET.execute_steps
+        """What execute mode's prompt says it may take: the turn loop's limit, given to :meth:`start`."""
         self.env: Environment | None = None
 
     def start(self, env: Environment, budget: TurnBudget = DEFAULT_BUDGET) -> None:
         """Write the observe-mode system prompt for this episode's phone."""
         self.env = env
-        self.execute_steps = budget.execute_steps  # the turn loop's limit is the one to tell the model
+        self.execute_steps = budget.execute_steps
         self.observer.reset(
             observe_system_prompt(env, native_tools=self.observer.native_tools, budget=budget)
         )

@@ -191,7 +191,6 @@ class RunModels:
                 EpisodeModel(self.clients["execute"], plan.namespace, ledger),
                 native_tools=self.clients["observe"].config.native_tools,
                 max_format_retries=retries,
-                execute_steps=config.protocol.execute_steps,
             )
         else:
             assistant = OracleAssistant(scenario)
