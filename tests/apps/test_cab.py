@@ -175,7 +175,7 @@ def test_seed_validation(changes: dict[str, Any], message: str) -> None:
 
 def test_a_seeded_current_ride_is_the_ride_under_way() -> None:
     current = ride(
-        "ride-9", HOME, DENTIST, "Default", "03-03 09:20", status="driver_assigned", driver_name="Sam"
+        "ride-9", HOME, DENTIST, "Default", "03-03 09:05", status="driver_assigned", driver_name="Sam"
     )
     env = make_env(["cab"], {"cab": {"rides": {"ride-9": current}, "current_ride_id": "ride-9"}})
     assert agent(env, "get_current_ride_status")["driver_name"] == "Sam"

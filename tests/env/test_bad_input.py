@@ -80,3 +80,28 @@ def test_internal_errors_are_returned_when_not_in_strict_mode() -> None:
     result = env.call("assistant", "notebook__list_items", {}, mode="observe")
     err(result, "internal error in notebook.list_items", "bug in pare")
     assert env.log[-1].ok is False
+
+
+MISUSE: list[tuple[Any, Any, Any, tuple[str, ...]]] = [
+    ("hacker", "notebook__add_item", None, ("unknown actor 'hacker'", "user, assistant, env, oracle")),
+    (None, "notebook__list_items", None, ("unknown actor none",)),
+    ("user", 123, None, ("tool name must be a non-empty string", "123")),
+    ("assistant", None, None, ("tool name must be a non-empty string",)),
+    ("assistant", "", None, ("tool name must be a non-empty string",)),
+    ("assistant", "notebook__add_item", "banana", ("unknown assistant mode 'banana'", "observe, execute")),
+    ("user", "open_app", "execute", ("only the assistant calls tools in a mode",)),
+]
+
+
+@pytest.mark.parametrize(("actor", "tool", "mode", "fragments"), MISUSE)
+def test_python_misuse_of_call_is_refused_not_raised_and_grants_nothing(
+    env: Environment, actor: Any, tool: Any, mode: Any, fragments: tuple[str, ...]
+) -> None:
+    """A caller's mistake (not an actor, not a tool name, not a mode) is an error result: no exception,
+    no log entry (the log holds only the four actors' calls), no access, no change."""
+    before = env.snapshot(include_navigation=True)
+    result = env.call(actor, tool, {"text": "sneaked in"}, mode=mode)
+    err(result, *fragments)
+    assert result.entry is None
+    assert len(env.log) == 0
+    assert env.snapshot(include_navigation=True) == before

@@ -161,6 +161,23 @@ class App:
                 for item in error.errors()
             )
             raise UserInputError(f"{place}: {problems}") from None
+        now = self.ctx.now()
+        late = self.records_dated_after(now)
+        if late:
+            place = where or f"seed data of app '{self.name}'"
+            raise UserInputError(
+                f"{place}: dated after the episode's start ({now:%Y-%m-%d %H:%M}), which would make later "
+                f"edits stamp records before they existed: {'; '.join(late)}. Give them a time at or "
+                "before the start, or make them events that arrive during the episode."
+            )
+
+    def records_dated_after(self, now: datetime) -> list[str]:
+        """The loaded records that say they already happened (sent, created, placed) after ``now``.
+
+        Seed data describes the phone at the episode's start; such a record would be edited at a
+        time before its own creation.
+        """
+        return []
 
     def notify(self, kind: str, headline: str, **kwargs: Any) -> None:
         """Post a notification from this app."""

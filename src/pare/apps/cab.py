@@ -228,6 +228,14 @@ class CabApp(App):
     state: CabState
 
     # -- helpers used by screens --------------------------------------------------------------------
+    def records_dated_after(self, now: datetime) -> list[str]:
+        """See :meth:`App.records_dated_after`."""
+        return [
+            f"ride '{ride.ride_id}' booked {ride.booked_at:%Y-%m-%d %H:%M}"
+            for ride in self.state.rides.values()
+            if ride.booked_at > now
+        ]
+
     def require_ride(self, ride_id: str) -> Ride:
         """Return the ride with ``ride_id``; raise a :class:`ToolError` naming it otherwise."""
         ride = self.state.rides.get(ride_id)

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import posixpath
 import re
+from datetime import datetime
 from enum import StrEnum
 from typing import Any
 
@@ -135,6 +136,18 @@ class EmailApp(App):
     state: EmailState
 
     # -- helpers used by other apps and screens -----------------------------------------------------
+    def attached_paths(self) -> list[tuple[str, str]]:
+        """Every (holder, path) of a file an email has attached, e.g. ("email 'email-3'", "/Docs/a.pdf")."""
+        return [(f"email '{e.email_id}'", path) for e in self.state.emails.values() for path in e.attachments]
+
+    def records_dated_after(self, now: datetime) -> list[str]:
+        """See :meth:`App.records_dated_after`."""
+        return [
+            f"email '{email.email_id}' sent {email.timestamp:%Y-%m-%d %H:%M}"
+            for email in self.state.emails.values()
+            if email.timestamp > now
+        ]
+
     def require(self, email_id: str) -> Email:
         """Return the email with ``email_id``; :class:`ToolError` naming it otherwise."""
         email = self.state.emails.get(email_id)
@@ -402,6 +415,11 @@ class EmailApp(App):
         to = self.check_addresses(recipients, "recipients")
         if not to:
             raise ToolError("Forwarding needs at least one recipient.")
+        if original.attachments:
+            files = self.files()
+            missing = [path for path in original.attachments if not files.exists(path)]
+            if missing:
+                raise files.missing_attachment(missing[0], f"email '{email_id}'")
         header = (
             f"{_FORWARD_RULE}\nFrom: {original.sender}\nDate: {original.timestamp:%Y-%m-%d %H:%M}\n"
             f"Subject: {original.subject}\nTo: {', '.join(original.recipients)}\n\n"
@@ -475,7 +493,10 @@ class EmailApp(App):
             raise ToolError(f"Email '{email_id}' has no attachments.")
         files = self.files()
         folder = normalize_path(path)
-        sources = [files.require(source) for source in email.attachments]
+        missing = [source for source in email.attachments if not files.exists(source)]
+        if missing:
+            raise files.missing_attachment(missing[0], f"email '{email_id}'")
+        sources = list(email.attachments)
         plan: dict[str, str] = {}
         for source in sources:
             content = files.state.files[source].content

@@ -143,6 +143,28 @@ class FilesApp(App):
             raise ToolError(f"No file at {normalized}. Use files__list_directory to see what is stored.")
         return normalized
 
+    def _dangling_note(self, gone: set[str], how: str) -> str:
+        """What a move or delete of the files ``gone`` leaves pointing at nothing: attachments of emails,
+        notes and messages are paths in Files, so they keep the old path and can no longer be opened,
+        downloaded or forwarded. Said in the result so that whoever did it knows (empty when none).
+        """
+        holders: list[str] = []
+        for app in self.ctx.apps.values():
+            attached = getattr(app, "attached_paths", None)
+            if attached is not None:
+                holders.extend(holder for holder, path in attached() if path in gone)
+        if not holders:
+            return ""
+        shown = ", ".join(holders[:5]) + (f" and {len(holders) - 5} more" if len(holders) > 5 else "")
+        return f" Attachments still point at what you {how} and now show it as missing: {shown}."
+
+    def missing_attachment(self, path: str, holder: str) -> ToolError:
+        """The error for an attachment of ``holder`` whose file is no longer in Files."""
+        return ToolError(
+            f"The file {path} attached to {holder} is no longer in Files (it was moved or deleted after it "
+            "was attached)."
+        )
+
     def check_can_store(self, path: str) -> None:
         """Raise :class:`ToolError` when :meth:`store` at ``path`` would fail (so a caller storing several
         files can check them all before writing any).
@@ -326,14 +348,14 @@ class FilesApp(App):
                 raise ToolError(f"{ancestor} is a file, so it cannot contain {dst}.")
         if is_file:
             self.state.files[dst] = self.state.files.pop(src)
-            return dst
+            return dst + self._dangling_note({src}, "moved away from")
         files, directories = self._entries_under(src)
         for path in files:
             self.state.files[dst + path[len(src) :]] = self.state.files.pop(path)
         moved = [dst + d[len(src) :] for d in directories]
         kept = [d for d in self.state.directories if d != src and d not in directories]
         self.state.directories = sorted({*kept, *moved, dst})
-        return dst
+        return dst + self._dangling_note(set(files), "moved away from")
 
     @tool("write")
     def copy_file(self, source: str, destination: str) -> str:
@@ -370,7 +392,7 @@ class FilesApp(App):
         normalized = normalize_path(path)
         if normalized in self.state.files:
             del self.state.files[normalized]
-            return f"Deleted file {normalized}."
+            return f"Deleted file {normalized}." + self._dangling_note({normalized}, "deleted")
         if normalized == "/":
             raise ToolError("The root of the phone's storage cannot be deleted.")
         if not self.is_directory(normalized):
@@ -385,7 +407,9 @@ class FilesApp(App):
             del self.state.files[file_path]
         gone = {normalized, *directories}
         self.state.directories = [d for d in self.state.directories if d not in gone]
-        return f"Deleted directory {normalized} and {len(files)} files."
+        return f"Deleted directory {normalized} and {len(files)} files." + self._dangling_note(
+            set(files), "deleted"
+        )
 
     # -- the world -------------------------------------------------------------------------------------
     @tool("env", actors=())

@@ -193,6 +193,25 @@ class MessagingApp(App):
     state: MessagingState
 
     # -- helpers used by screens -----------------------------------------------------------------------
+    def attached_paths(self) -> list[tuple[str, str]]:
+        """Every (holder, path) of a file a message has attached."""
+        return [
+            (f"message '{m.message_id}'", m.attachment)
+            for c in self.state.conversations.values()
+            for m in c.messages
+            if m.attachment is not None
+        ]
+
+    def records_dated_after(self, now: datetime) -> list[str]:
+        """See :meth:`App.records_dated_after`."""
+        return [
+            f"message '{message.message_id}' of conversation '{conversation.conversation_id}' sent "
+            f"{message.timestamp:%Y-%m-%d %H:%M}"
+            for conversation in self.state.conversations.values()
+            for message in conversation.messages
+            if message.timestamp > now
+        ]
+
     @property
     def me(self) -> str:
         """The phone owner's user id."""

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Iterable
+from datetime import datetime
 from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
@@ -125,6 +126,18 @@ class NotesApp(App):
     state: NotesState
 
     # -- helpers used by other apps and screens -----------------------------------------------------
+    def attached_paths(self) -> list[tuple[str, str]]:
+        """Every (holder, path) of a file a note has attached."""
+        return [(f"note '{n.note_id}'", path) for n in self.state.notes.values() for path in n.attachments]
+
+    def records_dated_after(self, now: datetime) -> list[str]:
+        """See :meth:`App.records_dated_after`."""
+        return [
+            f"note '{note.note_id}' created or updated {max(note.created_at, note.updated_at):%Y-%m-%d %H:%M}"
+            for note in self.state.notes.values()
+            if max(note.created_at, note.updated_at) > now
+        ]
+
     def require(self, note_id: str) -> Note:
         """Return the note with ``note_id``; raise a :class:`ToolError` naming it otherwise."""
         note = self.state.notes.get(note_id)

@@ -6,6 +6,7 @@
 from __future__ import annotations
 
 from collections.abc import Iterable
+from datetime import datetime
 from decimal import ROUND_HALF_UP, Decimal
 from typing import Any, Literal
 
@@ -401,6 +402,15 @@ class ShoppingApp(App):
     state: ShoppingState
 
     # -- helpers used by screens ---------------------------------------------------------------------
+    def records_dated_after(self, now: datetime) -> list[str]:
+        """See :meth:`App.records_dated_after`."""
+        return [
+            f"order '{order.order_id}' placed or updated "
+            f"{max(order.placed_at, order.updated_at):%Y-%m-%d %H:%M}"
+            for order in self.state.orders.values()
+            if max(order.placed_at, order.updated_at) > now
+        ]
+
     def require_product(self, product_id: str) -> Product:
         """Return the product with ``product_id``; raise a :class:`ToolError` naming it otherwise."""
         product = self.state.products.get(product_id)

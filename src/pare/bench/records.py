@@ -18,7 +18,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 from pare.agents.models.ledger import RoleUsage
 from pare.agents.policy import SEND_MESSAGE
@@ -41,7 +41,7 @@ ANSWERS: dict[str, Decision] = {"accept_proposal": "accept", "reject_proposal": 
 class ProposalRecord(BaseModel):
     """One proposal the assistant made and what the user did with it."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     proposal_id: str
     turn: int = Field(description="Turn in which the assistant proposed.")
@@ -57,7 +57,7 @@ class ProposalRecord(BaseModel):
 class Failure(BaseModel):
     """Why an episode could not be run (missing coverage, not a failure of the model)."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     kind: FailureKind
     message: str
@@ -66,10 +66,21 @@ class Failure(BaseModel):
 class EpisodeRecord(BaseModel):
     """The summary line of one episode (scenario x run) of one configuration."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     format: int = RECORD_FORMAT
     scenario_id: str
+
+    @field_validator("format")
+    @classmethod
+    def _known_format(cls, value: int) -> int:
+        if value != RECORD_FORMAT:
+            raise ValueError(
+                f"record format {value}, but this PARE reads format {RECORD_FORMAT}; read it with the PARE "
+                "version that wrote it"
+            )
+        return value
+
     run: int = Field(ge=1, description="Run index, 1 to k.")
     status: EpisodeStatus
     attempts: int = Field(default=1, ge=1, description="Times the episode was started in this session.")

@@ -21,7 +21,7 @@ Warnings do not fail the gate: a reactive reply that restates what the assistant
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterable, Iterator, Mapping
+from collections.abc import Callable, Collection, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -101,29 +101,31 @@ class ScenarioVerdict:
         """One line per broken demand."""
         lines = [f"{self.scenario_id}: {problem}" for problem in self.problems]
         for run in self.runs:
-            if run.ok:
-                continue
-            if run.problems:
-                lines.extend(f"{self.scenario_id} [{run.run}]: {problem}" for problem in run.problems)
-            else:
-                wanted = "succeed" if run.expected_success else "fail"
-                reason = f" ({run.why})" if run.why else ""
-                lines.append(f"{self.scenario_id} [{run.run}]: should {wanted} but did not{reason}")
+            if not run.ok:
+                lines.extend(_run_breaches(self.scenario_id, run))
         return lines
 
 
-def check_scenario(scenario: Scenario, settings: EpisodeSettings | None = None) -> ScenarioVerdict:
-    """Run every self-test run and every declared variant on ``scenario``."""
+def check_scenario(
+    scenario: Scenario,
+    settings: EpisodeSettings | None = None,
+    *,
+    runs: Collection[str] | None = None,
+    variants: bool = True,
+) -> ScenarioVerdict:
+    """Run every self-test run (or only ``runs``) and every declared variant (unless ``variants`` is
+    false) on ``scenario``.
+    """
     began = time.perf_counter()
     verdicts = []
     details: dict[str, EpisodeResult] = {}
     plays: list[tuple[str, PolicyPair, bool, str]] = [
         (name, make, expected, "")
         for name, (make, expected) in RUNS.items()
-        if scenario.kind == "proposal" or name in NO_PROPOSAL_RUNS
+        if (scenario.kind == "proposal" or name in NO_PROPOSAL_RUNS) and (runs is None or name in runs)
     ]
     fails: dict[str, list[str]] = {}
-    for variant in scenario.variants:
+    for variant in scenario.variants if variants else ():
         pair = _playing(scenario.solution(variant.id))
         plays.append((f"variant:{variant.id}", pair, variant.expect == "pass", variant.why))
         fails[f"variant:{variant.id}"] = variant.fails
@@ -161,6 +163,22 @@ def check_scenario(scenario: Scenario, settings: EpisodeSettings | None = None) 
         tuple(_declaration_problems(scenario)),
         tuple(restated_answers(scenario)),
     )
+
+
+def oracle_breaches(scenario: Scenario) -> list[str]:
+    """What is wrong with ``scenario``'s oracle run: a failed call, a reaction that never fired, a goal
+    it does not meet. Empty when the oracle passes, as the gate demands.
+    """
+    verdict = check_scenario(scenario, runs=("oracle",), variants=False)
+    return [line for run in verdict.runs if not run.ok for line in _run_breaches(scenario.id, run)]
+
+
+def _run_breaches(scenario_id: str, run: RunVerdict) -> list[str]:
+    if run.problems:
+        return [f"{scenario_id} [{run.run}]: {problem}" for problem in run.problems]
+    wanted = "succeed" if run.expected_success else "fail"
+    reason = f" ({run.why})" if run.why else ""
+    return [f"{scenario_id} [{run.run}]: should {wanted} but did not{reason}"]
 
 
 def _settings_for(name: str, scenario: Scenario, settings: EpisodeSettings | None) -> EpisodeSettings | None:

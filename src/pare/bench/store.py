@@ -100,7 +100,12 @@ def read_records(path: Path) -> list[EpisodeRecord]:
     if not path.exists():
         return []
     records: list[EpisodeRecord] = []
-    lines = path.read_text(encoding="utf-8").split("\n")
+    try:
+        lines = path.read_bytes().decode("utf-8").split("\n")
+    except UnicodeDecodeError as error:
+        raise UserInputError(f"{path}: not an episodes file (not UTF-8 text at byte {error.start})") from None
+    except OSError as error:
+        raise UserInputError(f"{path}: cannot read the episodes file: {error.strerror or error}") from None
     for number, line in enumerate(lines, start=1):
         if not line.strip():
             continue
@@ -113,6 +118,23 @@ def read_records(path: Path) -> list[EpisodeRecord]:
                 f"{path}:{number}: not an episode record: {error.errors()[0]['msg']}"
             ) from None
     return records
+
+
+def read_manifest(file: Path) -> dict[str, Any]:
+    """A run folder's manifest, or a :class:`UserInputError` that says what is wrong with it."""
+    try:
+        data = json.loads(file.read_bytes().decode("utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
+        reason = error.strerror if isinstance(error, OSError) and error.strerror else error
+        raise UserInputError(f"{file}: cannot read the manifest: {reason}") from None
+    if not isinstance(data, dict) or not isinstance(data.get("format"), int):
+        raise UserInputError(f"{file}: not a PARE run manifest (a JSON object with a format number)")
+    if data["format"] != MANIFEST_FORMAT:
+        raise UserInputError(
+            f"{file}: manifest format {data['format']}, but this PARE reads format {MANIFEST_FORMAT}; "
+            "read it with the PARE version that wrote it"
+        )
+    return data
 
 
 def latest_records(records: Iterable[EpisodeRecord]) -> dict[EpisodeKey, EpisodeRecord]:
@@ -185,13 +207,7 @@ class RunStore:
                     "choose another --output"
                 )
             return None
-        try:
-            data = json.loads(file.read_text(encoding="utf-8"))
-        except (OSError, json.JSONDecodeError) as error:
-            raise UserInputError(f"{file}: cannot read the manifest: {error}") from None
-        if not isinstance(data, dict) or data.get("format") != MANIFEST_FORMAT:
-            raise UserInputError(f"{file}: not a PARE run manifest (format {MANIFEST_FORMAT})")
-        return data
+        return read_manifest(file)
 
     # -- writing -------------------------------------------------------------------------------------------
     def done(self, key: EpisodeKey) -> bool:
@@ -346,15 +362,18 @@ def load_run(path: Path) -> LoadedRun:
         raise UserInputError(
             f"{path} is not a PARE run folder (no {MANIFEST}); pass the folder 'pare run' made"
         )
-    try:
-        manifest = json.loads(file.read_text(encoding="utf-8"))
-    except (OSError, json.JSONDecodeError) as error:
-        raise UserInputError(f"{file}: cannot read the manifest: {error}") from None
+    manifest = read_manifest(file)
     plan = manifest.get("plan", {})
-    runs = int(plan.get("runs", 1))
-    planned = [
-        (scenario_id, run) for scenario_id in sorted(plan.get("scenarios", {})) for run in range(1, runs + 1)
-    ]
+    runs = plan.get("runs", 1) if isinstance(plan, dict) else None
+    scenarios = plan.get("scenarios", {}) if isinstance(plan, dict) else None
+    if not isinstance(runs, int) or runs < 1 or not isinstance(scenarios, dict | list):
+        raise UserInputError(
+            f"{file}: its 'plan' is not a run plan (runs and scenarios); the file is damaged"
+        )
+    planned = [(str(scenario_id), run) for scenario_id in sorted(scenarios) for run in range(1, runs + 1)]
+    sweep_point = manifest.get("sweep_point", {})
+    if not isinstance(sweep_point, dict):
+        raise UserInputError(f"{file}: its 'sweep_point' is not a mapping; the file is damaged")
     records = latest_records(read_records(path / EPISODES))
     return LoadedRun(
         path=path,
@@ -363,7 +382,7 @@ def load_run(path: Path) -> LoadedRun:
         runs=runs,
         planned=planned,
         records=[records[key] for key in sorted(records)],
-        sweep_point=dict(manifest.get("sweep_point", {})),
+        sweep_point=dict(sweep_point),
     )
 
 
@@ -378,7 +397,7 @@ def run_folders(paths: Iterable[Path]) -> list[Path]:
             raise UserInputError(f"{path}: no such run folder")
         inner = sorted(child for child in path.iterdir() if (child / MANIFEST).exists())
         if (path / SWEEP_FILE).exists():  # a sweep lists its points in the grid's order
-            order = [point["folder"] for point in json.loads((path / SWEEP_FILE).read_text())["points"]]
+            order = _sweep_order(path / SWEEP_FILE)
             inner.sort(key=lambda child: order.index(child.name) if child.name in order else len(order))
         if not inner:
             raise UserInputError(
@@ -386,3 +405,14 @@ def run_folders(paths: Iterable[Path]) -> list[Path]:
             )
         found.extend(inner)
     return found
+
+
+def _sweep_order(file: Path) -> list[str]:
+    """The point folders a sweep description lists, in the grid's order."""
+    try:
+        points = json.loads(file.read_bytes().decode("utf-8"))["points"]
+        return [str(point["folder"]) for point in points]
+    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError) as error:
+        raise UserInputError(
+            f"{file}: not a PARE sweep description ({error!s}); the file is damaged"
+        ) from None

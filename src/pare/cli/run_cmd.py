@@ -194,6 +194,8 @@ def run(
     }
     config = load_config(config_file, collect_overrides(sets=sets, flags=flags, models=models))
     console = Console()
+    if config.scenarios.paths:
+        warn_about_broken_oracles(config, console)
     try:
         summary = run_benchmark(config, progress=progress_sink(progress))
     except KeyboardInterrupt:
@@ -205,6 +207,26 @@ def run(
     print_summary(summary, console)
     if summary.failed:
         raise typer.Exit(1)
+
+
+def warn_about_broken_oracles(config: RunConfig, console: Console) -> None:
+    """Scenario files given by path have not been through the library's gate: play each one's oracle
+    first, and say which cannot be passed even by their own solution (their success rates would mean
+    nothing). The run goes on; ``pare scenarios check`` gives the whole gate.
+    """
+    from pare.bench.runner import select_scenarios
+    from pare.bench.selftest import oracle_breaches
+
+    for scenario in select_scenarios(config).values():
+        breaches = oracle_breaches(scenario)
+        if breaches:
+            console.print(
+                f"[yellow]warning[/yellow]: the oracle of scenario '{scenario.id}' does not pass, so no "
+                "assistant can be judged fairly on it; see 'pare scenarios check'.",
+                highlight=False,
+            )
+            for line in breaches[:5]:
+                console.print(f"  {line}", highlight=False, markup=False)
 
 
 def sweep(

@@ -29,6 +29,7 @@ from pare.sim.notifications import NotificationCenter
 from pare.sim.rng import EpisodeRandom
 
 MODES: tuple[AssistantMode, ...] = ("observe", "execute")
+ACTORS: tuple[Actor, ...] = ("user", "assistant", "env", "oracle")
 _CONTROL_APPS = ("system", "agent_ui")
 """Apps whose tools are the turn protocol, not app data: never failed on purpose."""
 
@@ -45,6 +46,19 @@ class _Call:
     event_id: str | None
     kind: ToolKind | None = None
     screen: str | None = None
+
+
+def _misuse(actor: object, tool: object, mode: object) -> str | None:
+    """What is wrong with a call's actor, tool name or mode as Python values, if anything."""
+    if actor not in ACTORS:
+        return f"Unknown actor {actor!r}: calls are made by one of {', '.join(ACTORS)}."
+    if not isinstance(tool, str) or not tool:
+        return f"The tool name must be a non-empty string, got {tool!r}."
+    if mode is not None and mode not in MODES:
+        return f"Unknown assistant mode {mode!r}: one of {', '.join(MODES)}."
+    if mode is not None and actor != "assistant":
+        return f"Only the assistant calls tools in a mode; {actor} was given mode {mode!r}."
+    return None
 
 
 class Environment:
@@ -152,6 +166,11 @@ class Environment:
         ``go_back``). Everyone else calls them by qualified names (``email__send_email``). The assistant
         must say which ``mode`` it is in (observe when not said); it may use only that mode's tools.
         """
+        misuse = _misuse(actor, tool, mode)
+        if misuse is not None:
+            # A caller's programming mistake, not an act in the world: nothing is logged (the log only
+            # holds the four actors' calls) and nothing is granted; the error says what was wrong.
+            return ToolResult(ok=False, error=misuse)
         if actor == "assistant" and mode is None:
             mode = "observe"
         app_name, _, tool_name = tool.partition("__")

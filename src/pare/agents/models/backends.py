@@ -13,6 +13,7 @@ import math
 import os
 import re
 import time
+import warnings
 from dataclasses import dataclass
 from types import ModuleType
 from typing import Any, Literal, Protocol
@@ -212,6 +213,10 @@ def import_litellm() -> ModuleType:
             "(or use backend 'openai' for OpenAI and OpenAI-compatible endpoints)"
         )
     os.environ.setdefault("LITELLM_LOCAL_MODEL_COST_MAP", "True")
+    # litellm (1.110) declares TypedDicts with ReadOnly items in a module it imports on the first
+    # request; pydantic warns about them each run. The warning is about litellm's own types and says
+    # nothing a PARE user can act on.
+    warnings.filterwarnings("ignore", message=r".*using the `ReadOnly` qualifier", category=UserWarning)
     import litellm
 
     litellm.suppress_debug_info = True
