@@ -62,5 +62,7 @@ def test_a_directory_cannot_take_a_files_path() -> None:
 def test_an_attachment_whose_file_was_deleted_says_so() -> None:
     env = make_env(["email"], SEED)
     ok(call(env, "files__delete", path=DEPOSIT))
-    err(call(env, "email__download_attachments", email_id="e-lease"), f"{DEPOSIT} attached to email 'e-lease'")
+    err(
+        call(env, "email__download_attachments", email_id="e-lease"), f"{DEPOSIT} attached to email 'e-lease'"
+    )
     assert "/Downloads/lease.pdf" not in files_state(env)["files"]

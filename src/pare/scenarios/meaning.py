@@ -140,8 +140,64 @@ DECLINE_CUES: tuple[str, ...] = (
     "can't share",
     "cannot share",
     "no room",
+    "no thanks",
+    "no thank you",
+    "i'll pass",
+    "i will pass",
+    "pass this time",
+    "give it a miss",
+    "sit this one out",
+    "not for me",
+    "can't attend",
+    "cannot attend",
+    "won't attend",
+    "won't be coming",
+    "not coming",
+    "not interested",
+    "count me out",
+    "rather not",
+    "another time",
+    "next time",
+    "rain check",
 )
 """Phrases that make a whole message a refusal or a cancellation."""
+
+_BARE_REFUSAL = re.compile(
+    r"\W*(?:no|nope|nah|can't|cannot|sadly,?\s+(?:no|not)|(?:i'm\s+)?afraid\s+not|sorry,?\s+no)\W*", re.I
+)
+"""A clause that is only a refusal ("Can't, sorry"; "No, I'm fine"; "Sadly not")."""
+
+_REFUSAL_PATTERNS = (re.compile(r"(?<![^\W\d_])no\s+need(?!\s+(?:to|for)\b)", re.I),)
+"""Refusals that need more than a phrase: "no need" (but not "no need to worry")."""
+
+COUNTER_OFFER_CUES: tuple[str, ...] = (
+    "instead",
+    "how about",
+    "what about",
+    "works",
+    "work for",
+    "would work",
+    "suits",
+    "would suit",
+    "is fine",
+    "is better",
+    "i can do",
+    "i could do",
+    "i'll take",
+    "i will take",
+    "could i have",
+    "could i get",
+    "can i have",
+    "can i get",
+    "could we do",
+    "can we do",
+    "could we move",
+    "can we move",
+    "happy to",
+    "would love",
+)
+"""Phrases by which a later clause takes up another option ("Thursday won't work, but Friday is fine"):
+the message then turns one option down and is not a refusal as a whole."""
 
 
 _FRIENDLY_IDIOMS = re.compile(
@@ -178,9 +234,32 @@ def affirms(text: str, piece: str) -> bool:
 
 
 def declines(text: str) -> bool:
-    """Whether ``text`` reads as a refusal, a cancellation or a "does not work"."""
-    text = _FRIENDLY_IDIOMS.sub(" ", _normalise_quotes(text))
-    return any(has_word(text, cue) for cue in DECLINE_CUES)
+    """Whether ``text`` reads as a refusal, a cancellation or a "does not work" as a whole.
+
+    A message that turns one option down and then takes up another in a later clause of its own ("12:00
+    won't work, so could I have until 14:00?") is a counter-offer, not a refusal.
+    """
+    parts = [_FRIENDLY_IDIOMS.sub(" ", part) for part in clauses(text)]
+    refusing = [
+        index
+        for index, part in enumerate(parts)
+        if any(has_word(part, cue) for cue in DECLINE_CUES)
+        or any(pattern.search(part) for pattern in _REFUSAL_PATTERNS)
+        or (index == 0 and _BARE_REFUSAL.fullmatch(part))
+    ]
+    if not refusing:
+        return False
+    return not any(
+        not _denies(part) and any(has_word(part, cue) for cue in COUNTER_OFFER_CUES)
+        for part in parts[refusing[0] + 1 :]
+    )
+
+
+def _denies(clause: str) -> bool:
+    """Whether ``clause`` is negated, "nothing works" and "neither suits" included."""
+    return is_negated(clause) or any(
+        has_word(clause, cue) for cue in ("nothing", "neither", "none", "nobody")
+    )
 
 
 # -- days and clock times ---------------------------------------------------------------------------------
