@@ -513,3 +513,27 @@ def test_state_paths_step_through_id_keyed_collections() -> None:
         in problems
     )
     assert "did you mean 'sender_id'" in problems.lower()
+
+
+
+def test_an_intervention_longer_than_the_execute_budget_is_refused() -> None:
+    """Actions past the budget would silently never run, and the gate would blame the checks instead."""
+    data = base()
+    actions = data["oracle"]["interventions"][0]["actions"]
+    data["oracle"]["interventions"][0]["actions"] = (actions * 10)[:10]
+    found = problems_of(data)
+    assert any(
+        "oracle.interventions[0].actions" in problem
+        and "10 actions and the report make 11 steps, more than the 10" in problem
+        for problem in found
+    ), found
+    data["oracle"]["interventions"][0]["actions"] = (actions * 9)[:9]
+    assert not any("execute_steps" in problem for problem in _problems_or_none(data))
+
+
+def _problems_or_none(data: dict[str, Any]) -> list[str]:
+    try:
+        parse(data)
+    except ScenarioError as error:
+        return [str(problem) for problem in error.problems]
+    return []

@@ -14,6 +14,7 @@ from typing import Any
 
 from pydantic import ValidationError
 
+from pare.agents.policy import DEFAULT_BUDGET
 from pare.apps.registry import CORE_APPS, get_app_class
 from pare.apps.tools import ToolSpec, describe_argument_errors
 from pare.errors import did_you_mean
@@ -290,6 +291,14 @@ class _Validator:
             where: Path = (*at, number)
             if intervention.when is not None:
                 yield from self._condition(intervention.when, (*where, "when"))
+            if len(intervention.actions) >= DEFAULT_BUDGET.execute_steps:
+                yield Problem(
+                    (*where, "actions"),
+                    f"{len(intervention.actions)} actions and the report make "
+                    f"{len(intervention.actions) + 1} steps, more than the {DEFAULT_BUDGET.execute_steps} an "
+                    "accepted task gets (execute_steps): what comes after the limit would never run; do it "
+                    "in fewer actions or split the work into two proposals",
+                )
             for index, action in enumerate(intervention.actions):
                 place: Path = (*where, "actions", index)
                 spec = catalog.flat.get(action.tool)
