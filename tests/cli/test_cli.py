@@ -58,3 +58,25 @@ def test_files_has_no_diagram(capsys: pytest.CaptureFixture[str]) -> None:
     assert "files__list_directory" in capsys.readouterr().out
     assert main(["apps", "show", "files", "--mermaid"]) == 2
     assert "has no screens" in capsys.readouterr().err
+
+
+def test_the_command_line_loads_the_library_only_for_commands_that_use_it() -> None:
+    """`pare --help` (and every command's registration) imports no apps, scenarios, harness or model
+    client: each command imports what it uses when it runs, so the command line starts fast."""
+    import subprocess
+    import sys
+
+    heavy = (
+        "pare.apps",
+        "pare.scenarios",
+        "pare.env",
+        "pare.agents",
+        "pare.bench.runner",
+        "pare.bench.metrics",
+        "pare.bench.episode",
+        "pydantic",
+        "openai",
+    )
+    code = f"import sys, pare.cli\nprint(sorted(m for m in sys.modules if m.startswith({heavy!r})))\n"
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "[]"

@@ -150,3 +150,10 @@ def test_similar_finds_a_story_told_again_with_names_changed(
     assert main(["scenarios", "similar", str(tmp_path)]) == 1
     out = capsys.readouterr().out
     assert "1 pair(s) tell the same story:" in out and "tiny_reply ~ tiny_reply_again (0.9" in out
+
+
+def test_the_similar_help_states_the_library_threshold(capsys: pytest.CaptureFixture[str]) -> None:
+    from pare.scenarios.similarity import THRESHOLD
+
+    assert main(["scenarios", "similar", "--help"]) == 0
+    assert f"threshold, {THRESHOLD:.2f})" in " ".join(capsys.readouterr().out.split())

@@ -8,21 +8,51 @@
 * :mod:`pare.agents.scripted` — a scripted model for tests and demos.
 """
 
-from pare.agents.actions import ParsedAction, format_action, parse_action, to_action
-from pare.agents.judge import ModelJudge
-from pare.agents.llm import ChatModel, LLMAssistant, LLMUser
-from pare.agents.policy import (
-    ASSISTANT_WAIT,
-    SEND_MESSAGE,
-    WAIT,
-    Action,
-    AssistantPolicy,
-    SilentAssistant,
-    SilentUser,
-    Task,
-    UserPolicy,
+from typing import TYPE_CHECKING
+
+from pare._lazy import lazy_exports
+
+if TYPE_CHECKING:
+    from pare.agents.actions import ParsedAction, format_action, parse_action, to_action
+    from pare.agents.judge import ModelJudge
+    from pare.agents.llm import ChatModel, LLMAssistant, LLMUser
+    from pare.agents.policy import (
+        ASSISTANT_WAIT,
+        SEND_MESSAGE,
+        WAIT,
+        Action,
+        AssistantPolicy,
+        SilentAssistant,
+        SilentUser,
+        Task,
+        UserPolicy,
+    )
+    from pare.agents.scripted import ScriptedModel, ScriptExhausted
+
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    {
+        "ParsedAction": "actions",
+        "format_action": "actions",
+        "parse_action": "actions",
+        "to_action": "actions",
+        "ModelJudge": "judge",
+        "ChatModel": "llm",
+        "LLMAssistant": "llm",
+        "LLMUser": "llm",
+        "ASSISTANT_WAIT": "policy",
+        "SEND_MESSAGE": "policy",
+        "WAIT": "policy",
+        "Action": "policy",
+        "AssistantPolicy": "policy",
+        "SilentAssistant": "policy",
+        "SilentUser": "policy",
+        "Task": "policy",
+        "UserPolicy": "policy",
+        "ScriptedModel": "scripted",
+        "ScriptExhausted": "scripted",
+    },
 )
-from pare.agents.scripted import ScriptedModel, ScriptExhausted
 
 __all__ = [
     "ASSISTANT_WAIT",

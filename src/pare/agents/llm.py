@@ -15,10 +15,11 @@ from typing import Any, Protocol
 
 from pare.agents.actions import parse_action, parse_tool_arguments
 from pare.agents.models.types import ChatMessage, Completion
-from pare.agents.policy import DEFAULT_BUDGET, Action, AssistantPolicy, Task, TurnBudget, UserPolicy
+from pare.agents.policy import Action, AssistantPolicy, Task, UserPolicy
 from pare.agents.prompts import execute_system_prompt, observe_system_prompt, user_system_prompt
 from pare.env import AssistantObservation, Environment, ToolResult, UserView
 from pare.errors import ActionFormatError
+from pare.sim.budget import DEFAULT_BUDGET, TurnBudget
 
 
 class ChatModel(Protocol):

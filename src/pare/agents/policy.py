@@ -14,6 +14,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from pare.env import AssistantObservation, Environment, ToolResult, UserView
+from pare.sim.budget import DEFAULT_BUDGET as DEFAULT_BUDGET  # re-exported: the actors are told it
+from pare.sim.budget import TurnBudget as TurnBudget
 
 WAIT = "wait"
 """The user's name for waiting."""
@@ -47,24 +49,6 @@ class Action:
             "error": self.error,
             "usage": self.usage,
         }
-
-
-@dataclass(frozen=True, slots=True)
-class TurnBudget:
-    """The turn protocol's limits, which each actor is told: how long the session lasts, how many
-    actions a turn allows, how long a proposal waits for its answer.
-    """
-
-    max_turns: int = 10
-    user_steps: int = 1
-    observe_steps: int = 5
-    execute_steps: int = 10
-    proposal_ttl_turns: int = 3
-    turn_minutes: float = 1.0
-    """Simulated minutes one turn takes when someone acted (time jumps further when everyone waits)."""
-
-
-DEFAULT_BUDGET = TurnBudget()
 
 
 @dataclass(frozen=True, slots=True)

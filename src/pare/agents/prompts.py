@@ -16,9 +16,10 @@ from typing import Any
 
 import jinja2
 
-from pare.agents.policy import ASSISTANT_WAIT, DEFAULT_BUDGET, SEND_MESSAGE, Task, TurnBudget
+from pare.agents.policy import ASSISTANT_WAIT, SEND_MESSAGE, Task
 from pare.apps.registry import CORE_APPS
 from pare.env import Environment, NamedTool
+from pare.sim.budget import DEFAULT_BUDGET, TurnBudget
 from pare.sim.notifications import DetailLevel
 
 TEMPLATES = Path(__file__).parent / "templates"

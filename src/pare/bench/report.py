@@ -21,6 +21,7 @@ from rich.table import Table
 
 from pare.bench.metrics import TOTAL, ConfigurationMetrics, Estimate, GroupMetrics, UsageSummary
 from pare.bench.records import DECISIONS, RESOLUTIONS
+from pare.bench.report_sections import SECTIONS as SECTIONS  # re-exported: reports are asked by section
 from pare.errors import UserInputError, did_you_mean
 
 __all__ = [
@@ -34,18 +35,6 @@ __all__ = [
     "render_markdown",
     "render_terminal",
 ]
-
-SECTIONS: tuple[str, ...] = (
-    "main",
-    "decisions",
-    "resolution",
-    "cost",
-    "apps",
-    "tags",
-    "difficulty",
-    "coverage",
-)
-"""Every section a report can show, in the order it shows them."""
 
 NA = "n/a"
 UNKNOWN = "unknown"

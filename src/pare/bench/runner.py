@@ -163,9 +163,11 @@ class RunModels:
         return models
 
     async def aclose(self) -> None:
-        """Close every client's connections."""
+        """Close every client's connections and the cache's."""
         for client in self.clients.values():
             await client.aclose()
+        if self.cache is not None:
+            self.cache.close()
 
     def actors(
         self, plan: EpisodePlan, ledger: UsageLedger

@@ -5,15 +5,10 @@ from __future__ import annotations
 from typing import Annotated
 
 import typer
-from rich.console import Console
-from rich.table import Table
 
-from pare.apps.fsm import to_mermaid
-from pare.apps.registry import get_app_class, phone_apps
-from pare.apps.screens import BACK, STAY
-from pare.apps.system import SystemApp
 from pare.errors import UserInputError
-from pare.scenarios.seed_format import seed_format
+
+# The apps and rich are imported by the commands that use them: `pare --help` stays fast.
 
 app = typer.Typer(help="The phone's apps: screens, user actions, agent tools.", invoke_without_command=True)
 
@@ -23,6 +18,12 @@ def list_apps(ctx: typer.Context) -> None:
     """List every app with its screens and how many agent tools of each kind it has."""
     if ctx.invoked_subcommand is not None:
         return
+    from rich.console import Console
+    from rich.table import Table
+
+    from pare.apps.registry import get_app_class, phone_apps
+    from pare.apps.system import SystemApp
+
     table = Table(title="PARE apps")
     for column in ("app", "screens (root first)", "read", "write", "env"):
         table.add_column(column)
@@ -56,6 +57,14 @@ def show_app(
     ] = False,
 ) -> None:
     """Show an app's screens with their user actions, and its agent tools."""
+    from rich.console import Console
+    from rich.table import Table
+
+    from pare.apps.fsm import to_mermaid
+    from pare.apps.registry import get_app_class
+    from pare.apps.screens import BACK, STAY
+    from pare.scenarios.seed_format import seed_format
+
     cls = get_app_class(name)
     if seed:
         typer.echo("\n".join(seed_format(cls.name)))

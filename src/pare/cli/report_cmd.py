@@ -4,22 +4,15 @@ from __future__ import annotations
 
 from enum import StrEnum
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
-from rich.console import Console
 
-from pare.bench.metrics import ConfigurationMetrics, compute_metrics
-from pare.bench.report import (
-    SECTIONS,
-    render_csv,
-    render_json,
-    render_latex,
-    render_markdown,
-    render_terminal,
-)
-from pare.bench.store import SWEEP_FILE, load_run, run_folders
+from pare.bench.report_sections import SECTIONS
 from pare.errors import UserInputError
+
+if TYPE_CHECKING:  # metrics and reports are imported by the commands: `pare --help` stays fast
+    from pare.bench.metrics import ConfigurationMetrics
 
 
 class Format(StrEnum):
@@ -42,6 +35,9 @@ Runs = Annotated[
 
 def collect_metrics(paths: list[Path]) -> list[ConfigurationMetrics]:
     """The metrics of every configuration in ``paths``, in the order given."""
+    from pare.bench.metrics import compute_metrics
+    from pare.bench.store import load_run, run_folders
+
     metrics = []
     for folder in run_folders(paths):
         loaded = load_run(folder)
@@ -72,6 +68,10 @@ def report(
     acceptance rates, read actions, the decision analysis, cost per role, per-app and per-tag results,
     and coverage.
     """
+    from rich.console import Console
+
+    from pare.bench.report import render_csv, render_json, render_latex, render_markdown, render_terminal
+
     sections = tuple(section or SECTIONS)
     unknown = [name for name in sections if name not in SECTIONS]
     if unknown:
@@ -122,6 +122,7 @@ def plot(
     one line per model, error bars = SE across runs) as PNG and SVG. Needs the ``plots`` extra.
     """
     from pare.bench.plots import plot_sweep
+    from pare.bench.store import SWEEP_FILE
 
     metrics = collect_metrics(runs)
     axes = _numeric_axes(metrics)

@@ -3,17 +3,15 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
-from rich.console import Console
 
-from pare.bench.progress import RichProgress
-from pare.bench.report import render_terminal
-from pare.bench.runconfig import RunConfig, build_config, parse_assignment, read_config_file
-from pare.bench.runner import NoProgress, ProgressSink, RunSummary, run_benchmark
-from pare.bench.sweep import load_sweep, run_sweep, sweep_folder
-from pare.cli.report_cmd import collect_metrics
+if TYPE_CHECKING:  # the harness is imported by the commands that run: `pare --help` stays fast
+    from rich.console import Console
+
+    from pare.bench.runconfig import RunConfig
+    from pare.bench.runner import ProgressSink, RunSummary
 
 ROLE_FLAGS = ("user", "assistant", "observe", "execute", "judge")
 
@@ -37,6 +35,8 @@ def collect_overrides(
     models: dict[str, dict[str, str | None]],
 ) -> list[tuple[str, Any]]:
     """Dotted-path overrides from the explicit flags (unset ones skipped), then every ``--set``."""
+    from pare.bench.runconfig import parse_assignment
+
     overrides: list[tuple[str, Any]] = [
         (path, value) for path, value in flags.items() if value not in (None, [])
     ]
@@ -50,6 +50,8 @@ def collect_overrides(
 
 def load_config(config_file: Path | None, overrides: list[tuple[str, Any]]) -> RunConfig:
     """The run configuration: the file (if any) with the overrides applied."""
+    from pare.bench.runconfig import build_config, read_config_file
+
     data = read_config_file(config_file) if config_file is not None else {}
     source = str(config_file) if config_file is not None else "the command line"
     return build_config(data, overrides=overrides, source=source)
@@ -57,11 +59,17 @@ def load_config(config_file: Path | None, overrides: list[tuple[str, Any]]) -> R
 
 def progress_sink(show: bool) -> ProgressSink:
     """A progress bar, or nothing."""
+    from pare.bench.progress import RichProgress
+    from pare.bench.runner import NoProgress
+
     return RichProgress() if show else NoProgress()
 
 
 def print_summary(summary: RunSummary, console: Console) -> None:
     """What the session did, the headline metrics, and where everything is."""
+    from pare.bench.report import render_terminal
+    from pare.cli.report_cmd import collect_metrics
+
     console.print(
         f"[bold]{summary.label}[/bold]: {summary.complete} episodes run in {summary.seconds:.1f} s"
         + (f", {summary.skipped} already recorded" if summary.skipped else "")
@@ -159,6 +167,10 @@ def run(
 
     With no model configured, the scenarios' oracle plays both roles: the whole pipeline, offline.
     """
+    from rich.console import Console
+
+    from pare.bench.runner import run_benchmark
+
     flags = {
         "scenarios.ids": scenario,
         "scenarios.split": split,
@@ -246,6 +258,11 @@ def sweep(
     progress: Annotated[bool, typer.Option("--progress/--no-progress", help="Show progress bars.")] = True,
 ) -> None:
     """Run a grid of configurations (each point a run folder inside the sweep folder); resumes too."""
+    from rich.console import Console
+
+    from pare.bench.runconfig import parse_assignment
+    from pare.bench.sweep import load_sweep, run_sweep, sweep_folder
+
     axes: list[tuple[str, list[Any]]] = []
     for text in grid or []:
         path, values = parse_assignment(text)
@@ -270,5 +287,8 @@ def sweep(
 
 
 def _print_sweep(folder: Path, console: Console) -> None:
+    from pare.bench.report import render_terminal
+    from pare.cli.report_cmd import collect_metrics
+
     render_terminal(collect_metrics([folder]), console, sections=("main", "coverage"))
     console.print(f"results: {folder}   report: pare report {folder}   figures: pare plot {folder}")

@@ -3,19 +3,15 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
-from rich.console import Console
-from rich.table import Table
 
-from pare.bench.selftest import RUNS, RunVerdict, ScenarioVerdict, check_scenario
-from pare.scenarios.library import load_scenarios, select
-from pare.scenarios.model import Scenario
-from pare.scenarios.schema import SCHEMA_FILE, schema_text
-from pare.scenarios.similarity import THRESHOLD, similarities
-from pare.scenarios.stats import coverage, format_coverage
-from pare.scenarios.times import parse_time
+if TYPE_CHECKING:  # the library and the gate are imported by the commands: `pare --help` stays fast
+    from rich.console import Console
+
+    from pare.bench.selftest import RunVerdict, ScenarioVerdict
+    from pare.scenarios.model import Scenario
 
 app = typer.Typer(help="The PARE-Bench scenarios: list, show, self-test, schema.", no_args_is_help=True)
 
@@ -42,6 +38,8 @@ def _chosen(
     tags: list[str] | None,
     difficulty: list[str] | None,
 ) -> list[Scenario]:
+    from pare.scenarios.library import load_scenarios, select
+
     return select(
         load_scenarios(paths or None),
         split=split,
@@ -60,6 +58,9 @@ def list_scenarios(
     split: SplitFilter = None,
 ) -> None:
     """List scenarios with their apps, tags and difficulty."""
+    from rich.console import Console
+    from rich.table import Table
+
     scenarios = _chosen(paths, split, app_name, tag, difficulty)
     table = Table(title=f"{len(scenarios)} scenarios")
     for column in ("id", "difficulty", "apps", "tags", "title"):
@@ -80,6 +81,11 @@ def show(
     scenario_id: Annotated[str, typer.Argument(help="A scenario id, or the path of a scenario file.")],
 ) -> None:
     """Show one scenario: story, apps, events, the oracle's proposal and the goals' checks."""
+    from rich.console import Console
+
+    from pare.scenarios.library import load_scenarios, select
+    from pare.scenarios.times import parse_time
+
     path = Path(scenario_id)
     if path.suffix in (".yaml", ".yml"):
         scenario = load_scenarios([path])[0]
@@ -136,13 +142,18 @@ def check(
     user doing the task by hand and an unrelated proposal must fail; every variant must get its declared
     verdict. Exits 1 on any breach.
     """
+    from rich.console import Console
+    from rich.table import Table
+
+    from pare.bench.selftest import check_scenario
+
     scenarios = _chosen(paths, split, app_name, tag, difficulty)
     console = Console()
     table = Table(title=f"self-test of {len(scenarios)} scenarios")
     table.add_column("scenario", overflow="fold")
     table.add_column("oracle\n(must pass;\nturns)", justify="center")
     table.add_column("slow user\n(must pass;\nturns)", justify="center")
-    table.add_column(f"must fail\n({', '.join(FAILING_RUNS)})", justify="center")
+    table.add_column(f"must fail\n({', '.join(_failing_runs())})", justify="center")
     table.add_column("variants\n(as declared)", justify="center")
     table.add_column("ms", justify="right")
     breaches: list[str] = []
@@ -151,7 +162,7 @@ def check(
     for scenario in scenarios:
         verdict = check_scenario(scenario)
         total += verdict.seconds
-        failing = [run for run in verdict.runs if run.run in FAILING_RUNS]
+        failing = [run for run in verdict.runs if run.run in _failing_runs()]
         variants = [run for run in verdict.runs if run.run.startswith("variant:")]
         table.add_row(
             scenario.id,
@@ -179,9 +190,6 @@ def check(
     console.print(f"all {len(scenarios)} scenarios pass the gate ({total:.2f} s)")
 
 
-FAILING_RUNS = tuple(name for name, (_, expected) in RUNS.items() if not expected)
-
-
 def _outcome(run: RunVerdict) -> str:
     return "error" if run.success is None else ("pass" if run.success else "fail")
 
@@ -196,6 +204,8 @@ def _cell(run: RunVerdict) -> str:
 
 
 def _print_details(console: Console, scenario: Scenario, verdict: ScenarioVerdict) -> None:
+    from rich.table import Table
+
     runs = Table(title=scenario.id, title_justify="left")
     for column in ("run", "must", "got", "turns", "why"):
         runs.add_column(column, overflow="fold")
@@ -222,6 +232,8 @@ def stats(
     """Coverage of the library: counts per app, tag, difficulty and kind, apps per scenario, text goals
     judged by a model, variants, and the gaps against PARE-Bench's targets.
     """
+    from pare.scenarios.stats import coverage, format_coverage
+
     scenarios = _chosen(paths, split, app_name, tag, difficulty)
     for line in format_coverage(coverage(scenarios)):
         typer.echo(line)
@@ -234,12 +246,26 @@ def similar(
         int, typer.Option("--top", "-n", min=1, help="How many of the most alike pairs to show.")
     ] = 10,
     threshold: Annotated[
-        float, typer.Option("--threshold", min=0.0, max=1.0, help="Pairs at or above this fail the check.")
-    ] = THRESHOLD,
+        float | None,
+        typer.Option(
+            "--threshold",
+            min=0.0,
+            max=1.0,
+            help="Pairs at or above this fail the check (default: the library's threshold, 0.60).",
+            show_default=False,
+        ),
+    ] = None,
 ) -> None:
     """The most alike pairs of scenarios by story (names left out), apps and oracle tools. Exits 1 when a
     pair reaches the threshold: the same story with names changed.
     """
+    from rich.console import Console
+    from rich.table import Table
+
+    from pare.scenarios.similarity import THRESHOLD, similarities
+
+    threshold = THRESHOLD if threshold is None else threshold
+
     scenarios = _chosen(paths, None, None, None, None)
     pairs = similarities(scenarios)
     table = Table(title=f"most alike of {len(pairs)} pairs (threshold {threshold:.2f})")
@@ -275,6 +301,8 @@ def schema(
     ] = False,
 ) -> None:
     """Print the JSON Schema of scenario files (for editors and validators)."""
+    from pare.scenarios.schema import SCHEMA_FILE, schema_text
+
     if path:
         typer.echo(str(SCHEMA_FILE.resolve()))
         return
@@ -284,3 +312,10 @@ def schema(
     else:
         output.write_text(text, encoding="utf-8")
         typer.echo(f"wrote {output}")
+
+
+def _failing_runs() -> tuple[str, ...]:
+    """The gate's runs that must fail."""
+    from pare.bench.selftest import RUNS
+
+    return tuple(name for name, (_, expected) in RUNS.items() if not expected)

@@ -14,7 +14,6 @@ from typing import Any
 
 from pydantic import ValidationError
 
-from pare.agents.policy import DEFAULT_BUDGET
 from pare.apps.registry import CORE_APPS, get_app_class
 from pare.apps.tools import ToolSpec, describe_argument_errors
 from pare.errors import did_you_mean
@@ -35,6 +34,7 @@ from pare.scenarios.model import (
 )
 from pare.scenarios.seed import SeedError, original_location, prepare_seed
 from pare.scenarios.times import parse_time, resolve_relative_times
+from pare.sim.budget import DEFAULT_BUDGET
 from pare.yaml_source import Path
 
 

@@ -3,18 +3,21 @@
 The key is the SHA-256 of the canonical JSON of everything that shapes the answer (backend, model,
 sampling parameters, tools sent, messages) and nothing that does not (endpoint, key, timeouts, retries),
 so a run recorded against one server replays anywhere. Several asyncio tasks and several processes may
-share one file: it is in WAL mode with a busy timeout, each operation is one short transaction on its own
-connection, and writes are ``INSERT OR IGNORE`` (the first answer stored for a key is the one kept).
+share one file: it is in WAL mode with a busy timeout, each operation is one short autocommit transaction,
+and writes are ``INSERT OR IGNORE`` (the first answer stored for a key is the one kept). Each thread of
+each process keeps one open connection (opening one per call cost more than the lookup itself).
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
+import os
 import sqlite3
+import threading
 import time
 from collections.abc import Iterator, Sequence
-from contextlib import closing, contextmanager
+from contextlib import contextmanager
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any, Literal
@@ -94,6 +97,9 @@ class ModelCallCache:
         self.path = Path(path)
         self.mode: CacheMode = mode
         self.busy_timeout_s = busy_timeout_s
+        self._local = threading.local()
+        self._opened: list[sqlite3.Connection] = []
+        self._opened_lock = threading.Lock()
         if mode != "off":
             self._initialise()
 
@@ -112,11 +118,29 @@ class ModelCallCache:
 
     @contextmanager
     def _connect(self) -> Iterator[sqlite3.Connection]:
-        # One connection per operation: safe from any thread (asyncio.to_thread) and after fork.
-        connection = sqlite3.connect(self.path, timeout=self.busy_timeout_s, isolation_level=None)
-        with closing(connection):
+        # One connection per thread (asyncio.to_thread runs calls on a pool) and per process (a forked
+        # worker must not share its parent's connection), opened on first use and kept.
+        connection: sqlite3.Connection | None = getattr(self._local, "connection", None)
+        if connection is None or getattr(self._local, "pid", None) != os.getpid():
+            connection = sqlite3.connect(
+                self.path, timeout=self.busy_timeout_s, isolation_level=None, check_same_thread=False
+            )
             connection.execute(f"PRAGMA busy_timeout = {int(self.busy_timeout_s * 1000)}")
-            yield connection
+            # In WAL mode NORMAL syncs at checkpoints, not at every commit: a killed process loses no
+            # committed answer (only a power cut could), and each put stops paying for an fsync.
+            connection.execute("PRAGMA synchronous = NORMAL")
+            self._local.connection, self._local.pid = connection, os.getpid()
+            with self._opened_lock:
+                self._opened.append(connection)
+        yield connection
+
+    def close(self) -> None:
+        """Close every connection this cache opened (it reopens on the next use)."""
+        with self._opened_lock:
+            opened, self._opened = self._opened, []
+        for connection in opened:  # each was used by one thread only; closing from here is safe
+            connection.close()
+        self._local = threading.local()
 
     def _initialise(self) -> None:
         if self.mode == "replay" and not self.path.exists():
