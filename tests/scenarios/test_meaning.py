@@ -222,3 +222,31 @@ def test_a_date_earlier_in_the_text_does_not_swallow_a_later_weekday() -> None:
     assert mentions_day(
         "Since 12 May we have had no water. Tue and Thu mornings are free", date(2025, 5, 20), saturday
     )
+
+
+@pytest.mark.parametrize(
+    ("text", "piece", "found"),
+    [
+        ("Collect dry-cleaning", "dry clean*", True),
+        ("Collect dry cleaning", "dry-clean*", True),
+        ("Collect drycleaning", "dry-clean*", True),
+        ("Collect dry   cleaning", "dry clean*", True),
+        ("a dry day, cleaning later", "dry clean*", False),
+    ],
+)
+def test_spaces_and_hyphens_in_a_piece_find_each_other(text: str, piece: str, found: bool) -> None:
+    assert has_word(text, piece) is found
+
+
+@pytest.mark.parametrize(
+    "text",
+    ["Cedar Rd (no. 22) please, the garden one.", "Please hold No 22 Cedar Road", "Flat no.3 on Cedar Road"],
+)
+def test_a_house_number_written_no_is_not_a_negation(text: str) -> None:
+    assert affirms(text, "cedar")
+    assert not declines(text)
+
+
+def test_a_bare_no_still_ends_its_clause() -> None:
+    assert not affirms("No. Thursday doesn't suit", "thursday")
+    assert affirms("I said no. Thursday works", "thursday")

@@ -45,7 +45,11 @@ def word_pattern(piece: str) -> re.Pattern[str]:
     core = text.strip("*")
     if not core:
         raise ValueError(f"{piece!r} has no text besides '*'")
-    body = r"\s+".join(re.escape(part) for part in core.split(" "))
+    # A space in the piece also finds a hyphen, and a hyphen also a space or nothing: "dry clean*" and
+    # "dry-clean*" both find "dry cleaning", "dry-cleaning" and (for the hyphen) "drycleaning".
+    body = "".join(
+        {" ": r"[\s-]+", "-": r"[\s-]?"}.get(part, re.escape(part)) for part in re.split(r"([ -])", core)
+    )
     left = "" if open_start else _edge(core[0], before=True)
     right = "" if open_end else _edge(core[-1], before=False)
     return re.compile(left + body + right, re.IGNORECASE)
@@ -59,7 +63,8 @@ def has_word(text: str, piece: str) -> bool:
 # -- clauses and negation -------------------------------------------------------------------------------
 _CLAUSE_BREAK = re.compile(
     # a comma breaks a clause, except inside a number written with thousands separators (44,200)
-    r"[;!?\n]|,(?!(?<=\d,)\d{3}\b)|\.(?=\s|$)|"
+    # a full stop breaks one too, except in "no. 22" (a number, not a refusal)
+    r"[;!?\n]|,(?!(?<=\d,)\d{3}\b)|(?<![Nn]o)\.(?=\s|$)|(?<=[Nn]o)\.(?=\s|$)(?!\s*\d)|"
     r"\s(?=(?:but|however|although|though|whereas|except|instead of|rather than|"
     r"apart from|other than|unlike)\b)",
     re.IGNORECASE,
@@ -201,11 +206,12 @@ the message then turns one option down and is not a refusal as a whole."""
 
 
 _FRIENDLY_IDIOMS = re.compile(
-    r"(?<![^\W\d_])(no problem|no worries|not a problem|no trouble|can't wait|cannot wait|don't hesitate)"
-    r"(?![^\W\d_])",
+    r"(?<![^\W\d_])(no problem|no worries|not a problem|no trouble|can't wait|cannot wait|don't hesitate|"
+    r"no\.?\s*(?=\d))(?![^\W\d_])",
     re.IGNORECASE,
 )
-"""Phrases that look negative but are not ("no problem, Thursday works"): removed before cues are sought."""
+"""Phrases that look negative but are not ("no problem, Thursday works", "no. 22"): removed before cues are
+sought."""
 
 
 def _normalise_quotes(text: str) -> str:
