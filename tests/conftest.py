@@ -41,3 +41,11 @@ def screen_of(env: Environment) -> str | None:
 @pytest.fixture
 def env_factory() -> Callable[..., Environment]:
     return make_env
+
+
+@pytest.fixture(autouse=True, scope="session")
+def _private_scenario_cache(tmp_path_factory: pytest.TempPathFactory) -> None:
+    """Tests read and write parsed scenarios in a cache of their own, never the user's."""
+    import os
+
+    os.environ["PARE_CACHE_DIR"] = str(tmp_path_factory.mktemp("pare-cache"))

@@ -43,7 +43,7 @@ from pare.bench.records import EpisodeRecord, Failure, FailureKind, summarize
 from pare.bench.runconfig import RunConfig
 from pare.bench.store import CACHE_FILE, RunStore, scenario_hash, trajectory_path
 from pare.errors import CacheMiss, RunFailure, UserInputError
-from pare.scenarios.library import load_scenarios, select
+from pare.scenarios.library import library, load_scenarios, select
 from pare.scenarios.model import Scenario
 from pare.scenarios.oracle import OracleAssistant, OracleUser
 
@@ -75,7 +75,7 @@ class EpisodePlan:
 def select_scenarios(config: RunConfig) -> dict[str, Scenario]:
     """The scenarios the configuration names, by id (an empty selection is an error)."""
     selection = config.scenarios
-    pool = load_scenarios(selection.paths or None)
+    pool = load_scenarios(selection.paths) if selection.paths else list(library().values())
     chosen = select(
         pool,
         ids=selection.ids,

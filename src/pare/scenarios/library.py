@@ -94,7 +94,10 @@ def splits() -> dict[str, list[str]]:
         parsed = SplitsFile.model_validate(raw)
     except (OSError, yaml.YAMLError, ValidationError) as error:
         raise UserInputError(f"{SPLITS_FILE}: {error}") from None
-    ids = sorted(library())
+    # A scenario's id is its file's name (the loader enforces it): the splits are checked against the
+    # files, without loading the library a second time in a process that loaded it by path.
+    ids = sorted(file.stem for file in scenario_files())
+    known = set(ids)
     resolved: dict[str, list[str]] = {}
     for name, split in parsed.splits.items():
         if split.scenarios == ALL:
@@ -102,7 +105,7 @@ def splits() -> dict[str, list[str]]:
             continue
         if isinstance(split.scenarios, str):
             raise UserInputError(f"{SPLITS_FILE}: split '{name}': scenarios is a list of ids or '*'")
-        unknown = [s for s in split.scenarios if s not in library()]
+        unknown = [s for s in split.scenarios if s not in known]
         if unknown:
             raise UserInputError(f"{SPLITS_FILE}: split '{name}' names unknown scenarios {unknown}")
         resolved[name] = list(split.scenarios)

@@ -11,6 +11,7 @@ from pydantic import ValidationError
 from pare.errors import UserInputError, did_you_mean
 from pare.scenarios.annotations import model_fields, step_into
 from pare.scenarios.model import Scenario
+from pare.scenarios.parsed_cache import cached, remember
 from pare.scenarios.validation import Problem, format_path, validate_scenario
 from pare.yaml_source import Path, UnreadableFile, YamlDocument, YamlSyntaxError, parse_yaml, read_text_file
 
@@ -51,7 +52,10 @@ def load_scenario(path: str | FilePath) -> Scenario:
         raise UserInputError(f"{file}: no such scenario file") from None
     except UnreadableFile as error:
         raise UserInputError(f"{file}: {error}") from None
-    scenario = parse_scenario(text, source=str(file))
+    scenario = cached(text)
+    if scenario is None:
+        scenario = parse_scenario(text, source=str(file))
+        remember(text, scenario)
     if file.stem != scenario.id:
         line = None
         raise ScenarioError(
