@@ -20,6 +20,7 @@ import json
 import os
 import platform
 import sys
+import time
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
@@ -47,6 +48,8 @@ TRAJECTORIES = "trajectories"
 CACHE_FILE = "model_calls.sqlite"
 LOCK = ".lock"
 SWEEP_FILE = "sweep.json"
+SYNC_INTERVAL_S = 1.0
+"""At most this long between forcing the episodes file to the disk (it is handed to the OS at once)."""
 MANIFEST_FORMAT = 1
 
 PROVENANCE_PACKAGES = ("pydantic", "openai", "litellm", "ray", "jinja2", "rich", "typer")
@@ -156,6 +159,8 @@ class RunStore:
     records: dict[EpisodeKey, EpisodeRecord] = field(default_factory=dict)
     _lock: IO[str] | None = None
     _episodes: IO[str] | None = None
+    _synced_at: float = float("-inf")
+    """When the episodes file was last forced to the disk (monotonic seconds)."""
 
     # -- opening -------------------------------------------------------------------------------------------
     @classmethod
@@ -222,15 +227,23 @@ class RunStore:
         if trajectory is not None and record.trajectory is not None:
             _write_atomically(self.path / record.trajectory, trajectory + "\n")
         self._episodes.write(record.model_dump_json() + "\n")
+        # Handed to the OS at once: a killed process (kill -9, Ctrl-C) loses nothing it recorded. Forcing
+        # it to the disk costs milliseconds, so that is done at most once per SYNC_INTERVAL_S and when the
+        # run ends: a power cut loses at most that window, which a resume plays again.
         self._episodes.flush()
-        os.fsync(self._episodes.fileno())
+        now = time.monotonic()
+        if now - self._synced_at >= SYNC_INTERVAL_S:
+            os.fsync(self._episodes.fileno())
+            self._synced_at = now
         current = self.records.get(record.key)
         if current is None or not current.complete:
             self.records[record.key] = record
 
     def close(self) -> None:
-        """Release the folder."""
+        """Force what was recorded to the disk and release the folder."""
         if self._episodes is not None:
+            self._episodes.flush()
+            os.fsync(self._episodes.fileno())
             self._episodes.close()
             self._episodes = None
         if self._lock is not None:

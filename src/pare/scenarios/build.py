@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 from pare.apps.registry import CORE_APPS
 from pare.env import EnvConfig, Environment
 from pare.scenarios.model import ActionPattern, Event, Scenario
@@ -20,12 +22,32 @@ def build_environment(scenario: Scenario, config: EnvConfig | None = None) -> En
     """
     settings = (config or EnvConfig()).model_copy(update={"start_time": scenario.start})
     env = Environment([app for app in scenario.all_apps if app not in CORE_APPS], settings)
-    env.load({app: prepare_seed(app, data, scenario.start)[0] for app, data in scenario.seed.items()})
+    env.load(_prepared_seed(scenario))
     for event in scenario.events:
         for scheduled in scheduled_events(event, scenario, env):
             env.schedule(scheduled)
     env.scheduler.validate()
     return env
+
+
+_PREPARED: dict[int, tuple[Scenario, dict[str, dict[str, Any]]]] = {}
+"""Each scenario's seed in the apps' formats, by the scenario object's id (kept with it, so the id is
+not reused while the entry lives)."""
+
+
+def _prepared_seed(scenario: Scenario) -> dict[str, dict[str, Any]]:
+    """The scenario's seed data in the apps' formats, relative times resolved: worked out once per
+    scenario, since every episode of it starts from the same data. Loading validates it into fresh
+    app states each time, so episodes share nothing.
+    """
+    known = _PREPARED.get(id(scenario))
+    if known is not None and known[0] is scenario:
+        return known[1]
+    seed = {app: prepare_seed(app, data, scenario.start)[0] for app, data in scenario.seed.items()}
+    if len(_PREPARED) >= 1024:  # a long-lived process that loads scenarios again and again
+        _PREPARED.clear()
+    _PREPARED[id(scenario)] = (scenario, seed)
+    return seed
 
 
 def scheduled_events(event: Event, scenario: Scenario, env: Environment) -> list[ScheduledEvent]:

@@ -223,20 +223,37 @@ def clauses(text: str) -> list[str]:
     return [part.strip() for part in _CLAUSE_BREAK.split(_normalise_quotes(text)) if part.strip()]
 
 
+@lru_cache(maxsize=64)
+def _any_cue(cues: tuple[str, ...]) -> re.Pattern[str]:
+    """One pattern finding any of ``cues`` at word boundaries: one search instead of one per cue."""
+    return re.compile(
+        "|".join(f"(?:{word_pattern(_normalise_quotes(cue)).pattern})" for cue in cues), re.IGNORECASE
+    )
+
+
+def has_any(text: str, cues: tuple[str, ...]) -> bool:
+    """Whether ``text`` contains one of ``cues`` at word boundaries (what ``has_word`` finds for each)."""
+    return _any_cue(cues).search(_normalise_quotes(text)) is not None
+
+
 def is_negated(clause: str) -> bool:
     """Whether ``clause`` carries a negation cue."""
-    clause = _FRIENDLY_IDIOMS.sub(" ", clause)
-    return any(has_word(clause, cue) for cue in NEGATION_CUES)
+    return has_any(_FRIENDLY_IDIOMS.sub(" ", clause), NEGATION_CUES)
+
+
+@lru_cache(maxsize=4096)
+def _affirmed(text: str) -> tuple[str, ...]:
+    return tuple(clause for clause in clauses(text) if not is_negated(clause))
 
 
 def affirmed_clauses(text: str) -> list[str]:
     """The clauses of ``text`` without a negation cue."""
-    return [clause for clause in clauses(text) if not is_negated(clause)]
+    return list(_affirmed(text))
 
 
 def affirms(text: str, piece: str) -> bool:
     """Whether some clause of ``text`` without negation mentions ``piece``."""
-    return any(has_word(clause, piece) for clause in affirmed_clauses(text))
+    return any(has_word(clause, piece) for clause in _affirmed(text))
 
 
 def declines(text: str) -> bool:
@@ -249,14 +266,14 @@ def declines(text: str) -> bool:
     refusing = [
         index
         for index, part in enumerate(parts)
-        if any(has_word(part, cue) for cue in DECLINE_CUES)
+        if has_any(part, DECLINE_CUES)
         or any(pattern.search(part) for pattern in _REFUSAL_PATTERNS)
         or (index == 0 and _BARE_REFUSAL.fullmatch(part))
     ]
     if not refusing:
         return False
     return not any(
-        not _denies(part) and any(has_word(part, cue) for cue in COUNTER_OFFER_CUES)
+        not _denies(part) and has_any(part, COUNTER_OFFER_CUES)
         for part in parts[refusing[0] + 1 :]
     )
 
