@@ -107,7 +107,14 @@ class ToolSpec:
             raise SimulationBug(f"{owner}.{name} has no docstring: every tool needs one, models read it")
         self.summary = " ".join(summary.split())
         self.returns: str | None = doc.returns.description if doc.returns else None
-        self.params = _params_model(func, skip=skip, owner=owner, docs=doc)
+        self._doc, self._skip, self._owner = doc, skip, owner
+
+    @cached_property
+    def params(self) -> type[BaseModel]:
+        """The arguments as a pydantic model, built on first use: a process that calls a few tools does
+        not pay for building all of them (an import of every app would build about 260).
+        """
+        return _params_model(self.func, skip=self._skip, owner=self._owner, docs=self._doc)
 
     @property
     def qualified_name(self) -> str:
