@@ -91,10 +91,20 @@ def trajectory_path(scenario_id: str, run: int) -> str:
     return f"{TRAJECTORIES}/{scenario_id}/run-{run}.json"
 
 
+_MADE_FOLDERS: set[Path] = set()
+"""Folders this process has made or found, so writing the next trajectory beside them skips mkdir."""
+
+
 def _write_atomically(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
+    if path.parent not in _MADE_FOLDERS:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        _MADE_FOLDERS.add(path.parent)
     temporary = path.with_name(path.name + ".tmp")
-    temporary.write_text(text, encoding="utf-8")
+    try:
+        temporary.write_text(text, encoding="utf-8")
+    except FileNotFoundError:  # the folder went away since (a run folder deleted and made again)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        temporary.write_text(text, encoding="utf-8")
     os.replace(temporary, path)
 
 

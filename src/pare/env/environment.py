@@ -61,6 +61,36 @@ def _misuse(actor: object, tool: object, mode: object) -> str | None:
     return None
 
 
+_ToolTables = tuple[dict[AssistantMode, dict[str, ToolSpec]], dict[str, ToolSpec]]
+_TOOL_TABLES: dict[tuple[type[App], ...], _ToolTables] = {}
+
+
+def _tool_tables(classes: tuple[type[App], ...]) -> _ToolTables:
+    """The assistant's tools per mode and every tool by qualified name, for a phone with these apps.
+
+    Tools belong to app classes, so the tables are the same for every episode on the same phone: they
+    are worked out once per set of apps and shared (read only).
+    """
+    known = _TOOL_TABLES.get(classes)
+    if known is None:
+        specs = [spec for cls in classes for spec in cls.tools.values()]
+        per_mode: dict[AssistantMode, dict[str, ToolSpec]] = {}
+        for mode in MODES:
+            allowed: set[ToolKind] = {"read"} if mode == "observe" else {"read", "write"}
+            per_mode[mode] = {
+                spec.qualified_name: spec
+                for spec in specs
+                if "assistant" in spec.actors
+                and (
+                    spec.kind in allowed
+                    or (spec.kind == "control" and (mode == "observe" or spec.name != "wait"))
+                )
+            }
+        known = per_mode, {spec.qualified_name: spec for spec in specs}
+        _TOOL_TABLES[classes] = known
+    return known
+
+
 class Environment:
     """One episode's world.
 
@@ -98,10 +128,7 @@ class Environment:
             contents=self.rng.stream("noise_contents"),
         )
         self._wakeup_apps = [app for app in self.apps.values() if app.wakeup_tool is not None]
-        self._assistant_tools = {mode: self._assistant_toolset(mode) for mode in MODES}
-        self._all_tools = {
-            spec.qualified_name: spec for app in self.apps.values() for spec in app.tools.values()
-        }
+        self._assistant_tools, self._all_tools = _tool_tables(tuple(type(app) for app in self.apps.values()))
         self._assistant_cursor = 0
         self._shown_versions: dict[str, int] = {}
         """Per app, its data version (write count) when the user last saw the screen on view."""
@@ -121,19 +148,6 @@ class Environment:
                     f"{app.name}.{screen.screen_name()} redefines shell tools {sorted(clash)}"
                 )
         self.apps[app.name] = app
-
-    def _assistant_toolset(self, mode: AssistantMode) -> dict[str, ToolSpec]:
-        allowed: set[ToolKind] = {"read"} if mode == "observe" else {"read", "write"}
-        toolset: dict[str, ToolSpec] = {}
-        for app in self.apps.values():
-            for spec in app.tools.values():
-                if "assistant" not in spec.actors:
-                    continue
-                if spec.kind in allowed or (
-                    spec.kind == "control" and (mode == "observe" or spec.name != "wait")
-                ):
-                    toolset[spec.qualified_name] = spec
-        return toolset
 
     def app(self, name: str) -> App:
         """The registered app called ``name``."""

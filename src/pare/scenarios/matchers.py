@@ -113,7 +113,40 @@ class Matcher:
 
 
 def compile_matcher(raw: Any) -> Matcher:
-    """Compile a matcher as written in a scenario file; :class:`MatcherError` says what is wrong."""
+    """Compile a matcher as written in a scenario file; :class:`MatcherError` says what is wrong.
+
+    Compiled matchers are kept by the matcher's content: checks are evaluated again and again (every
+    episode, every turn of a scenario that ends when met) from the same few specifications.
+    """
+    key = _frozen(raw)
+    if key is None:
+        return _compile(raw)
+    known = _COMPILED.get(key)
+    if known is None:
+        known = _compile(raw)
+        if len(_COMPILED) >= 16384:
+            _COMPILED.clear()
+        _COMPILED[key] = known
+    return known
+
+
+_COMPILED: dict[Any, Matcher] = {}
+
+
+def _frozen(raw: Any) -> Any:
+    """A hashable copy of ``raw`` that tells apart what compiles differently, or ``None`` if there is none."""
+    if isinstance(raw, Mapping):
+        items = tuple((str(key), _frozen(value)) for key, value in raw.items())
+        return None if any(value is None for _, value in items) else ("map", items)
+    if isinstance(raw, list | tuple):
+        parts = tuple(_frozen(item) for item in raw)
+        return None if any(part is None for part in parts) else ("list", parts)
+    if raw is None or isinstance(raw, str | int | float | bool | datetime | date | time):
+        return (type(raw).__name__, raw)  # the type too: True, 1 and 1.0 are equal but match differently
+    return None
+
+
+def _compile(raw: Any) -> Matcher:
     if isinstance(raw, Mapping):
         keys = [str(key) for key in raw]
         operators = [key for key in keys if key in OPERATORS]
