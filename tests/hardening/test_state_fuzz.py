@@ -61,3 +61,25 @@ def test_state_stays_valid_through_a_random_walk(scenario_id: str) -> None:
                 assert_every_app_valid(env, where)
             if rng.random() < 0.1:
                 env.advance(timedelta(minutes=rng.choice([1, 5, 30])))
+
+
+@pytest.mark.parametrize("scenario_id", SCENARIOS)
+def test_a_write_changes_only_its_app_and_the_apps_it_declares(scenario_id: str) -> None:
+    """Attribution diffs only the written app and its ``also_writes`` around a write: a tool that changes
+    any other app's data would go unattributed, so none may."""
+    scenario = next(s for s in load_scenarios() if s.id == scenario_id)
+    env = build_environment(scenario)
+    rng = random.Random(7)
+    user, assistant = RandomUser(rng), RandomAssistant(rng)
+    for step in range(150):
+        before = env.snapshot()
+        result = (user if rng.random() < 0.5 else assistant).step(env)
+        entry = result.entry
+        if not result.ok or entry is None or entry.kind != "write" or entry.app not in env.apps:
+            continue
+        after = env.snapshot()
+        allowed = {entry.app, *env.apps[entry.app].also_writes}
+        changed = {name for name in after if after[name] != before.get(name)}
+        assert changed <= allowed, (
+            f"step {step}: {entry.app}.{entry.tool} changed {sorted(changed - allowed)}"
+        )

@@ -85,6 +85,11 @@ class App:
     screens: ClassVar[tuple[type[Screen], ...]] = ()
     tools: ClassVar[dict[str, ToolSpec]] = {}
 
+    also_writes: ClassVar[tuple[str, ...]] = ()
+    """Other apps this app's writes can change (saving attachments changes Files). Attribution diffs the
+    data of these and of the app itself around each write, and nothing else: a tool that reaches further
+    must say so here (a test walks every app's tools to check)."""
+
     wakeup_tool: ClassVar[str | None] = None
     """An ``env`` tool the environment calls (as the ``env`` actor, logged) when :meth:`next_wakeup` comes
     due: how time-driven changes such as a reminder falling due enter the simulation."""

@@ -133,6 +133,7 @@ class EmailApp(App):
     title = "Email"
     description = "The user's email: inbox, sent mail, drafts, archive and trash, with attachments."
     State = EmailState
+    also_writes = ("files",)
     state: EmailState
 
     # -- helpers used by other apps and screens -----------------------------------------------------

@@ -190,6 +190,7 @@ class MessagingApp(App):
     title = "Messages"
     description = "Text conversations with other people, one-to-one and in groups, with attachments."
     State = MessagingState
+    also_writes = ("files",)
     state: MessagingState
 
     # -- helpers used by screens -----------------------------------------------------------------------

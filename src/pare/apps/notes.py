@@ -123,6 +123,7 @@ class NotesApp(App):
     title = "Notes"
     description = "The user's notes, organised in folders, with attached files."
     State = NotesState
+    also_writes = ("files",)
     state: NotesState
 
     # -- helpers used by other apps and screens -----------------------------------------------------

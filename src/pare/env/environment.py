@@ -384,13 +384,14 @@ class Environment:
 
     # -- attribution ----------------------------------------------------------------------------------
     def _before_write(self, call: _Call, spec: ToolSpec) -> dict[str, Any] | None:
-        """For a write by an attributed actor: every data app's data before the call.
-
-        Every app, not only the tool's: some writes reach a sibling app (attachments saved to Files).
+        """For a write by an attributed actor: the data, before the call, of every app it can change (its
+        own, and those its app declares in ``also_writes``: attachments saved to Files).
         """
-        if spec.kind != "write" or call.actor not in ATTRIBUTED_ACTORS:
+        if spec.kind != "write" or call.actor not in ATTRIBUTED_ACTORS or spec.app in _CONTROL_APPS:
             return None
-        return {name: app.snapshot() for name, app in self.apps.items() if name not in _CONTROL_APPS}
+        owner = self.apps[spec.app]
+        reached = [spec.app, *(name for name in owner.also_writes if name in self.apps)]
+        return {name: self.apps[name].snapshot() for name in reached}
 
     def _attribute(self, result: ToolResult, before: dict[str, Any] | None) -> None:
         """Mark what a successful write changed, in every app whose data it changed."""
