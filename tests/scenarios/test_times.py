@@ -80,3 +80,28 @@ def test_only_whole_relative_strings_are_resolved() -> None:
     assert resolved["content"] == "see you at +15m past"
     assert resolved["count"] == 3
     assert is_relative_time(" +15m ") and not is_relative_time("15m")
+
+
+def test_dates_and_times_yaml_read_as_such_become_iso_text() -> None:
+    """An unquoted timestamp in a tool's arguments must not reach the log as a datetime (the trajectory
+    would not be JSON)."""
+    import json
+    from datetime import date as Date
+
+    from pare.scenarios.times import resolve_relative_times
+
+    start = datetime(2025, 3, 3, 9, 0, tzinfo=UTC)
+    resolved = resolve_relative_times(
+        {
+            "due": datetime(2026, 4, 23, 9, 0),
+            "day": Date(2026, 4, 23),
+            "at": [datetime(2026, 4, 23, 9, 0, tzinfo=UTC)],
+        },
+        start,
+    )
+    assert resolved == {
+        "due": "2026-04-23T09:00:00+00:00",
+        "day": "2026-04-23",
+        "at": ["2026-04-23T09:00:00+00:00"],
+    }
+    json.dumps(resolved)

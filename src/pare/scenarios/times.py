@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Mapping
-from datetime import UTC, datetime, timedelta
+from datetime import UTC, date, datetime, timedelta
 from typing import Any
 
 _UNITS = {"d": "days", "h": "hours", "m": "minutes", "s": "seconds"}
@@ -89,10 +89,16 @@ def resolve_relative_times(data: Any, start: datetime) -> Any:
     """``data`` with every string written as a relative time replaced by its ISO form.
 
     Used on seed data and tool arguments, so an email can be "received" at ``-2h`` and a meeting start at
-    ``day+1 10:00``. Only whole strings in a relative form are touched; other text is left alone.
+    ``day+1 10:00``. Only whole strings in a relative form are touched; other text is left alone. Dates and
+    times YAML read as such (an unquoted ``2026-04-23T09:00:00Z``) become ISO text too (UTC when written
+    without a zone), so the arguments recorded in the log and the trajectory are JSON.
     """
     if isinstance(data, str):
         return parse_time(data, start).isoformat() if is_relative_time(data) else data
+    if isinstance(data, datetime):  # YAML reads an unquoted timestamp as one: arguments stay JSON text
+        return (data if data.tzinfo else data.replace(tzinfo=UTC)).isoformat()
+    if isinstance(data, date):
+        return data.isoformat()
     if isinstance(data, Mapping):
         return {key: resolve_relative_times(value, start) for key, value in data.items()}
     if isinstance(data, list):
