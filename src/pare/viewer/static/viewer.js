@@ -116,9 +116,19 @@
       history.replaceState(null, "", "#" + params.toString());
     }
 
-    form.addEventListener("input", () => { state.page = 0; render(); });
-    form.addEventListener("change", () => { state.page = 0; render(); });
-    form.addEventListener("reset", () => setTimeout(() => { state.page = 0; render(); }));
+    // "change" follows "input" when a field loses focus: render only when the filters really changed,
+    // so a click on a row's link just after typing is not lost to a redrawn table.
+    let last = "";
+    function refilter() {
+      const now = new URLSearchParams(new FormData(form)).toString();
+      if (now === last) return;
+      last = now;
+      state.page = 0;
+      render();
+    }
+    form.addEventListener("input", refilter);
+    form.addEventListener("change", refilter);
+    form.addEventListener("reset", () => setTimeout(refilter));
     for (const th of document.querySelectorAll("#episodes th[data-sort]")) {
       th.addEventListener("click", () => {
         state.dir = state.sort === th.dataset.sort ? -state.dir : 1;
@@ -126,6 +136,7 @@
         render();
       });
     }
+    last = new URLSearchParams(new FormData(form)).toString();
     render();
   }
 
