@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from pare.errors import UserInputError
-from pare.viewer import Catalog, Site, build_episode, slug
+from pare.viewer import Catalog, Site, build_episode, export_site, slug
 from pare.viewer._episode import ExecuteGroup, split_observation, thought_of
 from pare.viewer._rows import filter_choices, rows
 from tests.viewer.runs import SCENARIOS, Runs
@@ -29,6 +29,20 @@ def test_catalog_finds_each_run_and_every_run_of_a_sweep(runs: Runs, sweep: Path
     swept = catalog.configurations[2:]
     assert [c.sweep_point["world.tool_failure_probability"] for c in swept] == [0.0, 0.5]
     assert catalog.get("models") is catalog.configurations[1]
+
+
+def test_a_sweep_exports_every_run(sweep: Path, tmp_path: Path) -> None:
+    written = export_site(Site(Catalog.open([sweep])), tmp_path / "site")
+    pages = sorted(p.relative_to(tmp_path / "site").as_posix() for p in (tmp_path / "site").rglob("*.html"))
+    assert written == len([p for p in (tmp_path / "site").rglob("*") if p.is_file()])
+    assert len([p for p in pages if "/e/dentist_moves_checkup/run-1.html" in p]) == 2
+    assert (
+        export_site(Site(Catalog.open([sweep])), tmp_path / "site") == written
+    )  # an earlier export: rewritten
+    (tmp_path / "other").mkdir()
+    (tmp_path / "other" / "notes.txt").write_text("mine", encoding="utf-8")
+    with pytest.raises(UserInputError, match="not empty"):
+        export_site(Site(Catalog.open([sweep])), tmp_path / "other")
 
 
 def test_two_folders_of_one_name_get_distinct_ids(tmp_path: Path, runs: Runs) -> None:
