@@ -73,6 +73,11 @@ def test_pages_are_served_with_a_strict_policy(runs: Runs) -> None:
     assert response.headers["x-content-type-options"] == "nosniff"
 
 
+@pytest.mark.parametrize("host", ["127.0.0.1:8765", "localhost:8765", "[::1]:8765"])
+def test_loopback_host_names_are_served(runs: Runs, host: str) -> None:
+    assert client(runs.models).get("/", headers={"host": host}).status_code == 200
+
+
 def test_a_foreign_host_name_is_refused(runs: Runs) -> None:
     response = client(runs.models).get("/", headers={"host": "attacker.example"})
     assert response.status_code == 400

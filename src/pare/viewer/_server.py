@@ -52,8 +52,10 @@ def check_loopback(host: str) -> None:
         )
 
 
-def create_app(site: Site) -> Starlette:
-    """The ASGI app serving ``site``."""
+def create_app(site: Site, bound: str = "127.0.0.1") -> Starlette:
+    """The ASGI app serving ``site``; requests must name the loopback (or the address ``bound``) as
+    their host.
+    """
 
     async def page(request: Request) -> Response:
         found = site.page(request.url.path)
@@ -63,10 +65,14 @@ def create_app(site: Site) -> Starlette:
 
     return Starlette(
         routes=[Route("/{path:path}", page, methods=["GET", "HEAD"])],
-        middleware=[
-            Middleware(TrustedHostMiddleware, allowed_hosts=["127.0.0.1", "localhost", "[::1]", "::1"])
-        ],
+        middleware=[Middleware(TrustedHostMiddleware, allowed_hosts=_host_names(bound))],
     )
+
+
+def _host_names(bound: str) -> list[str]:
+    """What a request's ``Host`` may name: the loopback, and the bound address (IPv6 in brackets too)."""
+    names = {*LOOPBACK_NAMES, bound}
+    return sorted(names | {f"[{name}]" for name in names if ":" in name})
 
 
 def bind(host: str, port: int) -> socket.socket:
@@ -99,5 +105,6 @@ def serve(site: Site, sock: socket.socket) -> None:
     """Serve ``site`` on ``sock`` until interrupted."""
     import uvicorn
 
-    config = uvicorn.Config(create_app(site), log_level="warning", access_log=False, lifespan="off")
+    bound = sock.getsockname()[0]
+    config = uvicorn.Config(create_app(site, bound), log_level="warning", access_log=False, lifespan="off")
     uvicorn.Server(config).run(sockets=[sock])
