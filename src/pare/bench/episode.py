@@ -30,6 +30,7 @@ from pare.agents.policy import (
     TurnBudget,
     UserPolicy,
 )
+from pare.bench.state_diff import state_changes
 from pare.env import EnvConfig, Environment, ToolResult, UserView
 from pare.errors import ModelRequestError
 from pare.scenarios.build import build_environment
@@ -384,13 +385,3 @@ class _Episode:
     ) -> None:
         index = result.entry.index if result.entry is not None else None
         self.steps.append(Step(turn, actor, mode, action, result.ok, result.observation(), index, view))
-
-
-def state_changes(before: dict[str, Any], after: dict[str, Any]) -> list[dict[str, Any]]:
-    """The changes from ``before`` to ``after`` as JSON Patch operations, diffing only the apps whose
-    data differs (most apps are untouched in an episode).
-    """
-    changed = sorted(app for app in set(before) | set(after) if before.get(app) != after.get(app))
-    return Environment.diff(
-        {app: before.get(app) for app in changed}, {app: after.get(app) for app in changed}
-    )
