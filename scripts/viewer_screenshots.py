@@ -24,7 +24,7 @@ IMAGES = ROOT / "docs" / "images"
 
 
 def shoot() -> None:
-    """Write docs/images/viewer-episode.png and viewer-table.png."""
+    """Write docs/images/viewer-episode.png, viewer-failed-checks.png and viewer-table.png."""
     os.environ.setdefault(KEY_VARIABLE, "not-a-real-key")
     with tempfile.TemporaryDirectory() as folder:
         runs = make_runs(Path(folder))
@@ -36,10 +36,14 @@ def shoot() -> None:
             page.goto((site / "c" / "models" / "index.html").as_uri() + "#scenario=dentist")
             page.wait_for_selector("#episodes tbody tr a")
             page.screenshot(path=str(IMAGES / "viewer-table.png"))
-            page.goto((site / "c" / "models" / "e" / "dentist_moves_checkup" / "run-1.html").as_uri())
-            page.locator("#turn-2").scroll_into_view_if_needed()
-            page.evaluate("document.getElementById('turn-1').scrollIntoView()")
+            # the oracle's episode: the phone shows the email the user opened, then the proposal
+            page.goto((site / "c" / "oracle" / "e" / "dentist_moves_checkup" / "run-1.html").as_uri())
+            page.evaluate("document.getElementById('turn-2').scrollIntoView()")
             page.screenshot(path=str(IMAGES / "viewer-episode.png"))
+            # the model-backed episode: a vague proposal accepted, nothing done, the checks that failed
+            page.goto((site / "c" / "models" / "e" / "dentist_moves_checkup" / "run-1.html").as_uri())
+            page.evaluate("document.getElementById('goals').scrollIntoView()")
+            page.screenshot(path=str(IMAGES / "viewer-failed-checks.png"))
             browser.close()
 
 
