@@ -10,6 +10,7 @@ import pytest
 from pare.errors import UserInputError
 from pare.viewer import Catalog, Site, build_episode, export_site, slug
 from pare.viewer._episode import ExecuteGroup, split_observation, thought_of
+from pare.viewer._evidence import library_scenario, matched_entries
 from pare.viewer._rows import filter_choices, rows
 from tests.viewer.runs import SCENARIOS, Runs
 
@@ -132,6 +133,22 @@ def test_state_diff_and_check_evidence_link_to_the_log(runs: Runs) -> None:
     assert episode.log[moved[0].log_index or 0]["actor"] == "assistant"
     first_check = episode.goals[0].checks[0]
     assert first_check.passed and moved[0].log_index in first_check.evidence
+
+
+def test_checks_link_the_entries_their_patterns_match(runs: Runs) -> None:
+    configuration = Catalog.open([runs.oracle]).configurations[0]
+    record = configuration.records[("dentist_moves_checkup", 1)]
+    data = configuration.trajectory(record)
+    assert data is not None
+    scenario = library_scenario(record.scenario_id, record.scenario_hash)
+    assert scenario is not None
+    matched = matched_entries(scenario, data["log"])
+    episode = build_episode(data, list(record.proposals), matched)
+    (told,) = [g for g in episode.goals if g.id == "practice_told"]
+    replies = [e["index"] for e in data["log"] if e["tool"] == "reply_to_email" and e["actor"] == "assistant"]
+    assert told.checks[0].form == "judge" and told.checks[0].evidence == replies
+    assert library_scenario(record.scenario_id, "0" * 16) is None  # changed since: no precise links
+    assert library_scenario("no_such_scenario", record.scenario_hash) is None
 
 
 def test_trajectories_from_before_the_view_was_recorded_still_open(runs: Runs) -> None:

@@ -210,14 +210,26 @@ def split_observation(text: str) -> tuple[str, Any]:
         return head, tail
 
 
-def build_episode(data: dict[str, Any], proposals: list[ProposalRecord]) -> EpisodeView:
-    """The page's view of one trajectory; ``proposals`` come from the episode's record."""
-    log = [entry for entry in data.get("log", []) if isinstance(entry, dict)]
+def episode_log(data: dict[str, Any]) -> list[dict[str, Any]]:
+    """The trajectory's action log (its well-formed entries)."""
+    return [entry for entry in data.get("log", []) if isinstance(entry, dict)]
+
+
+def build_episode(
+    data: dict[str, Any],
+    proposals: list[ProposalRecord],
+    matched: dict[tuple[str, int], list[int]] | None = None,
+) -> EpisodeView:
+    """The page's view of one trajectory; ``proposals`` come from the episode's record, ``matched``
+    holds the log entries each check's pattern matches when the scenario is at hand
+    (:func:`pare.viewer._evidence.matched_entries`).
+    """
+    log = episode_log(data)
     by_id = {proposal.proposal_id: proposal for proposal in proposals}
     steps = _steps(data, log, by_id)
     outcome = data.get("outcome") or {}
     attribution = data.get("attribution") or {}
-    goals = [_goal(goal, log, attribution) for goal in outcome.get("goals", [])]
+    goals = [_goal(goal, log, attribution, matched or {}) for goal in outcome.get("goals", [])]
     diff = data.get("state_diff")
     usage: dict[str, Usage] = {}
     for step in steps:
@@ -381,7 +393,13 @@ def _turns(steps: list[StepView], log: list[dict[str, Any]], proposals: list[Pro
     return [turns[number] for number in numbers]
 
 
-def _goal(goal: dict[str, Any], log: list[dict[str, Any]], attribution: dict[str, Any]) -> GoalView:
+def _goal(
+    goal: dict[str, Any],
+    log: list[dict[str, Any]],
+    attribution: dict[str, Any],
+    matched: dict[tuple[str, int], list[int]],
+) -> GoalView:
+    goal_id = str(goal.get("id", ""))
     checks = [
         CheckView(
             index=int(check.get("index", 0)),
@@ -390,13 +408,22 @@ def _goal(goal: dict[str, Any], log: list[dict[str, Any]], attribution: dict[str
             description=str(check.get("description", "")),
             detail=str(check.get("detail", "")),
             user_made=bool(check.get("user_made", False)),
-            evidence=evidence(check, log, attribution),
+            evidence=_evidence_of(goal_id, check, log, attribution, matched),
         )
         for check in goal.get("checks", [])
     ]
-    return GoalView(
-        str(goal.get("id", "")), str(goal.get("description", "")), bool(goal.get("passed")), checks
-    )
+    return GoalView(goal_id, str(goal.get("description", "")), bool(goal.get("passed")), checks)
+
+
+def _evidence_of(
+    goal_id: str,
+    check: dict[str, Any],
+    log: list[dict[str, Any]],
+    attribution: dict[str, Any],
+    matched: dict[tuple[str, int], list[int]],
+) -> list[int]:
+    key = (goal_id, int(check.get("index", 0)))
+    return matched[key] if key in matched else evidence(check, log, attribution)
 
 
 def evidence(check: dict[str, Any], log: list[dict[str, Any]], attribution: dict[str, Any]) -> list[int]:
