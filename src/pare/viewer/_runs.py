@@ -16,7 +16,7 @@ from typing import Any
 
 from pare.bench.metrics import ConfigurationMetrics, compute_metrics
 from pare.bench.records import EpisodeRecord
-from pare.bench.store import LoadedRun, load_run, run_folders
+from pare.bench.store import EPISODES, MANIFEST, LoadedRun, load_run, run_folders
 from pare.errors import UserInputError
 from pare.viewer._paths import OutsideRunError, confined, slug
 
@@ -27,17 +27,51 @@ EpisodeKey = tuple[str, int]
 
 
 @dataclass
+class _Contents:
+    """What one reading of a run folder gave, with what is derived from it on demand."""
+
+    loaded: LoadedRun
+
+    @cached_property
+    def records(self) -> dict[EpisodeKey, EpisodeRecord]:
+        return {record.key: record for record in self.loaded.records}
+
+    @cached_property
+    def by_slug(self) -> dict[tuple[str, int], EpisodeRecord]:
+        return {(slug(scenario), run): record for (scenario, run), record in self.records.items()}
+
+    @cached_property
+    def metrics(self) -> ConfigurationMetrics:
+        run = self.loaded
+        return compute_metrics(
+            run.records, label=run.label, runs=run.runs, planned=run.planned, params=run.sweep_point
+        )
+
+
+@dataclass
 class Configuration:
-    """One run folder: a configuration with its episodes."""
+    """One run folder: a configuration with its episodes.
+
+    The folder is read again when its manifest or episodes file changed, so a run still being written
+    shows its new episodes on the next page.
+    """
 
     cid: str
     """Its id in URLs (unique among the folders given)."""
     path: Path
+    _contents: _Contents | None = field(default=None, repr=False)
+    _stamp: tuple[int, ...] = field(default=(), repr=False)
 
-    @cached_property
+    def _current(self) -> _Contents:
+        stamp = tuple(number for name in (MANIFEST, EPISODES) for number in _stat(self.path / name))
+        if self._contents is None or stamp != self._stamp:
+            self._contents, self._stamp = _Contents(load_run(self.path)), stamp
+        return self._contents
+
+    @property
     def loaded(self) -> LoadedRun:
         """The run as reports read it (manifest and one record per episode)."""
-        return load_run(self.path)
+        return self._current().loaded
 
     @property
     def label(self) -> str:
@@ -49,27 +83,19 @@ class Configuration:
         """The swept settings of this configuration (empty for a lone run)."""
         return self.loaded.sweep_point
 
-    @cached_property
+    @property
     def metrics(self) -> ConfigurationMetrics:
         """The headline numbers of ``pare report``."""
-        run = self.loaded
-        return compute_metrics(
-            run.records, label=run.label, runs=run.runs, planned=run.planned, params=run.sweep_point
-        )
+        return self._current().metrics
 
-    @cached_property
+    @property
     def records(self) -> dict[EpisodeKey, EpisodeRecord]:
         """Every episode's record by (scenario, run), in that order."""
-        return {record.key: record for record in self.loaded.records}
-
-    @cached_property
-    def by_slug(self) -> dict[tuple[str, int], EpisodeRecord]:
-        """Records by (scenario slug, run): how URLs name episodes."""
-        return {(slug(scenario), run): record for (scenario, run), record in self.records.items()}
+        return self._current().records
 
     def record(self, scenario_slug: str, run: int) -> EpisodeRecord | None:
         """The record of one episode, named as in URLs."""
-        return self.by_slug.get((scenario_slug, run))
+        return self._current().by_slug.get((scenario_slug, run))
 
     def trajectory(self, record: EpisodeRecord) -> dict[str, Any] | None:
         """The full trajectory of a complete episode, or ``None`` when it has none (failed episodes).
@@ -119,12 +145,21 @@ class Catalog:
             taken.add(cid)
             configurations.append(Configuration(cid, folder))
         for configuration in configurations:
-            configuration.loaded  # noqa: B018 - read every manifest now, so a damaged folder is named at once
+            configuration.loaded  # noqa: B018 - read every folder now, so a damaged one is named at once
         return cls(roots=roots, configurations=configurations)
 
     def get(self, cid: str) -> Configuration | None:
         """The configuration with id ``cid``."""
         return next((c for c in self.configurations if c.cid == cid), None)
+
+
+def _stat(file: Path) -> tuple[int, int]:
+    """When a file last changed and its size (zeros when it does not exist)."""
+    try:
+        status = file.stat()
+    except FileNotFoundError:
+        return (0, 0)
+    return (status.st_mtime_ns, status.st_size)
 
 
 __all__ = ["Catalog", "Configuration", "OutsideRunError"]
