@@ -27,6 +27,7 @@ ARGS = [
     "--disable-background-networking",
     "--disable-component-update",
     "--disable-sync",
+    "--disable-dev-shm-usage",  # containers often have a small /dev/shm
 ]
 SCREENSHOT_ENV = "PARE_VIEWER_SCREENSHOT"
 """Where to save the episode's screenshot as well (the README's image is made this way)."""
