@@ -30,7 +30,8 @@ from pare.agents.policy import (
     TurnBudget,
     UserPolicy,
 )
-from pare.env import EnvConfig, Environment, ToolResult
+from pare.bench.state_diff import state_changes
+from pare.env import EnvConfig, Environment, ToolResult, UserView
 from pare.errors import ModelRequestError
 from pare.scenarios.build import build_environment
 from pare.scenarios.checks import Judge, Outcome, evaluate
@@ -103,10 +104,12 @@ class Step:
     ok: bool
     observation: str
     log_index: int | None
+    view: dict[str, Any] | None = None
+    """For a user step, the phone as the user saw it before acting (:func:`view_record`)."""
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready form."""
-        return {
+        """JSON-ready form (``view`` only for user steps: older trajectories have none)."""
+        data: dict[str, Any] = {
             "turn": self.turn,
             "actor": self.actor,
             "mode": self.mode,
@@ -115,6 +118,25 @@ class Step:
             "observation": self.observation,
             "log_index": self.log_index,
         }
+        if self.view is not None:
+            data["view"] = self.view
+        return data
+
+
+def view_record(view: UserView) -> dict[str, Any]:
+    """What a trajectory keeps of the user's view: the app and screen, what changed on it, the
+    notifications as truncated for the user, the pending proposal and the actions on offer.
+    """
+    return {
+        "time": view.time,
+        "app": view.app,
+        "screen": view.screen,
+        "background_apps": view.background_apps,
+        "screen_update": view.screen_update,
+        "notifications": view.notifications,
+        "pending_proposal": view.pending_proposal,
+        "tools": view.tool_names,
+    }
 
 
 @dataclass
@@ -132,6 +154,8 @@ class EpisodeResult:
     expired_proposals: list[str] = field(default_factory=list)
     expired_at: dict[str, int] = field(default_factory=dict)
     """The turn in which each expired proposal expired (after the user's step of that turn)."""
+    state_diff: list[dict[str, Any]] = field(default_factory=list)
+    """The apps' data from start to end as JSON Patch operations."""
 
     @property
     def success(self) -> bool:
@@ -151,6 +175,7 @@ class EpisodeResult:
             "log": [entry.to_dict() for entry in self.env.log],
             "attribution": self.env.attribution.to_dict(),
             "outcome": self.outcome.to_dict(),
+            "state_diff": self.state_diff,
         }
 
 
@@ -189,6 +214,7 @@ class _Episode:
         self.assistant = assistant
         self.settings = settings
         self.env = build_environment(scenario, settings.env)
+        self.start_state = self.env.snapshot()
         self.steps: list[Step] = []
         self.handled: set[str] = set()
         """Proposals the assistant has already executed (or that expired)."""
@@ -210,14 +236,15 @@ class _Episode:
             if error.kind != "context_length":
                 raise
             ended = "context_limit"  # the model cannot take the episode further: judge what it achieved
+        final = env.snapshot()
         if judge is None:
-            outcome = evaluate(self.scenario, env.log.entries, env.snapshot(), attribution=env.attribution)
+            outcome = evaluate(self.scenario, env.log.entries, final, attribution=env.attribution)
         else:  # a model judge makes its own blocking calls: keep them off this event loop
             outcome = await asyncio.to_thread(
                 evaluate,
                 self.scenario,
                 env.log.entries,
-                env.snapshot(),
+                final,
                 judge=judge,
                 attribution=env.attribution,
             )
@@ -232,6 +259,7 @@ class _Episode:
             outcome=outcome,
             expired_proposals=self.expired,
             expired_at=self.expired_at,
+            state_diff=state_changes(self.start_state, final),
         )
 
     async def _turns(self) -> EndReason:
@@ -275,7 +303,7 @@ class _Episode:
             view = self.env.user_view()
             action = await self.user.step(view, self.user_previous)
             result = self._perform("user", action, None)
-            self._record(turn, "user", None, action, result)
+            self._record(turn, "user", None, action, result, view_record(view))
             self.user_previous = result
             if action.tool == WAIT:
                 break
@@ -347,7 +375,13 @@ class _Episode:
         return self.env.call("assistant", action.tool, action.args, mode=mode)
 
     def _record(
-        self, turn: int, actor: StepActor, mode: AssistantMode | None, action: Action, result: ToolResult
+        self,
+        turn: int,
+        actor: StepActor,
+        mode: AssistantMode | None,
+        action: Action,
+        result: ToolResult,
+        view: dict[str, Any] | None = None,
     ) -> None:
         index = result.entry.index if result.entry is not None else None
-        self.steps.append(Step(turn, actor, mode, action, result.ok, result.observation(), index))
+        self.steps.append(Step(turn, actor, mode, action, result.ok, result.observation(), index, view))

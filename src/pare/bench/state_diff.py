@@ -1,0 +1,45 @@
+"""The change of the apps' data over an episode, as JSON Patch operations in a fixed order.
+
+The order must not depend on the process (a set's order does, through string hashing), so that the same
+episode writes the same trajectory byte for byte wherever it runs, locally or on a Ray worker: mapping
+keys are visited in sorted order, list items by position.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+
+def state_changes(before: Any, after: Any) -> list[dict[str, Any]]:
+    """The operations (RFC 6902: ``add``, ``remove``, ``replace``) that turn ``before`` into ``after``,
+    applicable in order.
+    """
+    changes: list[dict[str, Any]] = []
+    _diff(before, after, "", changes)
+    return changes
+
+
+def _diff(old: Any, new: Any, path: str, out: list[dict[str, Any]]) -> None:
+    if old == new:
+        return
+    if isinstance(old, dict) and isinstance(new, dict):
+        for key in sorted(old.keys() | new.keys(), key=str):
+            where = f"{path}/{str(key).replace('~', '~0').replace('/', '~1')}"
+            if key not in new:
+                out.append({"op": "remove", "path": where})
+            elif key not in old:
+                out.append({"op": "add", "path": where, "value": new[key]})
+            else:
+                _diff(old[key], new[key], where, out)
+    elif isinstance(old, list) and isinstance(new, list):
+        common = min(len(old), len(new))
+        for index in range(common):
+            _diff(old[index], new[index], f"{path}/{index}", out)
+        out.extend(
+            {"op": "remove", "path": f"{path}/{index}"} for index in range(len(old) - 1, common - 1, -1)
+        )
+        out.extend(
+            {"op": "add", "path": f"{path}/{index}", "value": new[index]} for index in range(common, len(new))
+        )
+    else:
+        out.append({"op": "replace", "path": path, "value": new})

@@ -1,0 +1,76 @@
+"""Which log entries decided each check, matched again with the scenario's own patterns.
+
+A check's sentence names the entries it found only when it failed on them; to link every verdict to its
+entries the viewer matches the check's action pattern against the trajectory's log once more. That needs
+the very scenario the episode ran: the library's copy is used only when its content hash is the one the
+episode recorded. Otherwise (a scenario file given by path, or changed since) the page falls back to what
+the sentence and the attribution tell.
+"""
+
+from __future__ import annotations
+
+from datetime import datetime
+from typing import Any
+
+from pare.bench.store import scenario_hash
+from pare.errors import UserInputError
+from pare.scenarios.library import get_scenario
+from pare.scenarios.model import ActionPattern, Scenario
+from pare.scenarios.patterns import CompiledPattern
+from pare.sim.log import LogEntry
+
+CheckKey = tuple[str, int]
+"""A check by goal id and position."""
+
+
+def library_scenario(scenario_id: str, wanted_hash: str) -> Scenario | None:
+    """The library's scenario ``scenario_id`` if its content is the one an episode ran, else ``None``."""
+    try:
+        scenario = get_scenario(scenario_id)
+    except UserInputError:
+        return None
+    return scenario if scenario_hash(scenario) == wanted_hash else None
+
+
+def matched_entries(scenario: Scenario, log: list[dict[str, Any]]) -> dict[CheckKey, list[int]]:
+    """For each action, forbidden-action and judge check: the entries its pattern matches (for an
+    action check that found none, the calls of the tool it wanted). State checks are left out.
+    """
+    try:
+        entries = [_entry(item) for item in log]
+    except (KeyError, TypeError, ValueError):  # a log this PARE cannot read back: no precise links
+        return {}
+    found: dict[CheckKey, list[int]] = {}
+    for goal in scenario.goals:
+        for index, check in enumerate(goal.checks):
+            pattern: ActionPattern | None = check.action or check.no_action
+            if check.judge is not None:
+                pattern = check.judge.action
+            if pattern is None:
+                continue
+            compiled = CompiledPattern.of(pattern, scenario.start)
+            hits = compiled.find(entries)
+            if not hits and check.action is not None:
+                hits = [entry for entry in entries if compiled.matches_call(entry)]
+            found[(goal.id, index)] = [entry.index for entry in hits]
+    return found
+
+
+def _entry(item: dict[str, Any]) -> LogEntry:
+    return LogEntry(
+        index=int(item["index"]),
+        turn=int(item["turn"]),
+        time=datetime.fromisoformat(str(item["time"])),
+        actor=item["actor"],
+        app=str(item["app"]),
+        tool=str(item["tool"]),
+        args=dict(item.get("args") or {}),
+        kind=item.get("kind"),
+        ok=bool(item["ok"]),
+        result=item.get("result"),
+        error=item.get("error"),
+        mode=item.get("mode"),
+        injected_failure=bool(item.get("injected_failure", False)),
+        event_id=item.get("event_id"),
+        screen=item.get("screen"),
+    )

@@ -1,0 +1,110 @@
+"""Serving the site read-only on the loopback interface (Starlette under uvicorn).
+
+Only ``GET`` and ``HEAD`` exist; any other method is refused. Pages are looked up by name (see
+:mod:`pare.viewer._site`): no URL is ever turned into a file path. The ``Host`` header must name the
+loopback address, so a web page elsewhere cannot reach the viewer by rebinding its own domain name to
+127.0.0.1.
+"""
+
+from __future__ import annotations
+
+import ipaddress
+import socket
+
+from starlette.applications import Starlette
+from starlette.middleware import Middleware
+from starlette.middleware.trustedhost import TrustedHostMiddleware
+from starlette.requests import Request
+from starlette.responses import PlainTextResponse, Response
+from starlette.routing import Route
+
+from pare.errors import UserInputError
+from pare.viewer._site import Site
+
+LOOPBACK_NAMES = ("127.0.0.1", "localhost", "::1")
+SECURITY_HEADERS = {
+    "Content-Security-Policy": (
+        "default-src 'none'; script-src 'self'; style-src 'self'; img-src 'self' data:; "
+        "frame-src 'self'; frame-ancestors 'self'; form-action 'none'; base-uri 'none'"
+    ),
+    "X-Content-Type-Options": "nosniff",
+    "Referrer-Policy": "no-referrer",
+    "Cache-Control": "no-store",
+}
+
+
+def check_loopback(host: str) -> None:
+    """Refuse any host that is not the loopback interface: the viewer shows runs to this machine only.
+
+    Raises:
+        UserInputError: ``host`` is not 127.0.0.1, ::1 or localhost.
+    """
+    if host == "localhost":
+        return
+    try:
+        loopback = ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        loopback = False
+    if not loopback:
+        raise UserInputError(
+            f"pare view serves on the loopback interface only (127.0.0.1, ::1 or localhost), not {host!r}; "
+            "to share runs, write a static site with --export DIR"
+        )
+
+
+def create_app(site: Site, bound: str = "127.0.0.1") -> Starlette:
+    """The ASGI app serving ``site``; requests must name the loopback (or the address ``bound``) as
+    their host.
+    """
+
+    async def page(request: Request) -> Response:
+        found = site.page(request.url.path)
+        if found is None:
+            return PlainTextResponse("not found", status_code=404, headers=SECURITY_HEADERS)
+        return Response(found.body, media_type=found.media_type, headers=SECURITY_HEADERS)
+
+    return Starlette(
+        routes=[Route("/{path:path}", page, methods=["GET", "HEAD"])],
+        middleware=[Middleware(TrustedHostMiddleware, allowed_hosts=_host_names(bound))],
+    )
+
+
+def _host_names(bound: str) -> list[str]:
+    """What a request's ``Host`` may name: the loopback, and the bound address (IPv6 in brackets too)."""
+    names = {*LOOPBACK_NAMES, bound}
+    return sorted(names | {f"[{name}]" for name in names if ":" in name})
+
+
+def bind(host: str, port: int) -> socket.socket:
+    """A listening socket on the loopback ``host`` (``port`` 0: a free one).
+
+    Raises:
+        UserInputError: ``host`` is not loopback, or the port cannot be had.
+    """
+    check_loopback(host)
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    sock = socket.socket(family, socket.SOCK_STREAM)
+    try:
+        sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        sock.bind((host, port))
+        sock.listen(128)
+    except OSError as error:
+        sock.close()
+        raise UserInputError(f"cannot listen on {host}:{port}: {error.strerror or error}") from None
+    sock.set_inheritable(True)
+    return sock
+
+
+def url_of(sock: socket.socket) -> str:
+    """The address a browser opens for a bound socket."""
+    host, port = sock.getsockname()[:2]
+    return f"http://[{host}]:{port}/" if ":" in host else f"http://{host}:{port}/"
+
+
+def serve(site: Site, sock: socket.socket) -> None:
+    """Serve ``site`` on ``sock`` until interrupted."""
+    import uvicorn
+
+    bound = sock.getsockname()[0]
+    config = uvicorn.Config(create_app(site, bound), log_level="warning", access_log=False, lifespan="off")
+    uvicorn.Server(config).run(sockets=[sock])
