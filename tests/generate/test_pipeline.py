@@ -10,7 +10,7 @@ from pare.generate import generate, read_provenance
 from pare.generate.folder import OUTCOMES, TRANSCRIPTS, transcript_hash
 from pare.generate.sections import STAGE_KEYS, STAGES, split_sections
 from pare.scenarios import load_scenario
-from pare.testing import ChatServer
+from pare.testing import ChatServer, failure
 from tests.generate.conftest import BENCH, ScriptedGenerator, example_answers, make_config
 
 
@@ -171,3 +171,27 @@ def test_output_resumes_and_runs_candidates_concurrently(
         "dentist_example",
         "plumber_asks_which_mornings_free_next_week",
     ]
+
+
+def test_a_provider_that_stays_down_leaves_the_candidate_to_resume(
+    server: ChatServer, tmp_path: Path, library: Path
+) -> None:
+    server.responder = lambda body: failure(503, "overloaded")
+    down = generate(make_config(server, tmp_path / "out", library))
+    assert down.records == [] and "candidate-001" in down.unfinished
+    assert not (tmp_path / "out" / OUTCOMES).exists()
+
+    server.responder = ScriptedGenerator({1: _script()})
+    again = generate(make_config(server, tmp_path / "out", library))
+    assert [record.status for record in again.records] == ["passed"] and not again.unfinished
+
+
+def test_an_unreadable_verdict_goes_back_to_the_judge_once(
+    server: ChatServer, tmp_path: Path, library: Path
+) -> None:
+    shutil.copy(BENCH / "dentist_moves_checkup.yaml", library)
+    server.responder = generator = ScriptedGenerator({1: _script()}, verdicts=["Looks new to me."])
+    [record] = generate(make_config(server, tmp_path / "out", library)).records
+    assert generator.judge_calls == 2
+    assert record.status == "failed" and record.stage == "story"
+    assert "judge" in record.reason and "no JSON object" in record.reason

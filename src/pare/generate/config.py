@@ -71,8 +71,8 @@ class GenerateConfig(BaseModel):
 
     @property
     def judge_model(self) -> ModelConfig:
-        """The judge's model configuration."""
-        return self.judge or self.generator
+        """The judge's model configuration: the generator's model at temperature 0 unless one is given."""
+        return self.judge or self.generator.model_copy(update={"temperature": 0.0})
 
     @property
     def folder(self) -> Path:
