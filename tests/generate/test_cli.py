@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import io
 import json
+import os
 from pathlib import Path
 
 import pytest
@@ -10,6 +12,7 @@ import pytest
 from pare.cli import main
 from pare.generate.review import REJECTED, REVIEWS
 from pare.scenarios import load_scenario
+from pare.scenarios.schema import SCHEMA_FILE
 from pare.testing import ChatServer
 from tests.generate.conftest import ScriptedGenerator, example_answers
 
@@ -103,7 +106,8 @@ def test_review_accepts_into_the_library_and_sets_rejected_aside(
     assert code == 0
     accepted = target / "dentist_example.yaml"
     assert load_scenario(accepted).id == "dentist_example"
-    assert accepted.read_text().startswith("# yaml-language-server: $schema=")
+    schema = Path(os.path.relpath(SCHEMA_FILE, target)).as_posix()  # the schema line follows the file
+    assert accepted.read_text().startswith(f"# yaml-language-server: $schema={schema}\n")
     rejected = folder / REJECTED / "dentist_copy.yaml"
     assert rejected.read_text().startswith("# rejected: a copy of the other\n")
     assert not list(folder.glob("*.yaml"))
@@ -118,3 +122,18 @@ def test_review_names_unknown_candidates(tmp_path: Path, capsys: pytest.CaptureF
     (tmp_path / "dentist_example.yaml").write_text("id: dentist_example\n")
     assert main(["scenarios", "review", str(tmp_path), "--accept", "dentist_exampel"]) == 2
     assert "Did you mean 'dentist_example'" in capsys.readouterr().err
+
+
+def test_review_asks_at_a_terminal(
+    server: ChatServer,
+    tmp_path: Path,
+    library: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    folder = tmp_path / "out"
+    assert _generate(server, folder, library) == 0
+    monkeypatch.setattr("sys.stdin", io.StringIO("r\nthe concert is too convenient\n"))
+    assert main(["scenarios", "review", str(folder), "--interactive"]) == 0
+    assert "rejected dentist_example (the concert is too convenient)" in capsys.readouterr().out
+    assert (folder / REJECTED / "dentist_example.yaml").read_text().startswith("# rejected: the concert")

@@ -64,20 +64,32 @@ def test_a_gate_breach_goes_back_and_is_repaired(server: ChatServer, tmp_path: P
         )
         .replace("content: Friday at 17:30 works for me.", "content: Thursday at 08:00 works for me.")
     )
-    assert wrong_variant != good["validation"] and broken_seed != good["seed"]
+    # the oracle moves the check-up to end before it starts: the calendar refuses the call when played
+    failing_call = good["events"].replace("end_datetime: day+3 08:45}", "end_datetime: day+3 07:45}", 1)
+    assert (
+        wrong_variant != good["validation"] and broken_seed != good["seed"] and failing_call != good["events"]
+    )
     server.responder = ScriptedGenerator(
-        {1: _script(seed=[broken_seed, good["seed"]], validation=[wrong_variant, good["validation"]])}
+        {
+            1: _script(
+                seed=[broken_seed, good["seed"]],
+                events=[failing_call, good["events"]],
+                validation=[wrong_variant, good["validation"]],
+            )
+        }
     )
     summary = generate(make_config(server, tmp_path / "out", library))
 
     [record] = summary.records
     assert record.status == "passed", record
-    assert record.attempts == {"story": 1, "seed": 2, "events": 1, "validation": 2}
+    assert record.attempts == {"story": 1, "seed": 2, "events": 2, "validation": 2}
     feedback = {
         request["messages"][-1]["content"] for request in server.requests if len(request["messages"]) > 3
     }
     seed_feedback = next(text for text in feedback if "seed stage" in text)
     assert "seed.email.emails[0].subjct: unknown field" in seed_feedback
+    played = next(text for text in feedback if "events stage" in text)
+    assert "[oracle] assistant call #6 calendar.edit_calendar_event failed: The event would end" in played
     gate_feedback = next(text for text in feedback if "validation stage" in text)
     assert "[variant:takes_friday]" in gate_feedback and "played" in gate_feedback
 

@@ -55,6 +55,9 @@ def generate(
     temperature: Annotated[
         float, typer.Option("--temperature", min=0.0, help="The generator's sampling temperature.")
     ] = 0.7,
+    timeout: Annotated[
+        float, typer.Option("--timeout", min=1.0, help="Seconds one answer may take (a stage is long).")
+    ] = 600.0,
     judge_model: Annotated[
         str | None, typer.Option("--judge-model", help="The uniqueness judge (default: the generator).")
     ] = None,
@@ -88,7 +91,12 @@ def generate(
     from pare.generate import generate as run_generation
     from pare.generate.progress import RichGenerationProgress
 
-    generator: dict[str, Any] = {"model": model, "backend": provider, "temperature": temperature}
+    generator: dict[str, Any] = {
+        "model": model,
+        "backend": provider,
+        "temperature": temperature,
+        "timeout_s": timeout,
+    }
     if endpoint is not None:
         generator["api_base"] = endpoint
     if api_key_env is not None:

@@ -1,7 +1,7 @@
 """The gate as far as a candidate has got: after each stage, load it and play the runs it can play.
 
 * story: the story's fields load, the chosen apps, tags and difficulty are kept, the id is free;
-* seed: the seed data loads and the world can be built from it;
+* seed: the seed data loads, and the world built from it plays (the ``nothing`` run);
 * events: the oracle, the slow user and the user by hand are played (their goals are still placeholders,
   so only failed calls and events, a proposal that never came and reactions that never fired count);
 * validation: the whole gate, every run and variant.
@@ -13,17 +13,19 @@ from collections.abc import Collection, Mapping
 from dataclasses import dataclass
 
 from pare.bench.selftest import ScenarioVerdict, check_scenario
-from pare.errors import UserInputError
 from pare.generate.config import GenerateConfig
 from pare.generate.sections import STAGE_KEYS, STAGES, assemble, top_key
-from pare.scenarios.build import build_environment
 from pare.scenarios.loader import ScenarioError, parse_scenario
 from pare.scenarios.model import Scenario
 
 SOURCE = "candidate.yaml"
 _PLACEHOLDER_GOAL_LINES = ("check failed: placeholder", "goal 'placeholder'")
-EARLY_RUNS = ("oracle", "slow_user", "by_hand")
-"""The runs played after the events stage, before any goal is written."""
+EARLY_RUNS: dict[str, tuple[str, ...]] = {
+    "seed": ("nothing",),
+    "events": ("oracle", "slow_user", "by_hand"),
+}
+"""The runs played after the seed and events stages, before any goal is written (their verdicts mean
+nothing yet: only their own problems count, such as a world that cannot be built or a failed call)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -73,23 +75,18 @@ def check_stage(
         return StageCheck(tuple(problems), played=False)
     if stage == "story":
         return StageCheck(tuple(_story_problems(scenario, config, taken_ids)), False, scenario)
-    if stage == "seed":
-        try:
-            build_environment(scenario)
-        except UserInputError as error:
-            return StageCheck((f"the world cannot be built from the seed data: {error}",), True, scenario)
-        return StageCheck((), True, scenario)
-    if stage == "events":
-        verdict = check_scenario(scenario, runs=EARLY_RUNS, variants=False)
+    if stage in EARLY_RUNS:
+        verdict = check_scenario(scenario, runs=EARLY_RUNS[stage], variants=False)
         lines = [
-            line
+            f"[{run.run}] {line}"
             for run in verdict.runs
             for line in run.problems
             if not line.startswith(_PLACEHOLDER_GOAL_LINES)
         ]
         return StageCheck(tuple(lines), True, scenario, verdict)
     verdict = check_scenario(scenario)
-    return StageCheck(tuple(verdict.breaches()), True, scenario, verdict)
+    warnings = [f"{line} (a warning the library does not accept either: fix it)" for line in verdict.warnings]
+    return StageCheck((*verdict.breaches(), *warnings), True, scenario, verdict)
 
 
 def _story_problems(scenario: Scenario, config: GenerateConfig, taken_ids: Collection[str]) -> list[str]:
