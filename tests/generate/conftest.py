@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -12,9 +11,9 @@ import pytest
 
 from pare.agents.models import ModelConfig
 from pare.generate import GenerateConfig
-from pare.generate.prompts import JUDGE_OPENING, SYSTEM_OPENING
 from pare.generate.sections import STAGE_KEYS, STAGES, split_sections
-from pare.testing import ChatServer, Reply, completion, failure
+from pare.testing import ChatServer, failure
+from pare.testing.generation import ScriptedGeneration
 from tests.agents.conftest import no_network
 
 __all__ = ["no_network"]
@@ -54,43 +53,7 @@ def with_replaced(answers: Mapping[str, str], pairs: Sequence[tuple[str, str]]) 
     return changed
 
 
-@dataclass
-class ScriptedGenerator:
-    """A responder: the generator's answers per candidate and stage, one per attempt (the last one repeats),
-    and the judge's verdicts in order (the last one repeats).
-    """
-
-    scripts: dict[int, dict[str, list[str]]]
-    verdicts: list[str] = field(default_factory=lambda: ['{"duplicate": false, "reason": "new"}'])
-    judge_calls: int = 0
-
-    def _index(self, messages: Sequence[Mapping[str, Any]]) -> int:
-        first = str(messages[1]["content"])
-        found = re.search(r"\(candidate (\d+) of \d+\)", first)
-        if found:
-            return int(found.group(1))
-        scenario_id = re.search(r"^id: (\S+)", first, re.M)
-        assert scenario_id is not None, first[:300]
-        for index, stages in self.scripts.items():
-            if re.search(rf"^id: {re.escape(scenario_id.group(1))}\s*$", stages["story"][-1], re.M):
-                return index
-        raise AssertionError(f"no script writes id {scenario_id.group(1)}")
-
-    def __call__(self, body: dict[str, Any]) -> Reply:
-        messages = body["messages"]
-        if str(messages[0]["content"]).startswith(JUDGE_OPENING):
-            self.judge_calls += 1
-            return completion(self.verdicts[min(self.judge_calls, len(self.verdicts)) - 1])
-        if not str(messages[0]["content"]).startswith(SYSTEM_OPENING):
-            return failure(400, "not a generator conversation")
-        stage = re.search(r"# Stage \d of 4: the (\w+)", str(messages[1]["content"]))
-        assert stage is not None
-        name = {"story": "story", "apps": "seed", "events": "events", "validation": "validation"}[
-            stage.group(1)
-        ]
-        answers = self.scripts[self._index(messages)][name]
-        attempt = sum(message["role"] == "assistant" for message in messages)
-        return completion(answers[min(attempt, len(answers) - 1)], 1000, 500)
+ScriptedGenerator = ScriptedGeneration
 
 
 @pytest.fixture

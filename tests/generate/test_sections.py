@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pytest
 
+from pare.generate.prompts import STAGE_HEADINGS, TEMPLATES
 from pare.generate.sections import ORDER, assemble, extract_yaml, split_sections, top_key
 from pare.generate.uniqueness import JudgeAnswerError, read_verdict
 
@@ -45,3 +46,8 @@ def test_the_judges_verdict_is_read_from_its_json() -> None:
     for text in ("no", "{duplicate: yes}", '{"duplicate": "yes"}'):
         with pytest.raises(JudgeAnswerError):
             read_verdict(text)
+
+
+def test_the_stage_headings_open_the_stage_templates() -> None:
+    for stage, heading in STAGE_HEADINGS.items():
+        assert (TEMPLATES / f"{stage}.j2").read_text().startswith(heading)

@@ -79,6 +79,12 @@ def app_reference(app: str) -> str:
     return "\n".join(lines)
 
 
+def app_line(app: str) -> str:
+    """``app: what it is``, for the story stage."""
+    cls = get_app_class(app)
+    return f"{cls.name}: {cls.description}"
+
+
 @functools.cache
 def seed_reference(app: str) -> str:
     """The seed data format of ``app`` (``pare apps show APP --seed``)."""

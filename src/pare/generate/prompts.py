@@ -10,7 +10,7 @@ from typing import Any
 from jinja2 import Environment
 
 from pare.agents.prompts import template_environment
-from pare.generate.context import Example, apps_reference, schema_text
+from pare.generate.context import Example, app_line, apps_reference, schema_text
 from pare.generate.sections import STAGE_KEYS, STAGES
 
 TEMPLATES = Path(__file__).parent / "templates"
@@ -19,6 +19,13 @@ SYSTEM_OPENING = "You write scenarios for PARE-Bench"
 """How the generator's system prompt starts (a test server tells the generator's calls by it)."""
 JUDGE_OPENING = "You decide whether a new benchmark scenario"
 """How the uniqueness judge's prompt starts."""
+STAGE_HEADINGS = {
+    "story": "# Stage 1 of 4: the story",
+    "seed": "# Stage 2 of 4: the apps' initial data",
+    "events": "# Stage 3 of 4: the events and the oracle",
+    "validation": "# Stage 4 of 4: the validation",
+}
+"""How each stage's first message starts (the templates' first lines; a test keeps them in step)."""
 
 
 @functools.cache
@@ -57,6 +64,7 @@ def stage_prompt(
         return render(
             "story.j2",
             apps=apps,
+            app_lines=[app_line(app) for app in apps],
             index=index,
             count=count,
             tag=tag,
