@@ -22,7 +22,7 @@ def wide_terminal(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("COLUMNS", "250")
 
 
-def _generate(server: ChatServer, folder: Path, library: Path) -> int:
+def _generate(server: ChatServer, folder: Path, library: Path, *options: str) -> int:
     server.responder = ScriptedGenerator({1: {stage: [text] for stage, text in example_answers().items()}})
     return main(
         [
@@ -33,13 +33,12 @@ def _generate(server: ChatServer, folder: Path, library: Path) -> int:
             "1",
             "-o",
             str(folder),
-            "--model",
-            "pare-generator",
             "--endpoint",
             server.base_url,
             "--library",
             str(library),
             "--no-progress",
+            *(options or ("--model", "pare-generator")),
         ]
     )
 
@@ -137,3 +136,25 @@ def test_review_asks_at_a_terminal(
     assert main(["scenarios", "review", str(folder), "--interactive"]) == 0
     assert "rejected dentist_example (the concert is too convenient)" in capsys.readouterr().out
     assert (folder / REJECTED / "dentist_example.yaml").read_text().startswith("# rejected: the concert")
+
+
+def test_generate_through_the_litellm_backend(
+    server: ChatServer,
+    tmp_path: Path,
+    library: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    pytest.importorskip("litellm")
+    monkeypatch.setenv("PARE_TEST_GENERATOR_KEY", "sk-local")  # litellm sends no dummy key of its own
+    options = (
+        "--provider",
+        "litellm",
+        "--model",
+        "openai/pare-generator",
+        "--api-key-env",
+        "PARE_TEST_GENERATOR_KEY",
+    )
+    assert _generate(server, tmp_path / "out", library, *options) == 0
+    assert "1 passed" in capsys.readouterr().out
+    assert {request["model"] for request in server.requests} == {"pare-generator"}
