@@ -46,8 +46,10 @@ def _generate(server: ChatServer, folder: Path, library: Path, *options: str) ->
 def test_generate_prints_each_candidate_and_the_cost(
     server: ChatServer, tmp_path: Path, library: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    assert _generate(server, tmp_path / "out", library) == 0
+    options = ("--model", "pare-generator", "--set", "generator.max_tokens=16000")
+    assert _generate(server, tmp_path / "out", library, *options) == 0
     out = capsys.readouterr().out
+    assert server.requests[0]["max_tokens"] == 16000
     assert "candidate-001" in out and "passed" in out and "dentist_example" in out
     assert "model calls: 4" in out and "cost" in out
     assert f"pare scenarios review {tmp_path / 'out'}" in out.replace("\n", "")

@@ -77,6 +77,10 @@ def generate(
     cache: Annotated[
         str, typer.Option("--cache", help="Model-call cache: off, read_write, replay.")
     ] = "read_write",
+    sets: Annotated[
+        list[str] | None,
+        typer.Option("--set", help="Any setting by its dotted path: --set generator.max_tokens=16000."),
+    ] = None,
     progress: Annotated[bool, typer.Option("--progress/--no-progress", help="Show a progress bar.")] = True,
 ) -> None:
     """Generate candidate scenarios with a model, judged by the self-test gate (resumable).
@@ -87,6 +91,7 @@ def generate(
     """
     from rich.console import Console
 
+    from pare.bench.runconfig import parse_assignment, set_path
     from pare.generate import build_generate_config
     from pare.generate import generate as run_generation
     from pare.generate.progress import RichGenerationProgress
@@ -108,21 +113,22 @@ def generate(
         judge = {**generator, "model": judge_model or model, "temperature": 0.0}
         if judge_endpoint is not None:
             judge["api_base"] = judge_endpoint
-    config = build_generate_config(
-        {
-            "apps": _split(apps),
-            "tags": _split(tags),
-            "difficulty": _split(difficulty),
-            "count": count,
-            "output": str(output),
-            "generator": generator,
-            "judge": judge,
-            "stage_retries": retries,
-            "library": [str(path) for path in library or []],
-            "concurrency": concurrency,
-            "cache": cache,
-        }
-    )
+    data: dict[str, Any] = {
+        "apps": _split(apps),
+        "tags": _split(tags),
+        "difficulty": _split(difficulty),
+        "count": count,
+        "output": str(output),
+        "generator": generator,
+        "judge": judge,
+        "stage_retries": retries,
+        "library": [str(path) for path in library or []],
+        "concurrency": concurrency,
+        "cache": cache,
+    }
+    for text in sets or []:
+        set_path(data, *parse_assignment(text))
+    config = build_generate_config(data)
     console = Console()
     sink = RichGenerationProgress() if progress else None
     try:
