@@ -515,7 +515,6 @@ def test_state_paths_step_through_id_keyed_collections() -> None:
     assert "did you mean 'sender_id'" in problems.lower()
 
 
-
 def test_an_intervention_longer_than_the_execute_budget_is_refused() -> None:
     """Actions past the budget would silently never run, and the gate would blame the checks instead."""
     data = base()
