@@ -44,6 +44,21 @@ class SimulationBug(PareError):
     """An invariant of the simulation or of an app declaration does not hold."""
 
 
+def first_error(errors: BaseExceptionGroup[BaseException]) -> BaseException:
+    """The error to report from a task group: the first :class:`UserInputError` (a mistake the person can
+    fix), else the first error.
+    """
+    leaves: list[BaseException] = []
+    stack: list[BaseException] = [errors]
+    while stack:
+        error = stack.pop(0)
+        if isinstance(error, BaseExceptionGroup):
+            stack.extend(error.exceptions)
+        else:
+            leaves.append(error)
+    return next((error for error in leaves if isinstance(error, UserInputError)), leaves[0])
+
+
 def did_you_mean(name: str, choices: Iterable[str], *, limit: int = 3) -> str:
     """Return ``" Did you mean 'x'?"`` for the closest choices, or an empty string."""
     close = difflib.get_close_matches(name, list(choices), n=limit, cutoff=0.6)

@@ -43,8 +43,13 @@ class ToolLine:
 
 @functools.cache
 def _templates() -> jinja2.Environment:
+    return template_environment(TEMPLATES)
+
+
+def template_environment(folder: Path) -> jinja2.Environment:
+    """A Jinja environment for the plain-text prompt templates in ``folder``: undefined names are errors."""
     return jinja2.Environment(
-        loader=jinja2.FileSystemLoader(TEMPLATES),
+        loader=jinja2.FileSystemLoader(folder),
         undefined=jinja2.StrictUndefined,
         keep_trailing_newline=True,
         trim_blocks=True,

@@ -42,7 +42,7 @@ from pare.bench.episode import arun_episode
 from pare.bench.records import EpisodeRecord, Failure, FailureKind, summarize
 from pare.bench.runconfig import RunConfig
 from pare.bench.store import CACHE_FILE, RunStore, scenario_hash, trajectory_path
-from pare.errors import CacheMiss, RunFailure, UserInputError
+from pare.errors import CacheMiss, RunFailure, UserInputError, first_error
 from pare.scenarios.library import library, load_scenarios, select
 from pare.scenarios.model import Scenario
 from pare.scenarios.oracle import OracleAssistant, OracleUser
@@ -432,26 +432,10 @@ async def run_local(
             for _ in range(min(config.concurrency, len(plans))):
                 group.create_task(worker())
     except BaseExceptionGroup as errors:
-        raise _first_error(errors) from None
+        raise first_error(errors) from None
     finally:
         await models.aclose()
     return written
-
-
-def _first_error(errors: BaseExceptionGroup[BaseException]) -> BaseException:
-    """The error to report from a task group: a configuration mistake first, else the first one."""
-    leaves: list[BaseException] = []
-    stack: list[BaseException] = [errors]
-    while stack:
-        error = stack.pop(0)
-        if isinstance(error, BaseExceptionGroup):
-            stack.extend(error.exceptions)
-        else:
-            leaves.append(error)
-    for error in leaves:
-        if isinstance(error, UserInputError):
-            return error
-    return leaves[0]
 
 
 def check_credentials(config: RunConfig) -> None:

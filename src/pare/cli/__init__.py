@@ -12,7 +12,7 @@ from collections.abc import Sequence
 import typer
 
 from pare import __version__
-from pare.cli import apps_cmd, report_cmd, run_cmd, scenarios_cmd, view_cmd
+from pare.cli import apps_cmd, generate_cmd, report_cmd, run_cmd, scenarios_cmd, view_cmd
 from pare.errors import UserInputError
 
 app = typer.Typer(
@@ -29,6 +29,7 @@ app.command("sweep")(run_cmd.sweep)
 app.command("report")(report_cmd.report)
 app.command("plot")(report_cmd.plot)
 app.command("view")(view_cmd.view)
+app.command("generate")(generate_cmd.generate)
 
 
 @app.command()

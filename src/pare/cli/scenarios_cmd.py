@@ -319,3 +319,33 @@ def _failing_runs() -> tuple[str, ...]:
     from pare.bench.selftest import RUNS
 
     return tuple(name for name, (_, expected) in RUNS.items() if not expected)
+
+
+@app.command("review")
+def review(
+    folder: Annotated[Path, typer.Argument(help="A folder of candidates written by pare generate.")],
+    accept: Annotated[
+        list[str] | None, typer.Option("--accept", help="Move this candidate into the library (repeatable).")
+    ] = None,
+    reject: Annotated[
+        list[str] | None,
+        typer.Option("--reject", help="Set this candidate aside (repeatable; needs --reason)."),
+    ] = None,
+    reason: Annotated[
+        str | None, typer.Option("--reason", help="Why the rejected candidates are rejected.")
+    ] = None,
+    library: Annotated[
+        Path | None,
+        typer.Option("--library", help="Where accepted candidates go (default: the shipped library)."),
+    ] = None,
+    interactive: Annotated[
+        bool | None,
+        typer.Option("--interactive/--no-input", help="Ask about each candidate (default: at a terminal)."),
+    ] = None,
+) -> None:
+    """Show each generated candidate (story, seed volume, events, oracle, goals, variants, gate table)
+    and move accepted ones into a library folder, rejected ones to DIR/rejected/ with the reason.
+    """
+    from pare.cli.review_cmd import review as run_review
+
+    run_review(folder, accept or [], reject or [], reason, library, interactive)

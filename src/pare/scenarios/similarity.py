@@ -147,8 +147,13 @@ class Similarity:
 
 def story_words(scenario: Scenario) -> list[str]:
     """The story's content words: lower case, without proper names, numbers and common words."""
+    return text_words(scenario.title, scenario.story)
+
+
+def text_words(title: str, story: str) -> list[str]:
+    """The content words of a title and a story (see :func:`story_words`)."""
     words = []
-    for sentence in re.split(r"(?<=[.!?])\s+", f"{scenario.title}. {scenario.story}"):
+    for sentence in re.split(r"(?<=[.!?])\s+", f"{title}. {story}"):
         for index, match in enumerate(_WORD.finditer(sentence)):
             word = match.group(0)
             if index > 0 and word[0].isupper():
@@ -165,15 +170,21 @@ def _tools(scenario: Scenario) -> set[str]:
     return tools
 
 
-def _jaccard(left: set[str], right: set[str]) -> float:
+def jaccard(left: set[str], right: set[str]) -> float:
+    """The share of the two sets' elements they have in common (1 for two empty sets)."""
     union = left | right
     return len(left & right) / len(union) if union else 1.0
 
 
 def _vectors(scenarios: Sequence[Scenario]) -> list[dict[str, float]]:
-    counts = [Counter(story_words(scenario)) for scenario in scenarios]
+    return word_vectors([story_words(scenario) for scenario in scenarios])
+
+
+def word_vectors(documents_words: Sequence[Sequence[str]]) -> list[dict[str, float]]:
+    """TF-IDF vectors (unit length) of word lists, weighted over those lists."""
+    counts = [Counter(words) for words in documents_words]
     documents = Counter(word for count in counts for word in count)
-    total = len(scenarios)
+    total = len(counts)
     vectors = []
     for count in counts:
         vector = {word: n * (math.log((1 + total) / (1 + documents[word])) + 1) for word, n in count.items()}
@@ -182,7 +193,8 @@ def _vectors(scenarios: Sequence[Scenario]) -> list[dict[str, float]]:
     return vectors
 
 
-def _cosine(left: dict[str, float], right: dict[str, float]) -> float:
+def cosine(left: dict[str, float], right: dict[str, float]) -> float:
+    """The cosine of two unit-length sparse vectors."""
     if len(left) > len(right):
         left, right = right, left
     return sum(value * right.get(word, 0.0) for word, value in left.items())
@@ -196,9 +208,9 @@ def similarities(scenarios: Sequence[Scenario]) -> list[Similarity]:
     pairs = []
     for i in range(len(scenarios)):
         for j in range(i + 1, len(scenarios)):
-            story = _cosine(vectors[i], vectors[j])
-            app_share = _jaccard(apps[i], apps[j])
-            tool_share = _jaccard(tools[i], tools[j])
+            story = cosine(vectors[i], vectors[j])
+            app_share = jaccard(apps[i], apps[j])
+            tool_share = jaccard(tools[i], tools[j])
             score = WEIGHTS["story"] * story + WEIGHTS["apps"] * app_share + WEIGHTS["tools"] * tool_share
             pairs.append(Similarity(scenarios[i].id, scenarios[j].id, score, story, app_share, tool_share))
     return sorted(pairs, key=lambda pair: (-pair.score, pair.first, pair.second))
