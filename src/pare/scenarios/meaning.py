@@ -273,8 +273,7 @@ def declines(text: str) -> bool:
     if not refusing:
         return False
     return not any(
-        not _denies(part) and has_any(part, COUNTER_OFFER_CUES)
-        for part in parts[refusing[0] + 1 :]
+        not _denies(part) and has_any(part, COUNTER_OFFER_CUES) for part in parts[refusing[0] + 1 :]
     )
 
 
