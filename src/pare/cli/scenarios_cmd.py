@@ -239,6 +239,50 @@ def stats(
         typer.echo(line)
 
 
+@app.command("sample")
+def sample(
+    size: Annotated[int, typer.Option("--size", "-n", min=1, help="How many scenarios.")] = 50,
+    seed: Annotated[int, typer.Option("--seed", help="The seed that breaks ties.")] = 0,
+    write: Annotated[
+        str | None,
+        typer.Option("--write", help="Store the sample in the library's splits file under this name."),
+    ] = None,
+    paths: Paths = None,
+) -> None:
+    """A stratified sample of the library (balanced by app, tag, difficulty, kind and app mix), with its
+    profile beside the library's; --write stores it as a split (the ablation split is made this way).
+    """
+    from rich.console import Console
+    from rich.table import Table
+
+    from pare.scenarios.library import load_scenarios, write_split
+    from pare.scenarios.sampling import stratified_sample
+
+    scenarios = load_scenarios(paths or None)
+    if size > len(scenarios):
+        raise typer.BadParameter(f"the library has only {len(scenarios)} scenarios", param_hint="--size")
+    drawn = stratified_sample(scenarios, size, seed)
+    table = Table(title=f"a stratified sample of {size} of {len(scenarios)} scenarios (seed {seed})")
+    for column in ("feature", "library", "sample"):
+        table.add_column(column, justify="left" if column == "feature" else "right")
+    for name in sorted(drawn.library):
+        table.add_row(name, f"{drawn.library[name]:.0%}", f"{drawn.sample.get(name, 0.0):.0%}")
+    console = Console()
+    console.print(table)
+    name, gap = drawn.largest_gap
+    console.print(f"largest difference: {name} ({gap:.1%})")
+    if write is None:
+        typer.echo("\n".join(drawn.ids))
+        return
+    description = (
+        f"A stratified sample of {size} of the library's {len(scenarios)} scenarios (pare scenarios sample "
+        f"--size {size} --seed {seed}): apps, tags, difficulty, kind and app mix in the library's "
+        "proportions."
+    )
+    write_split(write, description, drawn.ids)
+    console.print(f"split '{write}' written with {size} scenarios")
+
+
 @app.command("similar")
 def similar(
     paths: Paths = None,

@@ -144,3 +144,30 @@ def select(
     if difficulty:
         chosen = [s for s in chosen if s.difficulty in difficulty]
     return chosen
+
+
+SPLITS_HEADER = (
+    '# The library\'s splits. "full" is every scenario; "smoke" is a handful that runs in seconds;\n'
+    '# "ablation" is a stratified sample that keeps the library\'s mix (pare scenarios sample).\n'
+)
+
+
+def write_split(name: str, description: str, scenario_ids: Sequence[str], file: Path = SPLITS_FILE) -> None:
+    """Add the split ``name`` to the splits file, or replace it; the other splits are kept as they are."""
+    try:
+        parsed = SplitsFile.model_validate(yaml.safe_load(file.read_text(encoding="utf-8")))
+    except (OSError, yaml.YAMLError, ValidationError) as error:
+        raise UserInputError(f"{file}: {error}") from None
+    entries = dict(parsed.splits)
+    entries[name] = Split(description=description, scenarios=list(scenario_ids))
+    lines = [SPLITS_HEADER.rstrip("\n"), "splits:"]
+    for split_name, split in entries.items():
+        lines.append(f"  {split_name}:")
+        lines.append(f"    description: {yaml.safe_dump(split.description, width=1000).strip()}")
+        if isinstance(split.scenarios, str):
+            lines.append(f'    scenarios: "{split.scenarios}"')
+        else:
+            lines.append("    scenarios:")
+            lines.extend(f"      - {scenario_id}" for scenario_id in split.scenarios)
+    file.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    splits.cache_clear()
