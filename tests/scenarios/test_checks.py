@@ -141,3 +141,39 @@ def test_per_goal_results_and_goal_rate() -> None:
     assert [goal.passed for goal in result.outcome.goals] == [True, False]
     assert result.outcome.goal_rate == 0.5
     assert result.outcome.to_dict()["goals"][1]["id"] == "never"
+
+
+def test_a_list_of_tools_means_any_of_them() -> None:
+    """A reply or a fresh email: one pattern, each tool's arguments read as missing by the other."""
+    either = ["email__send_email", "email__reply_to_email"]
+    _, result = _oracle_run(
+        _with_checks({"action": {"tool": either, "args": {"content": {"contains": "thursday"}}}})
+    )
+    assert result.success
+    _, result = _oracle_run(_with_checks({"no_action": {"tool": ["email__send_email", "email__save_draft"]}}))
+    assert result.success
+    _, result = _oracle_run(_with_checks({"no_action": {"tool": either}}))
+    (failure,) = result.outcome.failures()
+    assert "email__send_email or email__reply_to_email" in failure.detail
+
+
+def test_a_list_of_tools_is_checked_tool_by_tool() -> None:
+    from pare.scenarios import ScenarioError
+
+    data = _with_checks({"action": {"tool": ["email__send_email", "email__reply_too"]}})
+    try:
+        parse(data)
+    except ScenarioError as error:
+        found = [str(problem) for problem in error.problems]
+    else:
+        raise AssertionError("an unknown tool in a list was accepted")
+    assert any("tool[1]" in problem and "email__reply_too" in problem for problem in found), found
+    data = _with_checks(
+        {"action": {"tool": ["email__send_email", "email__reply_to_email"], "args": {"colour": 1}}}
+    )
+    try:
+        parse(data)
+    except ScenarioError as error:
+        assert "has no argument 'colour'" in str(error)
+    else:
+        raise AssertionError("an argument no listed tool takes was accepted")

@@ -122,10 +122,10 @@ class ActionPattern(_Strict):
     actor: ActorPattern = Field(
         default="assistant", description="Who made the call; 'any' for anyone. Default: the assistant."
     )
-    tool: str | None = Field(
+    tool: str | list[str] | None = Field(
         default=None,
         description="The tool as app__tool (email__send_email); for user screen actions the app and the "
-        "action's name (email__open_email).",
+        "action's name (email__open_email). A list means any of those tools.",
     )
     app: str | None = Field(default=None, description="Any tool of this app (when no tool is given).")
     kind: ToolKind | None = Field(default=None, description="Only calls of this kind (read, write, ...).")
@@ -139,6 +139,20 @@ class ActionPattern(_Strict):
     before_event: str | None = Field(
         default=None, description="Only calls made before this event fired (or if it never did)."
     )
+
+    @field_validator("tool")
+    @classmethod
+    def _tools_named(cls, value: str | list[str] | None) -> str | list[str] | None:
+        if isinstance(value, list) and (not value or len(set(value)) != len(value)):
+            raise ValueError("a list of tools names each tool once, and at least one")
+        return value
+
+    @property
+    def tools(self) -> tuple[str, ...] | None:
+        """The tools meant (any of them), or ``None`` for any tool."""
+        if self.tool is None:
+            return None
+        return (self.tool,) if isinstance(self.tool, str) else tuple(self.tool)
 
     @field_validator("args")
     @classmethod

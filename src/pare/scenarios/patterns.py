@@ -28,13 +28,15 @@ class CompiledPattern:
     args: tuple[tuple[str, Matcher], ...]
     result: Matcher | None
     start: datetime
+    tools: frozenset[str] | None = None
 
     @classmethod
     def of(cls, pattern: ActionPattern, start: datetime) -> CompiledPattern:
         """Compile ``pattern``; relative times in its matchers resolve against ``start``."""
         args = tuple((name, compile_matcher(raw)) for name, raw in pattern.args.items())
         result = compile_matcher(pattern.result) if pattern.result is not None else None
-        return cls(pattern, args, result, start)
+        tools = None if pattern.tools is None else frozenset(pattern.tools)
+        return cls(pattern, args, result, start, tools)
 
     @property
     def needs_event_positions(self) -> bool:
@@ -46,7 +48,7 @@ class CompiledPattern:
         pattern = self.pattern
         if pattern.actor != "any" and entry.actor != pattern.actor:
             return False
-        if pattern.tool is not None and f"{entry.app}__{entry.tool}" != pattern.tool:
+        if self.tools is not None and f"{entry.app}__{entry.tool}" not in self.tools:
             return False
         if pattern.app is not None and entry.app != pattern.app:
             return False
@@ -83,7 +85,8 @@ class CompiledPattern:
     def describe(self) -> str:
         """A reading such as ``assistant email__send_email(recipients: contains ['bob'])``."""
         pattern = self.pattern
-        what = pattern.tool or (f"any {pattern.app} tool" if pattern.app else "any tool")
+        tools = pattern.tools
+        what = " or ".join(tools) if tools else (f"any {pattern.app} tool" if pattern.app else "any tool")
         who = "anyone" if pattern.actor == "any" else pattern.actor
         extras = [f"{name}: {matcher.describe()}" for name, matcher in self.args]
         qualifiers = [

@@ -186,7 +186,7 @@ class _Validator:
                 hint = did_you_mean(name, parameters)
                 yield Problem(
                     (*where, name),
-                    f"{pattern.tool} has no argument '{name}'.{hint} "
+                    f"{' or '.join(pattern.tools or ())} has no argument '{name}'.{hint} "
                     f"Arguments: {', '.join(sorted(parameters))}",
                 )
             elif name in parameters:
@@ -350,13 +350,13 @@ class _Validator:
                     yield from self._pattern(check.no_action, where)
                 elif check.judge is not None:
                     yield from self._pattern(check.judge.action, (*where, "action"))
-                    spec = self._pattern_spec(check.judge.action)
-                    if spec is not None and check.judge.field not in spec.params.model_fields:
-                        yield Problem(
-                            (*where, "field"),
-                            f"'{check.judge.field}' is not an argument of {check.judge.action.tool} "
-                            f"({', '.join(spec.params.model_fields)})",
-                        )
+                    for spec in self._pattern_specs(check.judge.action):
+                        if check.judge.field not in spec.params.model_fields:
+                            yield Problem(
+                                (*where, "field"),
+                                f"'{check.judge.field}' is not an argument of {spec.qualified_name} "
+                                f"({', '.join(spec.params.model_fields)})",
+                            )
                 elif check.state is not None:
                     yield from self._state(check.state, where)
 
@@ -424,20 +424,26 @@ class _Validator:
                     owner = f"tool of {pattern.app}" if pattern.app else "tool"
                     yield Problem((*where, "args", name), f"no {owner} has an argument '{name}'")
             return
-        specs = self._pattern_specs(pattern)
-        if not specs:
+        tools = pattern.tools or ()
+        for position, tool in enumerate(tools):
+            if self._tool_specs(tool, pattern.actor):
+                continue
             choices: list[str] = {
                 "user": list(catalog.user_qualified),
                 "assistant": list(catalog.flat),
                 "env": list(catalog.flat),
                 "any": [*catalog.flat, *catalog.user_qualified],
             }[pattern.actor]
-            message = catalog.unknown_tool(pattern.tool, choices)
-            if pattern.actor == "user" and pattern.tool in catalog.flat:
+            message = catalog.unknown_tool(tool, choices)
+            if pattern.actor == "user" and tool in catalog.flat:
                 message += (
                     " (the user acts through screen actions, logged as app__action, e.g. email__open_email)"
                 )
-            yield Problem((*where, "tool"), message)
+            yield Problem(
+                (*where, "tool", position) if isinstance(pattern.tool, list) else (*where, "tool"), message
+            )
+        specs = self._pattern_specs(pattern)
+        if not specs or any(not self._tool_specs(tool, pattern.actor) for tool in tools):
             return
         parameters = _parameters(specs)
         for name, raw in pattern.args.items():
@@ -445,7 +451,7 @@ class _Validator:
                 hint = did_you_mean(name, parameters)
                 yield Problem(
                     (*where, "args", name),
-                    f"{pattern.tool} has no argument '{name}'.{hint} "
+                    f"{' or '.join(pattern.tools or ())} has no argument '{name}'.{hint} "
                     f"Arguments: {', '.join(sorted(parameters)) or 'none'}",
                 )
             else:
@@ -457,18 +463,16 @@ class _Validator:
             yield Problem((*where, *place), message)
 
     def _pattern_specs(self, pattern: ActionPattern) -> list[ToolSpec]:
+        return [spec for tool in pattern.tools or () for spec in self._tool_specs(tool, pattern.actor)]
+
+    def _tool_specs(self, tool: str, actor: str) -> list[ToolSpec]:
         catalog = self.catalog
-        tool = pattern.tool or ""
         specs: list[ToolSpec] = []
-        if pattern.actor in ("user", "any"):
+        if actor in ("user", "any"):
             specs.extend(catalog.user_qualified.get(tool, []))
-        if pattern.actor in ("assistant", "env", "any") and tool in catalog.flat:
+        if actor in ("assistant", "env", "any") and tool in catalog.flat:
             specs.append(catalog.flat[tool])
         return specs
-
-    def _pattern_spec(self, pattern: ActionPattern) -> ToolSpec | None:
-        specs = self._pattern_specs(pattern)
-        return specs[0] if specs else None
 
     def _args(
         self, spec: ToolSpec, args: Mapping[str, Any], where: Path, *, refs_allowed: bool
@@ -530,7 +534,7 @@ class _Validator:
 def _forbids_proposing(pattern: ActionPattern) -> bool:
     """Whether a no_action pattern forbids the assistant's proposals."""
     return pattern.actor in ("assistant", "any") and (
-        pattern.tool == "agent_ui__send_message_to_user"
+        "agent_ui__send_message_to_user" in (pattern.tools or ())
         or (pattern.tool is None and pattern.app == "agent_ui")
     )
 
