@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+import yaml
 
 from pare.cli import main
 from pare.scenarios.library import library, splits, write_split
@@ -43,10 +44,11 @@ def test_write_split_adds_a_split_and_keeps_the_others(tmp_path: Path) -> None:
         "  smoke:\n    description: A few.\n    scenarios: [a, b]\n",
         encoding="utf-8",
     )
-    write_split("trial", "A trial: of two", ["b", "c"], file=file)
-    text = file.read_text(encoding="utf-8")
-    assert 'scenarios: "*"' in text and "      - a\n      - b\n" in text
-    assert "  trial:\n    description: 'A trial: of two'\n    scenarios:\n      - b\n      - c\n" in text
+    write_split("trial", "A trial: of two 'quoted'", ["b", "c"], file=file)
+    written = yaml.safe_load(file.read_text(encoding="utf-8"))["splits"]
+    assert written["full"] == {"description": "Everything.", "scenarios": "*"}
+    assert written["smoke"]["scenarios"] == ["a", "b"]
+    assert written["trial"] == {"description": "A trial: of two 'quoted'", "scenarios": ["b", "c"]}
 
 
 def test_the_sample_command_prints_the_profile_and_ids(capsys: pytest.CaptureFixture[str]) -> None:

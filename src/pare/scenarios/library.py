@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import json
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 
@@ -163,7 +164,7 @@ def write_split(name: str, description: str, scenario_ids: Sequence[str], file: 
     lines = [SPLITS_HEADER.rstrip("\n"), "splits:"]
     for split_name, split in entries.items():
         lines.append(f"  {split_name}:")
-        lines.append(f"    description: {yaml.safe_dump(split.description, width=1000).strip()}")
+        lines.append(f"    description: {json.dumps(split.description, ensure_ascii=False)}")  # valid YAML
         if isinstance(split.scenarios, str):
             lines.append(f'    scenarios: "{split.scenarios}"')
         else:
