@@ -177,3 +177,23 @@ def test_a_list_of_tools_is_checked_tool_by_tool() -> None:
         assert "has no argument 'colour'" in str(error)
     else:
         raise AssertionError("an argument no listed tool takes was accepted")
+
+
+def test_a_judge_reads_every_matched_text_alone_or_together() -> None:
+    """An answer split over two replies: judged alone, neither part is the whole answer; ``together``
+    reads them as one."""
+    data = _with_checks()
+    data["oracle"]["interventions"][0]["actions"].append(
+        {"tool": "email__reply_to_email", "args": {"email_id": "e_ann", "content": "See you at 10."}}
+    )
+    judged = {
+        "criterion": "Confirms Thursday at 10.",
+        "action": {"tool": "email__reply_to_email"},
+        "fallback": {"mentions_day": "day+3", "mentions_clock": "10:00"},
+    }
+    data["goals"][0]["checks"].append({"judge": judged})
+    _, alone = _oracle_run(data)
+    assert not alone.success
+    data["goals"][0]["checks"][-1] = {"judge": {**judged, "together": True}}
+    _, together = _oracle_run(data)
+    assert together.success, together.outcome.failures()

@@ -287,6 +287,8 @@ def _judge(check: JudgeCheck, context: _Context, judge: Judge | None) -> tuple[b
     candidates = [text for text in texts if isinstance(text, str)]
     if not candidates:
         return False, f"no {pattern.describe()} with a text in '{check.field}' to judge"
+    if check.together and len(candidates) > 1:
+        candidates = ["\n\n".join(candidates)]  # one answer sent in parts is judged as the whole
     if judge is not None:
         passed = any(judge(check.criterion, text) for text in candidates)
         return (

@@ -254,12 +254,19 @@ class JudgeCheck(_Strict):
     """Free text judged by a model against a criterion, with a deterministic fallback.
 
     The text is the argument ``field`` of the actions matched by ``action``; the check holds when one of
-    them meets the criterion. Without a judge model, ``fallback`` (a matcher on the same text) decides.
+    them meets the criterion, or, with ``together``, when all of them read as one text (an answer that
+    may come in several messages) do. Without a judge model, ``fallback`` (a matcher on the same text)
+    decides.
     """
 
     criterion: str = Field(min_length=1, description="What the text must do, for the judge model.")
     action: ActionPattern = Field(description="Which actions carry the text.")
     field: str = Field(default="content", description="The argument holding the text.")
+    together: bool = Field(
+        default=False,
+        description="Judge the texts of all matched actions as one (in the order they were made), for an "
+        "answer that may be split over several messages; by default each is judged alone and one must pass.",
+    )
     fallback: Matcher = Field(description="A matcher on the text, used when no judge model is configured.")
 
     @field_validator("fallback")
