@@ -197,3 +197,26 @@ def test_a_judge_reads_every_matched_text_alone_or_together() -> None:
     data["goals"][0]["checks"][-1] = {"judge": {**judged, "together": True}}
     _, together = _oracle_run(data)
     assert together.success, together.outcome.failures()
+
+
+def test_a_user_action_is_matched_by_the_screen_it_was_made_on() -> None:
+    """A screen action carries only what the user typed; the screen says which item it acted on."""
+    on_inbox = {"actor": "user", "tool": "email__open_email", "screen": {"contains": "INBOX"}}
+    _, result = _oracle_run(_with_checks({"action": on_inbox}))
+    assert result.success
+    on_sent = {**on_inbox, "screen": {"contains": "SENT"}}
+    _, result = _oracle_run(_with_checks({"action": on_sent}))
+    (failure,) = result.outcome.failures()
+    assert "on a screen contains ['sent']" in failure.detail
+
+
+def test_screen_is_refused_on_the_assistants_patterns() -> None:
+    from pare.scenarios import ScenarioError
+
+    data = _with_checks({"action": {"tool": "email__reply_to_email", "screen": {"contains": "INBOX"}}})
+    try:
+        parse(data)
+    except ScenarioError as error:
+        assert "'screen' is where the user was when acting" in str(error)
+    else:
+        raise AssertionError("screen on an assistant pattern was accepted")

@@ -132,6 +132,11 @@ class ActionPattern(_Strict):
     mode: AssistantMode | None = Field(default=None, description="Only assistant calls in this mode.")
     args: dict[str, Matcher] = Field(default_factory=dict, description="Argument name to matcher.")
     result: Matcher | None = Field(default=None, description="A matcher on the call's result.")
+    screen: Matcher | None = Field(
+        default=None,
+        description="For user actions: a matcher on where the user was, the app and screen with what it "
+        "shows (email > Detail(email_id='e-7')): a reply on an email's screen names no email_id.",
+    )
     ok: bool | None = Field(
         default=True, description="Only successful calls (true, the default), failed ones, or any (null)."
     )
@@ -163,6 +168,11 @@ class ActionPattern(_Strict):
     @classmethod
     def _check_result(cls, value: Any) -> Any:
         return value if value is None else _valid_matcher(value, "result: ")
+
+    @field_validator("screen")
+    @classmethod
+    def _check_screen(cls, value: Any) -> Any:
+        return value if value is None else _valid_matcher(value, "screen: ")
 
 
 class Count(_Strict):

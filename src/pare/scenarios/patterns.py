@@ -29,6 +29,7 @@ class CompiledPattern:
     result: Matcher | None
     start: datetime
     tools: frozenset[str] | None = None
+    screen: Matcher | None = None
 
     @classmethod
     def of(cls, pattern: ActionPattern, start: datetime) -> CompiledPattern:
@@ -36,7 +37,8 @@ class CompiledPattern:
         args = tuple((name, compile_matcher(raw)) for name, raw in pattern.args.items())
         result = compile_matcher(pattern.result) if pattern.result is not None else None
         tools = None if pattern.tools is None else frozenset(pattern.tools)
-        return cls(pattern, args, result, start, tools)
+        screen = compile_matcher(pattern.screen) if pattern.screen is not None else None
+        return cls(pattern, args, result, start, tools, screen)
 
     @property
     def needs_event_positions(self) -> bool:
@@ -63,6 +65,8 @@ class CompiledPattern:
         if not self.matches_call(entry) or not self.matches_args(entry):
             return False
         if self.result is not None and not self.result.test(entry.result, self.start):
+            return False
+        if self.screen is not None and not self.screen.test(entry.screen, self.start):
             return False
         if self.needs_event_positions:
             positions = events or {}
@@ -101,6 +105,8 @@ class CompiledPattern:
         ]
         if self.result is not None:
             qualifiers.append(f"result {self.result.describe()}")
+        if self.screen is not None:
+            qualifiers.append(f"on a screen {self.screen.describe()}")
         if pattern.ok is False:
             qualifiers.append("failed")
         text = f"{who} {what}({', '.join(extras)})"

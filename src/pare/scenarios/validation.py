@@ -400,6 +400,11 @@ class _Validator:
     # -- shared pieces ---------------------------------------------------------------------------------
     def _pattern(self, pattern: ActionPattern, where: Path) -> Iterator[Problem]:
         catalog = self.catalog
+        if pattern.screen is not None and pattern.actor not in ("user", "any"):
+            yield Problem(
+                (*where, "screen"),
+                f"'screen' is where the user was when acting; this pattern is about the {pattern.actor}",
+            )
         for key in ("after_event", "before_event"):
             event = getattr(pattern, key)
             if event is not None and event not in self.event_ids:
