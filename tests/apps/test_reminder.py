@@ -278,6 +278,7 @@ def test_create_flow_from_the_list(env: Environment) -> None:
         "due_datetime": "2025-03-04T17:30:00Z",
         "repetition": "daily",
         "repeat_until": "2025-03-10T23:00:00Z",
+        "set_for": "2025-03-04T17:30:00Z",
         "announced": False,
     }
     assert len(reminders(env)) == before + 1
@@ -375,6 +376,7 @@ def test_edit_flow_from_detail(env: Environment) -> None:
         "due_datetime": "2025-03-07T18:00:00Z",
         "repetition": "daily",
         "repeat_until": "2025-03-12T20:00:00Z",
+        "set_for": "2025-03-07T18:00:00Z",
         "announced": False,
     }
     ok(env.call("user", "go_back"))
@@ -456,6 +458,7 @@ def test_agent_reads(env: Environment) -> None:
         "due_datetime": "2025-03-08T10:00:00Z",
         "repetition": "weekly",
         "repeat_until": "2025-03-22T23:59:00Z",
+        "set_for": "2025-03-08T10:00:00Z",
         "announced": False,
     }
     assert [e.kind for e in env.log[-5:]] == ["read"] * 5
@@ -477,6 +480,7 @@ def test_add_reminder(env: Environment) -> None:
         "due_datetime": "2025-03-04T17:00:00Z",
         "repetition": "none",
         "repeat_until": None,
+        "set_for": "2025-03-04T17:00:00Z",
         "announced": False,
     }
     assert env.log[-1].kind == "write"
@@ -863,3 +867,16 @@ def test_a_random_user_walks_every_screen() -> None:
     for screen in type(env.apps["reminder"]).screens:
         assert set(screen.actions) <= tried
     assert sum(e.ok for e in env.log) / len(env.log) > 0.7
+
+
+def test_set_for_keeps_the_time_a_repeating_reminder_was_set_for_as_it_fires() -> None:
+    """A check on the final state can tell a daily reminder set for tomorrow from one set for next week,
+    although both have moved on by the time the episode ends."""
+    env = make_env(["reminder"])
+    new_id = agent(env, "add_reminder", title="Stretch", due_datetime="2025-03-04 08:00", repetition="daily")
+    env.advance_to(datetime(2025, 3, 6, 9, 0, tzinfo=UTC))
+    stored = reminders(env)[new_id]
+    assert stored["due_datetime"] == "2025-03-07T08:00:00Z"
+    assert stored["set_for"] == "2025-03-04T08:00:00Z"
+    agent(env, "update_reminder", reminder_id=new_id, updates={"due_datetime": "2025-03-09 07:00"})
+    assert reminders(env)[new_id]["set_for"] == "2025-03-09T07:00:00Z"

@@ -56,11 +56,22 @@ class Reminder(BaseModel):
     repeat_until: SimTime | None = Field(
         default=None, description="the last moment an occurrence may fall on; None repeats forever"
     )
+    set_for: SimTime = Field(
+        description="the due time as it was set (when added, or when someone last moved it): unlike "
+        "due_datetime, it stays put as a repeating reminder fires; the due time when left out"
+    )
     announced: bool = Field(
         default=False,
         description="whether the current due occurrence has been announced; a seeded reminder already due "
         "that should not be announced again sets it",
     )
+
+    @model_validator(mode="before")
+    @classmethod
+    def _set_for_the_due_time(cls, data: Any) -> Any:
+        if isinstance(data, dict) and data.get("set_for") is None and "due_datetime" in data:
+            data = {**data, "set_for": data["due_datetime"]}
+        return data
 
     @model_validator(mode="after")
     def _repeat_until_fits(self) -> Reminder:
@@ -271,6 +282,7 @@ class ReminderApp(App):
         _check_repeat(merged["due_datetime"], merged["repetition"], merged["repeat_until"])
         if merged["due_datetime"] != reminder.due_datetime:
             merged["announced"] = False
+            merged["set_for"] = merged["due_datetime"]
         elif merged["announced"] and ("repetition" in changes or "repeat_until" in changes):
             self._rearm(merged)
         updated = Reminder.model_validate(merged)
