@@ -242,6 +242,7 @@ class ReminderApp(App):
             due_datetime=due,
             repetition=repetition,
             repeat_until=until,
+            set_for=due,
         )
         return reminder_id
 
