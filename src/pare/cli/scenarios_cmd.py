@@ -13,7 +13,10 @@ if TYPE_CHECKING:  # the library and the gate are imported by the commands: `par
     from pare.bench.selftest import RunVerdict, ScenarioVerdict
     from pare.scenarios.model import Scenario
 
-app = typer.Typer(help="The PARE-Bench scenarios: list, show, self-test, schema.", no_args_is_help=True)
+app = typer.Typer(
+    help="The PARE-Bench scenarios: list, show, self-test, coverage, samples, likeness, schema, review.",
+    no_args_is_help=True,
+)
 
 AppFilter = Annotated[
     list[str] | None, typer.Option("--app", "-a", help="Only scenarios using this app (repeatable).")
