@@ -167,7 +167,12 @@ class ToolSpec:
             model = self.params.model_validate(args)
         except ValidationError as error:
             raise ToolError(describe_validation_error(self, error)) from None
-        return {name: getattr(model, name) for name in self.params.model_fields}
+        return {name: getattr(model, name) for name in self._argument_names}
+
+    @cached_property
+    def _argument_names(self) -> tuple[str, ...]:
+        # Reading ``model_fields`` from a pydantic class costs more than the validation of a small call.
+        return tuple(self.params.model_fields)
 
 
 def describe_validation_error(spec: ToolSpec, error: ValidationError) -> str:
