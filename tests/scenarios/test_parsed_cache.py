@@ -76,3 +76,18 @@ def test_a_broken_file_is_never_cached(cache_dir: Path, tmp_path: Path) -> None:
     with pytest.raises(Exception, match=r"broken\.yaml"):
         load_scenario(broken)
     assert not list(cache_dir.rglob("*.json"))
+
+
+def test_folders_of_old_code_versions_are_pruned(cache_dir: Path, scenario_file: Path) -> None:
+    import os
+
+    old = cache_dir / "scenarios"
+    for index in range(parsed_cache.KEPT_VERSIONS + 3):
+        stale = old / f"old-{index}"
+        stale.mkdir(parents=True)
+        os.utime(stale, (1_000_000 + index, 1_000_000 + index))
+    load_scenario(scenario_file)
+    kept = sorted(p.name for p in old.iterdir())
+    assert parsed_cache.code_fingerprint() in kept
+    assert len(kept) == parsed_cache.KEPT_VERSIONS + 1
+    assert "old-0" not in kept and f"old-{parsed_cache.KEPT_VERSIONS + 2}" in kept

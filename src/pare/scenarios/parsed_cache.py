@@ -19,6 +19,7 @@ import functools
 import hashlib
 import json
 import os
+import shutil
 from datetime import date, datetime, time
 from enum import Enum
 from pathlib import Path
@@ -76,13 +77,28 @@ def remember(text: str, scenario: Scenario) -> None:
         return
     entry = _entry(folder, text)
     try:
-        folder.mkdir(parents=True, exist_ok=True)
+        if not folder.exists():
+            folder.mkdir(parents=True, exist_ok=True)
+            _prune_siblings(folder)
         temporary = entry.with_name(f"{entry.name}.{os.getpid()}.tmp")
         data = scenario.model_dump(exclude_unset=True)
         temporary.write_text(json.dumps(data, default=_tag, ensure_ascii=False), encoding="utf-8")
         os.replace(temporary, entry)
     except OSError:
         return
+
+
+KEPT_VERSIONS = 4
+"""Folders of older PARE code kept beside the current one; older ones are removed (each edit of PARE's code
+starts a new folder, so a developer's cache would otherwise grow without end)."""
+
+
+def _prune_siblings(folder: Path) -> None:
+    """Remove the cache folders of all but the most recent :data:`KEPT_VERSIONS` other code versions."""
+    siblings = [p for p in folder.parent.iterdir() if p.is_dir() and p != folder]
+    siblings.sort(key=lambda p: p.stat().st_mtime, reverse=True)
+    for stale in siblings[KEPT_VERSIONS:]:
+        shutil.rmtree(stale, ignore_errors=True)
 
 
 _TAGS: dict[str, Any] = {"$datetime": datetime, "$date": date, "$time": time}
