@@ -768,3 +768,28 @@ def test_a_random_user_walks_every_screen() -> None:
     screens = {e.app_screen[1] for e in env.log if e.app_screen}
     assert screens == {"Home", "Options", "Quote", "Ride"}
     assert sum(e.ok for e in env.log) / len(env.log) > 0.5
+
+
+@pytest.mark.parametrize(
+    ("start", "end", "km"),
+    [
+        ("22 Fenwick Rd", "Eastbridge Airport North Terminal", 31.5),
+        ("eastbridge airport (north terminal)", "22 FENWICK ROAD", 31.5),
+        ("Home", "Harbour St station", 9.0),
+        ("home", "Harbour Street Railway Station", 9.0),
+    ],
+)
+def test_a_known_pair_is_found_however_its_places_are_written(start: str, end: str, km: float) -> None:
+    app = CabApp()
+    app.state.known_distances = {
+        "22 Fenwick Road|Eastbridge Airport (North Terminal)": 31.5,
+        "Home|Harbour Street": 9.0,
+    }
+    assert app.distance_km(start, end) == km
+
+
+def test_another_place_is_not_taken_for_a_known_one() -> None:
+    app = CabApp()
+    app.state.known_distances = {"22 Fenwick Road|Eastbridge Airport (North Terminal)": 31.5}
+    assert app.distance_km("22 Fenwick Road", "Eastbridge Airport South Terminal") != 31.5
+    assert app.distance_km("24 Fenwick Road", "Eastbridge Airport North Terminal") != 31.5

@@ -1,17 +1,19 @@
 """Cab: quotes and rides from a ride-hailing service.
 
 Prices are deterministic. The distance between two places is a pure function of the pair (the same in
-both directions, ignoring case and extra spaces): a scenario's ``known_distances`` when it names the pair,
-otherwise a stable hash of the two names mapped to 1.5-35 km. Rides go at 30 km/h, so the duration is
-``distance / 30 * 60`` minutes rounded up. The price is ``base_fare + per_km * distance + per_minute *
-duration`` of the service type, times 1.25 for pickups in the peak hours (07:00-09:59 and 16:00-18:59),
-rounded to cents. The same request always gives the same numbers.
+both directions): a scenario's ``known_distances`` when it names the pair, however its places are written
+(case, punctuation and common abbreviations aside; a name holding all the words of a known place, or held
+by it, is that place), otherwise a stable hash of the two names mapped to 1.5-35 km. Rides go at 30 km/h,
+so the duration is ``distance / 30 * 60`` minutes rounded up. The price is ``base_fare + per_km *
+distance + per_minute * duration`` of the service type, times 1.25 for pickups in the peak hours
+(07:00-09:59 and 16:00-18:59), rounded to cents. The same request always gives the same numbers.
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
+import re
 from datetime import datetime, timedelta
 from decimal import ROUND_HALF_UP, Decimal
 from typing import Any, Literal
@@ -205,6 +207,32 @@ def _clean(place: str) -> str:
     return " ".join(place.split())
 
 
+_ABBREVIATIONS = {
+    "st": "street", "rd": "road", "ave": "avenue", "av": "avenue", "ln": "lane", "tce": "terrace",
+    "terr": "terrace", "dr": "drive", "sq": "square", "pl": "place", "ct": "court", "cres": "crescent",
+    "stn": "station", "intl": "international", "hosp": "hospital", "apt": "airport", "nth": "north",
+    "sth": "south",
+}  # fmt: skip
+_FILLER = frozenset({"the", "of", "and", "at"})
+
+
+def _place_words(place: str) -> frozenset[str]:
+    """A place's words, case and punctuation aside, common abbreviations written out."""
+    words = re.findall(r"[^\W_]+", place.casefold())
+    return frozenset(_ABBREVIATIONS.get(word, word) for word in words if word not in _FILLER)
+
+
+def _fit(asked: frozenset[str], known: frozenset[str]) -> int | None:
+    """How far a place as asked is from a known one (0: the same words), or ``None`` when it is not it:
+    one's words must hold all of the other's.
+    """
+    if not asked or not known:
+        return None
+    if asked <= known or known <= asked:
+        return len(asked ^ known)
+    return None
+
+
 def _pair_key(start: str, end: str) -> str:
     """The same text for a pair of places in either order."""
     return json.dumps(sorted((_norm(start), _norm(end))))
@@ -259,15 +287,32 @@ class CabApp(App):
         return self.state.rides[self.state.current_ride_id]
 
     def distance_km(self, start: str, end: str) -> float:
-        """The road distance between two places, in km with one decimal (symmetric, deterministic)."""
+        """The road distance between two places, in km with one decimal (symmetric, deterministic).
+
+        A pair the scenario knows is found however its places are written: "22 Fenwick Rd" is "22 Fenwick
+        Road", and "Harbour Street Station" is "Harbour Street" (a name that holds all the words of a known
+        place, or whose words a known place holds). Of several known pairs that fit, the closest wins.
+        """
         pair = _pair_key(start, end)
-        for key, km in self.state.known_distances.items():
-            a, b = key.split("|")
-            if _pair_key(a, b) == pair:
-                return round(km, 1)
+        known = self._known_distance(start, end)
+        if known is not None:
+            return round(known, 1)
         digest = hashlib.sha256(pair.encode("utf-8")).digest()
         span = MAX_DISTANCE_TENTHS - MIN_DISTANCE_TENTHS + 1
         return (MIN_DISTANCE_TENTHS + int.from_bytes(digest[:8], "big") % span) / 10
+
+    def _known_distance(self, start: str, end: str) -> float | None:
+        wanted = (_place_words(start), _place_words(end))
+        best: tuple[int, float] | None = None
+        for key, km in self.state.known_distances.items():
+            a, b = (_place_words(part) for part in key.split("|"))
+            for first, second in ((a, b), (b, a)):
+                near_start, near_end = _fit(wanted[0], first), _fit(wanted[1], second)
+                if near_start is None or near_end is None:
+                    continue
+                if best is None or near_start + near_end < best[0]:
+                    best = (near_start + near_end, km)
+        return None if best is None else best[1]
 
     def _service(self, service_type: str) -> str:
         """The service type's name as the app spells it (matched case-insensitively)."""
