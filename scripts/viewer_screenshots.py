@@ -16,9 +16,10 @@ from playwright.sync_api import sync_playwright
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from pare.cli import main  # noqa: E402
 from tests.viewer.runs import KEY_VARIABLE, make_runs  # noqa: E402
 from tests.viewer.test_browser import ARGS, CHROMIUM  # noqa: E402
+
+from pare.cli import main  # noqa: E402
 
 IMAGES = ROOT / "docs" / "images"
 
