@@ -6,7 +6,8 @@ from typing import Any
 
 import pytest
 
-from pare.bench import run_episode
+from pare.bench import EpisodeSettings, run_episode
+from pare.env import EnvConfig
 from pare.scenarios import OracleAssistant, OracleUser
 from pare.scenarios.oracle import OracleRunError
 from tests.scenarios.helpers import base, parse
@@ -42,3 +43,17 @@ def test_a_field_of_a_bare_id_is_a_clear_error() -> None:
     expected = r"has no 'event_id' \(it is 'event-1'; \$\{made\} names the whole"
     with pytest.raises(OracleRunError, match=expected):
         run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
+
+
+def test_the_oracle_tries_a_transiently_failed_action_again() -> None:
+    """Under injected tool failures a referenced result still arrives: the oracle retries the call."""
+    scenario = parse(_creates_then_edits("${made}"))
+    retried = 0
+    for seed in range(8):
+        settings = EpisodeSettings(env=EnvConfig(seed=seed, tool_failure_probability=0.4))
+        result = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario), settings)
+        injected = [entry for entry in result.env.log.entries if entry.injected_failure]
+        retried += any(entry.tool == "add_calendar_event" for entry in injected)
+        made = [entry for entry in result.env.log.entries if entry.tool == "add_calendar_event" and entry.ok]
+        assert len(made) == 1  # retried until it worked, never made twice
+    assert retried  # the seeds above do fail the referenced call at least once

@@ -165,6 +165,11 @@ class SlowUser(OracleUser):
         return action
 
 
+def _transient_failure(result: ToolResult | None) -> bool:
+    """Whether ``result`` is an injected tool failure: the same call may well succeed next time."""
+    return result is not None and result.entry is not None and result.entry.injected_failure
+
+
 class OracleAssistant(AssistantPolicy):
     """Proposes each intervention once its condition holds; once accepted, acts and reports."""
 
@@ -197,8 +202,13 @@ class OracleAssistant(AssistantPolicy):
         return Action(ASSISTANT_WAIT)
 
     async def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
-        """Carry out the accepted intervention's actions in order, then report."""
+        """Carry out the accepted intervention's actions in order, then report. An action that failed
+        with a transient error (an injected tool failure) is tried again, as a careful assistant would:
+        the actions after it may need its result.
+        """
         env = self._env()
+        if task is None and self._last is not None and _transient_failure(previous):
+            return Action(self._last.tool, self.references.resolve(self._last.args, env))
         if task is not None:
             self._current = next(
                 (i for i in self.solution.interventions if i.proposal == task.proposal), None
