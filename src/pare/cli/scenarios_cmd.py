@@ -16,6 +16,7 @@ if TYPE_CHECKING:  # the library and the gate are imported by the commands: `par
 app = typer.Typer(
     help="The PARE-Bench scenarios: list, show, self-test, coverage, samples, likeness, schema, review.",
     no_args_is_help=True,
+    rich_markup_mode=None,  # plain help: see pare.cli.app
 )
 
 AppFilter = Annotated[
@@ -27,7 +28,9 @@ TagFilter = Annotated[
 DifficultyFilter = Annotated[
     list[str] | None, typer.Option("--difficulty", "-d", help="Only this difficulty: easy, medium, hard.")
 ]
-SplitFilter = Annotated[str | None, typer.Option("--split", "-s", help="Only this split: full, smoke.")]
+SplitFilter = Annotated[
+    str | None, typer.Option("--split", "-s", help="Only this split, e.g. full, smoke or ablation.")
+]
 Paths = Annotated[
     list[Path] | None,
     typer.Argument(help="Scenario files or directories (default: the shipped library).", show_default=False),
