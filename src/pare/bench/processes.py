@@ -38,7 +38,7 @@ def resolve_jobs(jobs: int | None) -> int:
     return jobs
 
 
-def _start_method() -> BaseContext:
+def start_method() -> BaseContext:
     """Workers are started from a clean server process (forkserver) where the platform has it, else
     spawned: never forked from this process, whose threads (a progress bar, an HTTP client) could hold
     a lock at the moment of the fork and leave the child stuck on it.
@@ -59,7 +59,7 @@ def map_in_processes(
     if jobs <= 1 or len(items) <= 1:
         yield from map(function, items)
         return
-    with ProcessPoolExecutor(max_workers=min(jobs, len(items)), mp_context=_start_method()) as pool:
+    with ProcessPoolExecutor(max_workers=min(jobs, len(items)), mp_context=start_method()) as pool:
         futures = [pool.submit(function, item) for item in items]
         try:
             for future in futures:
