@@ -2,4 +2,5 @@
 
 from pare.cli import run
 
-run()
+if __name__ == "__main__":  # worker processes import this module again (as __mp_main__): they must not run it
+    run()

@@ -11,7 +11,7 @@ from collections.abc import Sequence
 
 import typer
 
-from pare import __version__
+import pare
 from pare.cli import apps_cmd, generate_cmd, report_cmd, run_cmd, scenarios_cmd, view_cmd
 from pare.errors import UserInputError
 
@@ -21,6 +21,10 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    # Plain help and usage errors, as click writes them: the framework's boxed rich help imports a
+    # markdown parser, a syntax highlighter and a traceback renderer it does not use for them, which
+    # doubled the time `pare --help` takes. Commands still print with rich.
+    rich_markup_mode=None,
 )
 app.add_typer(apps_cmd.app, name="apps")
 app.add_typer(scenarios_cmd.app, name="scenarios")
@@ -35,7 +39,7 @@ app.command("generate")(generate_cmd.generate)
 @app.command()
 def version() -> None:
     """Print PARE's version."""
-    typer.echo(__version__)
+    typer.echo(pare.__version__)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -10,7 +10,11 @@ from pare.errors import UserInputError
 
 # The apps and rich are imported by the commands that use them: `pare --help` stays fast.
 
-app = typer.Typer(help="The phone's apps: screens, user actions, agent tools.", invoke_without_command=True)
+app = typer.Typer(
+    help="The phone's apps: screens, user actions, agent tools.",
+    invoke_without_command=True,
+    rich_markup_mode=None,  # plain help: see pare.cli.app
+)
 
 
 @app.callback()

@@ -58,11 +58,14 @@ def load_config(config_file: Path | None, overrides: list[tuple[str, Any]]) -> R
 
 
 def progress_sink(show: bool) -> ProgressSink:
-    """A progress bar, or nothing."""
-    from pare.bench.progress import RichProgress
+    """A progress bar, or nothing (then rich's progress module, slow to import, is never loaded)."""
     from pare.bench.runner import NoProgress
 
-    return RichProgress() if show else NoProgress()
+    if not show:
+        return NoProgress()
+    from pare.bench.progress import RichProgress
+
+    return RichProgress()
 
 
 def print_summary(summary: RunSummary, console: Console) -> None:
@@ -89,7 +92,9 @@ def run(
     scenario: Annotated[
         list[str] | None, typer.Option("--scenario", "-s", help="A scenario id (repeatable).")
     ] = None,
-    split: Annotated[str | None, typer.Option("--split", help="A split of the library: full, smoke.")] = None,
+    split: Annotated[
+        str | None, typer.Option("--split", help="A split of the library, e.g. full, smoke or ablation.")
+    ] = None,
     app_filter: Annotated[
         list[str] | None, typer.Option("--app", "-a", help="Only scenarios using this app (repeatable).")
     ] = None,
@@ -158,7 +163,9 @@ def run(
     output: Annotated[
         str | None, typer.Option("--output", "-o", help="Run folder (default runs/<label>-<identity>).")
     ] = None,
-    backend: Annotated[str | None, typer.Option("--backend", help="local (default) or ray.")] = None,
+    backend: Annotated[
+        str | None, typer.Option("--backend", help="local (default), processes (one per core) or ray.")
+    ] = None,
     ray_address: Annotated[str | None, typer.Option("--ray-address", help="Ray cluster to join.")] = None,
     sets: Sets = None,
     progress: Annotated[bool, typer.Option("--progress/--no-progress", help="Show a progress bar.")] = True,

@@ -11,11 +11,13 @@ if TYPE_CHECKING:  # the library and the gate are imported by the commands: `par
     from rich.console import Console
 
     from pare.bench.selftest import RunVerdict, ScenarioVerdict
+    from pare.scenarios.checks import Outcome
     from pare.scenarios.model import Scenario
 
 app = typer.Typer(
     help="The PARE-Bench scenarios: list, show, self-test, coverage, samples, likeness, schema, review.",
     no_args_is_help=True,
+    rich_markup_mode=None,  # plain help: see pare.cli.app
 )
 
 AppFilter = Annotated[
@@ -27,7 +29,9 @@ TagFilter = Annotated[
 DifficultyFilter = Annotated[
     list[str] | None, typer.Option("--difficulty", "-d", help="Only this difficulty: easy, medium, hard.")
 ]
-SplitFilter = Annotated[str | None, typer.Option("--split", "-s", help="Only this split: full, smoke.")]
+SplitFilter = Annotated[
+    str | None, typer.Option("--split", "-s", help="Only this split, e.g. full, smoke or ablation.")
+]
 Paths = Annotated[
     list[Path] | None,
     typer.Argument(help="Scenario files or directories (default: the shipped library).", show_default=False),
@@ -130,6 +134,10 @@ def show(
         console.print(f"  {goal.id}: {goal.description} ({len(goal.checks)} checks)", markup=False)
 
 
+PARALLEL_FROM = 10
+"""By default the gate uses several processes from this many scenarios on (one takes about 0.1 s)."""
+
+
 @app.command("check")
 def check(
     paths: Paths = None,
@@ -140,17 +148,32 @@ def check(
     verbose: Annotated[
         bool, typer.Option("--verbose", "-v", help="Show every run and variant, and every check's verdict.")
     ] = False,
+    jobs: Annotated[
+        int,
+        typer.Option(
+            "--jobs",
+            "-j",
+            help="Processes to self-test on: 0 (the default) one per core for 10 scenarios or more; "
+            "1 only this process.",
+        ),
+    ] = 0,
 ) -> None:
     """Self-test scenarios: the oracle must pass, also with a slow user; doing nothing, the user alone, the
     user doing the task by hand and an unrelated proposal must fail; every variant must get its declared
     verdict. Exits 1 on any breach.
     """
+    import time
+
     from rich.console import Console
     from rich.table import Table
 
-    from pare.bench.selftest import check_scenario
+    from pare.bench.processes import map_in_processes, resolve_jobs
 
+    workers = resolve_jobs(jobs)
+    began = time.perf_counter()
     scenarios = _chosen(paths, split, app_name, tag, difficulty)
+    if jobs == 0 and len(scenarios) < PARALLEL_FROM:
+        workers = 1  # starting worker processes would cost more than it saves
     console = Console()
     table = Table(title=f"self-test of {len(scenarios)} scenarios")
     table.add_column("scenario", overflow="fold")
@@ -162,8 +185,9 @@ def check(
     breaches: list[str] = []
     warnings: list[str] = []
     total = 0.0
-    for scenario in scenarios:
-        verdict = check_scenario(scenario)
+    for scenario, (verdict, outcomes) in zip(
+        scenarios, map_in_processes(self_test, scenarios, workers), strict=True
+    ):
         total += verdict.seconds
         failing = [run for run in verdict.runs if run.run in _failing_runs()]
         variants = [run for run in verdict.runs if run.run.startswith("variant:")]
@@ -181,7 +205,7 @@ def check(
         breaches.extend(verdict.breaches())
         warnings.extend(f"{scenario.id}: {line}" for line in verdict.warnings)
         if verbose:
-            _print_details(console, scenario, verdict)
+            _print_details(console, scenario, verdict, outcomes)
     console.print(table)
     for line in warnings:
         console.print(f"[yellow]warning[/yellow] {line}", highlight=False)
@@ -190,7 +214,24 @@ def check(
         for line in breaches:
             console.print(f"  {line}", markup=False)
         raise typer.Exit(1)
-    console.print(f"all {len(scenarios)} scenarios pass the gate ({total:.2f} s)")
+    wall = time.perf_counter() - began
+    on = f"{workers} processes" if workers > 1 and len(scenarios) > 1 else "one process"
+    console.print(
+        f"all {len(scenarios)} scenarios pass the gate ({wall:.2f} s on {on}; {total:.2f} s of self-tests)"
+    )
+
+
+def self_test(scenario: Scenario) -> tuple[ScenarioVerdict, dict[str, Outcome]]:
+    """The gate's verdict on ``scenario`` and each run's outcome, in a form that crosses processes (an
+    episode's environment does not: its tools' argument models are made at run time).
+    """
+    from dataclasses import replace
+
+    from pare.bench.selftest import check_scenario
+
+    verdict = check_scenario(scenario)
+    outcomes = {name: result.outcome for name, result in verdict.details.items()}
+    return replace(verdict, details={}), outcomes
 
 
 def _outcome(run: RunVerdict) -> str:
@@ -206,7 +247,9 @@ def _cell(run: RunVerdict) -> str:
     return _mark(run.ok, _outcome(run) + turns)
 
 
-def _print_details(console: Console, scenario: Scenario, verdict: ScenarioVerdict) -> None:
+def _print_details(
+    console: Console, scenario: Scenario, verdict: ScenarioVerdict, outcomes: dict[str, Outcome]
+) -> None:
     from rich.table import Table
 
     runs = Table(title=scenario.id, title_justify="left")
@@ -217,8 +260,8 @@ def _print_details(console: Console, scenario: Scenario, verdict: ScenarioVerdic
         turns = "" if run.turns is None else str(run.turns)
         runs.add_row(run.run, must, _mark(run.ok, _outcome(run)), turns, run.why)
     console.print(runs)
-    for name, result in verdict.details.items():
-        for goal in result.outcome.goals:
+    for name, outcome in outcomes.items():
+        for goal in outcome.goals:
             for item in goal.checks:
                 mark = "ok " if item.passed else "NO "
                 console.print(f"  [{name}] {mark}{goal.id}: {item.detail}", markup=False)
