@@ -34,7 +34,7 @@ from pare.bench.state_diff import state_changes
 from pare.env import EnvConfig, Environment, ToolResult, UserView
 from pare.errors import ModelRequestError
 from pare.scenarios.build import build_environment
-from pare.scenarios.checks import Judge, Outcome, evaluate
+from pare.scenarios.checks import Judge, Outcome, evaluate, goals_met
 from pare.scenarios.model import Scenario
 from pare.sim.log import AssistantMode
 
@@ -293,7 +293,7 @@ class _Episode:
         if not self.scenario.end_when_met:
             return False
         env = self.env
-        return evaluate(self.scenario, env.log.entries, env.snapshot(), attribution=env.attribution).success
+        return goals_met(self.scenario, env.log.entries, env.snapshot(), attribution=env.attribution)
 
     # -- the user --------------------------------------------------------------------------------------
     async def _user_turn(self, turn: int) -> bool:
