@@ -20,6 +20,7 @@ import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from datetime import UTC, date, datetime, time
+from functools import lru_cache
 from typing import Any
 
 from pare.scenarios import meaning
@@ -254,7 +255,7 @@ def _apply(name: str, expected: Any, value: Any, start: datetime) -> bool:
     moment = _time(value, start)
     if moment is None:
         return False
-    bound = parse_time(expected, start)
+    bound = _parse_time(expected, start)
     return moment >= bound if name == "after" else moment <= bound
 
 
@@ -338,17 +339,23 @@ def _number(value: Any) -> float | None:
     return None
 
 
+_parse_time = lru_cache(maxsize=16384)(parse_time)
+""":func:`~pare.scenarios.times.parse_time`, remembered: the same scenario times and state values are
+compared in every evaluation (a time that cannot be read is not remembered: it raises again)."""
+
+
 def _time(value: Any, start: datetime) -> datetime | None:
     if isinstance(value, datetime):
         return value if value.tzinfo else value.replace(tzinfo=UTC)
     if not isinstance(value, str):
         return None
     try:
-        return parse_time(value, start)
+        return _parse_time(value, start)
     except TimeFormatError:
         return None
 
 
+@lru_cache(maxsize=4096)
 def _looks_like_time(text: str) -> bool:
     if is_relative_time(text):
         return True
