@@ -288,12 +288,13 @@ class _Episode:
 
     def _settled(self) -> bool:
         """For a scenario that ends when met: every goal is met now, so what is still to come cannot
-        change the verdict (judge checks are read with their deterministic fallbacks here).
+        change the verdict (judge checks are read with their deterministic fallbacks here). The state
+        is snapshot only if the checks on the action log all hold and a state check is reached.
         """
         if not self.scenario.end_when_met:
             return False
         env = self.env
-        return goals_met(self.scenario, env.log.entries, env.snapshot(), attribution=env.attribution)
+        return goals_met(self.scenario, env.log.entries, env.snapshot, attribution=env.attribution)
 
     # -- the user --------------------------------------------------------------------------------------
     async def _user_turn(self, turn: int) -> bool:

@@ -127,13 +127,14 @@ def evaluate(
 def goals_met(
     scenario: Scenario,
     log: Sequence[LogEntry],
-    state: Mapping[str, Any],
+    state: Mapping[str, Any] | Callable[[], Mapping[str, Any]],
     *,
     attribution: Attribution | None = None,
 ) -> bool:
     """Whether every goal of ``scenario`` is met: ``evaluate(...).success`` without a judge model, but
     stopping at the first check that fails and explaining nothing (for the end-when-met checks an
     episode makes on each idle turn). Checks are pure, so the cheap ones (on the action log) go first.
+    ``state`` may be a function that takes the snapshot: it is called only if a state check is reached.
     """
     context = _Context(scenario.start, log, _StateView(state), attribution or Attribution(), None)
     return all(rule.verdict(context)[0] for rule in compiled_goals(scenario).cheapest_first)
@@ -163,13 +164,22 @@ class _StateView:
     however many checks (and their second reading crediting the user) look there.
     """
 
-    __slots__ = ("_items", "_places", "_values", "state")
+    __slots__ = ("_items", "_places", "_source", "_state", "_values")
 
-    def __init__(self, state: Mapping[str, Any]) -> None:
-        self.state = state
+    def __init__(self, state: Mapping[str, Any] | Callable[[], Mapping[str, Any]]) -> None:
+        self._source = state
+        self._state: Mapping[str, Any] | None = None
         self._values: dict[str, Any] = {}
         self._items: dict[str, list[tuple[str, Any]] | None] = {}
         self._places: dict[str, StatePath | None] = {}
+
+    @property
+    def state(self) -> Mapping[str, Any]:
+        """The snapshot (taken now if it was given as a function)."""
+        if self._state is None:
+            source = self._source
+            self._state = source if isinstance(source, Mapping) else source()
+        return self._state
 
     def value(self, path: str) -> Any:
         """What is at ``path``, or :data:`MISSING`."""
