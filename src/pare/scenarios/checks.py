@@ -440,10 +440,10 @@ class _ItemCondition:
 
     def test(self, item: Any, start: datetime, key: str) -> bool:
         record = item if isinstance(item, Mapping) else {}
-        return all(
-            matcher.test(key if name == WHERE_KEY else record.get(name), start)
-            for name, matcher in self.fields
-        ) and (not self.alternatives or any(option.test(item, start, key) for option in self.alternatives))
+        for name, matcher in self.fields:  # a loop, not all(): this runs for every item of every check
+            if not matcher.test(key if name == WHERE_KEY else record.get(name), start):
+                return False
+        return not self.alternatives or any(option.test(item, start, key) for option in self.alternatives)
 
     def describe(self) -> str:
         parts = [f"{name}: {matcher.describe()}" for name, matcher in self.fields]
