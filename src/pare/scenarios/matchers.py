@@ -70,6 +70,8 @@ TEXT_OPERATORS = frozenset(
 NUMBER_OPERATORS = frozenset({"min", "max"})
 TIME_OPERATORS = frozenset({"after", "before"})
 LIST_OPERATORS = frozenset({"same_set"})
+_CHEAP_OPERATORS = frozenset({"equals", "one_of", "present", "min", "max"})
+"""Operators that only compare values (an equal time text is read as a time, but seldom)."""
 
 
 class MatcherError(ValueError):
@@ -95,6 +97,16 @@ class Matcher:
     def test(self, value: Any, start: datetime) -> bool:
         """Whether ``value`` is accepted; relative times are resolved against ``start``."""
         return self._test(value, start)
+
+    @property
+    def cost(self) -> int:
+        """A rough rank of what a test costs, to try cheap matchers first where the order does not
+        matter: 0 compares values, 1 reads times, 2 reads text or runs other matchers.
+        """
+        names = {name for name, _ in self.operators}
+        if self.fields or not names <= _CHEAP_OPERATORS | TIME_OPERATORS:
+            return 2
+        return 0 if names <= _CHEAP_OPERATORS else 1
 
     def _fields_test(self) -> Test:
         fields = self.fields
