@@ -265,6 +265,7 @@ def affirms(text: str, piece: str) -> bool:
     return any(has_word(clause, piece) for clause in _affirmed(text))
 
 
+@lru_cache(maxsize=4096)
 def declines(text: str) -> bool:
     """Whether ``text`` reads as a refusal, a cancellation or a "does not work" as a whole.
 
@@ -444,16 +445,20 @@ def mentions(text: str, anchor: datetime) -> list[Mention]:
     return sorted(found, key=lambda mention: mention.start)
 
 
-def _affirmed_mentions(text: str, anchor: datetime) -> list[list[Mention]]:
-    """The mentions of each affirmed clause, grouped by sentence (clauses of one sentence together)."""
-    groups: list[list[Mention]] = []
+@lru_cache(maxsize=4096)
+def _affirmed_mentions(text: str, anchor: datetime) -> tuple[tuple[Mention, ...], ...]:
+    """The mentions of each affirmed clause, grouped by sentence (clauses of one sentence together).
+
+    Remembered: the same messages are read again by every check on them and every evaluation.
+    """
+    groups: list[tuple[Mention, ...]] = []
     for sentence in re.split(r"[!?\n]|\.(?=\s|$)", normalise_quotes(text)):
         group: list[Mention] = []
         for clause in affirmed_clauses(sentence):
             group.extend(mentions(clause, anchor))
         if group:
-            groups.append(group)
-    return groups
+            groups.append(tuple(group))
+    return tuple(groups)
 
 
 def mentions_day(text: str, day: date, anchor: datetime) -> bool:
