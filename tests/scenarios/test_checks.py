@@ -220,3 +220,63 @@ def test_screen_is_refused_on_the_assistants_patterns() -> None:
         assert "'screen' is where the user was when acting" in str(error)
     else:
         raise AssertionError("screen on an assistant pattern was accepted")
+
+
+def test_goals_met_agrees_with_evaluate_and_snapshots_only_when_a_state_check_is_reached() -> None:
+    """The end-when-met check stops at the first failing check; the state is taken only if needed."""
+    from pare.scenarios.checks import goals_met
+
+    data = _with_checks({"state": {"path": "email.emails", "where": {"folder": "SENT"}, "count": 1}})
+    scenario, result = _oracle_run(data)
+    log, env = result.env.log.entries, result.env
+    assert goals_met(scenario, log, env.snapshot(), attribution=env.attribution) is result.success is True
+    taken: list[bool] = []
+
+    def snapshot() -> dict[str, Any]:
+        taken.append(True)
+        return env.snapshot()
+
+    assert goals_met(scenario, log, snapshot, attribution=env.attribution) and taken == [True]
+    silent = run_episode(scenario, SilentUser(), SilentAssistant())
+    taken.clear()
+    assert not goals_met(scenario, silent.env.log.entries, snapshot) and not silent.success
+    assert taken == []  # the reply was never sent: no state check was reached
+
+
+def test_a_changed_copy_of_a_scenario_is_judged_by_its_own_checks() -> None:
+    """Checks are compiled once per scenario object; a copy with other goals is another object."""
+    scenario, result = _oracle_run(_with_checks())
+    never = parse(_with_checks({"action": {"tool": "email__delete_email"}})).goals
+    changed = scenario.model_copy(update={"goals": never})
+    log, state = result.env.log.entries, result.env.snapshot()
+    assert evaluate(scenario, log, state).success
+    assert not evaluate(changed, log, state).success
+    assert evaluate(scenario, log, state).success
+
+
+def test_the_user_doing_the_work_is_told_apart_from_the_assistant_not_doing_it() -> None:
+    """A failing check on the assistant's work is read again crediting the user, on the same state."""
+    data = _with_checks(
+        {"state": {"path": "calendar.events", "where": {"title": "Standup"}, "by": "assistant"}}
+    )
+    scenario, result = _oracle_run(data)
+    outcome = evaluate(
+        scenario, result.env.log.entries, result.env.snapshot(), attribution=result.env.attribution
+    )
+    (failure,) = outcome.failures()
+    assert not failure.user_made and "0 of them made by the assistant" in failure.detail
+
+
+def test_a_pattern_is_compiled_once_per_pattern_and_start() -> None:
+    """Episodes share a scenario's compiled patterns; another start compiles it again."""
+    from datetime import UTC, datetime
+
+    from pare.scenarios.patterns import CompiledPattern
+
+    scenario = parse(base())
+    check = scenario.goals[0].checks[0].action
+    assert check is not None
+    first = CompiledPattern.of(check, scenario.start)
+    assert CompiledPattern.of(check, scenario.start) is first
+    other = datetime(2030, 1, 1, tzinfo=UTC)
+    assert CompiledPattern.of(check, other).start is other

@@ -95,3 +95,27 @@ def test_bad_matchers_are_refused(raw: Any, message: str) -> None:
 def test_describe_reads_like_the_file() -> None:
     text = compile_matcher({"contains": ["a", "b"], "not": {"one_of": [1]}}).describe()
     assert "contains" in text and "not (" in text
+
+
+def test_relative_times_resolve_against_each_start_however_often_they_are_read() -> None:
+    """Parsed times are remembered by text and start: another start gives another time."""
+    matcher = compile_matcher({"after": "day+1 09:00"})
+    later = datetime(2025, 3, 10, 9, 0, tzinfo=UTC)
+    for _ in range(2):
+        assert matcher.test("2025-03-04T10:00:00Z", START)
+        assert not matcher.test("2025-03-04T10:00:00Z", later)
+    equal = compile_matcher("day+1 10:00")
+    assert equal.test("2025-03-04T10:00:00Z", START) and not equal.test("2025-03-04T10:00:00Z", later)
+
+
+def test_a_matcher_compiles_to_the_same_verdicts_as_written() -> None:
+    """Operators made into functions keep their meaning: None is refused except by present and not."""
+    assert not holds({"contains": "none"}, None) and holds({"not": {"contains": "x"}}, None)
+    assert holds({"present": False}, None) and not holds({"present": True}, None)
+    assert holds({"contains": ["ann", "bob"]}, [["Ann"], [{"to": "bob"}]])
+    assert not holds({"contains": ["ann", "bob"]}, [])
+    assert holds({"contains": "x", "not": {"contains": "y"}}, "x only")
+    assert not holds({"contains": "x", "not": {"contains": "y"}}, "x and y")
+    assert holds({"one_of": ["day+1 10:00", 3]}, "3") and holds(
+        {"one_of": ["day+1 10:00"]}, "2025-03-04 10:00"
+    )

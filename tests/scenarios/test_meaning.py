@@ -250,3 +250,14 @@ def test_a_house_number_written_no_is_not_a_negation(text: str) -> None:
 def test_a_bare_no_still_ends_its_clause() -> None:
     assert not affirms("No. Thursday doesn't suit", "thursday")
     assert affirms("I said no. Thursday works", "thursday")
+
+
+def test_the_days_a_text_names_are_read_against_each_start() -> None:
+    """What a text names is remembered by text and start: 'tomorrow' is another day from another start."""
+    from pare.scenarios import meaning
+
+    later = START + timedelta(days=7)
+    for _ in range(2):
+        assert meaning.mentions_day("See you tomorrow", (START + timedelta(days=1)).date(), START)
+        assert not meaning.mentions_day("See you tomorrow", (START + timedelta(days=1)).date(), later)
+        assert meaning.mentions_day("See you tomorrow", (later + timedelta(days=1)).date(), later)

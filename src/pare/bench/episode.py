@@ -34,7 +34,7 @@ from pare.bench.state_diff import state_changes
 from pare.env import EnvConfig, Environment, ToolResult, UserView
 from pare.errors import ModelRequestError
 from pare.scenarios.build import build_environment
-from pare.scenarios.checks import Judge, Outcome, evaluate
+from pare.scenarios.checks import Judge, Outcome, evaluate, goals_met
 from pare.scenarios.model import Scenario
 from pare.sim.log import AssistantMode
 
@@ -288,12 +288,13 @@ class _Episode:
 
     def _settled(self) -> bool:
         """For a scenario that ends when met: every goal is met now, so what is still to come cannot
-        change the verdict (judge checks are read with their deterministic fallbacks here).
+        change the verdict (judge checks are read with their deterministic fallbacks here). The state
+        is snapshot only if the checks on the action log all hold and a state check is reached.
         """
         if not self.scenario.end_when_met:
             return False
         env = self.env
-        return evaluate(self.scenario, env.log.entries, env.snapshot(), attribution=env.attribution).success
+        return goals_met(self.scenario, env.log.entries, env.snapshot, attribution=env.attribution)
 
     # -- the user --------------------------------------------------------------------------------------
     async def _user_turn(self, turn: int) -> bool:

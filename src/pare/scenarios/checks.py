@@ -7,12 +7,13 @@ itself.
 
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass
 from datetime import datetime
 from typing import Any
 
-from pare.env.attribution import Attribution, item_key, place_of
+from pare.env.attribution import Attribution, StatePath, item_key, place_of
 from pare.scenarios.matchers import compile_matcher
 from pare.scenarios.model import (
     WHERE_ANY,
@@ -89,26 +90,6 @@ class Outcome:
         }
 
 
-@dataclass(frozen=True, slots=True)
-class _Context:
-    scenario: Scenario
-    log: Sequence[LogEntry]
-    state: Mapping[str, Any]
-    attribution: Attribution
-    credit_user: bool = False
-    """Count the user's own work as the assistant's (to tell whether the user did the task by hand)."""
-
-    def makers(self, actor: Actor) -> frozenset[Actor]:
-        if self.credit_user and actor == "assistant":
-            return frozenset({"assistant", "user"})
-        return frozenset({actor})
-
-    def pattern(self, pattern: ActionPattern) -> CompiledPattern:
-        if self.credit_user and pattern.actor == "assistant":
-            pattern = pattern.model_copy(update={"actor": "any"})
-        return CompiledPattern.of(pattern, self.scenario.start)
-
-
 def evaluate(
     scenario: Scenario,
     log: Sequence[LogEntry],
@@ -124,21 +105,301 @@ def evaluate(
     anyone's work. A failing check on the assistant's work is evaluated again with the user's work
     credited to the assistant, to tell whether the user did it by hand (:attr:`CheckResult.user_made`).
     """
-    context = _Context(scenario, log, state, attribution or Attribution())
-    credited = _Context(scenario, log, state, context.attribution, credit_user=True)
+    view = _StateView(state)
+    context = _Context(scenario.start, log, view, attribution or Attribution(), judge)
+    credited = _Context(scenario.start, log, view, context.attribution, None, credit_user=True)
     goals = []
-    for goal in scenario.goals:
+    for goal, rules in compiled_goals(scenario).goals:
         results = []
-        for index, check in enumerate(goal.checks):
-            result = _evaluate_check(goal.id, index, check, context, judge)
-            if not result.passed and _on_the_assistant(check):
-                again = _evaluate_check(goal.id, index, check, credited, None)
-                result = replace(result, user_made=again.passed)
-            results.append(result)
+        for index, rule in enumerate(rules):
+            check = rule.check
+            passed, detail = rule.verdict(context)
+            user_made = not passed and rule.on_the_assistant and rule.verdict(credited)[0]
+            results.append(
+                CheckResult(goal.id, index, check.form, passed, detail, check.description, user_made)
+            )
         goals.append(GoalResult(goal.id, goal.description, all(r.passed for r in results), tuple(results)))
     success = all(goal.passed for goal in goals)
     user_did_work = not success and any(check.user_made for goal in goals for check in goal.checks)
     return Outcome(success=success, goals=tuple(goals), user_did_work=user_did_work)
+
+
+def goals_met(
+    scenario: Scenario,
+    log: Sequence[LogEntry],
+    state: Mapping[str, Any] | Callable[[], Mapping[str, Any]],
+    *,
+    attribution: Attribution | None = None,
+) -> bool:
+    """Whether every goal of ``scenario`` is met: ``evaluate(...).success`` without a judge model, but
+    stopping at the first check that fails and explaining nothing (for the end-when-met checks an
+    episode makes on each idle turn). Checks are pure, so the cheap ones (on the action log) go first.
+    ``state`` may be a function that takes the snapshot: it is called only if a state check is reached.
+    """
+    context = _Context(scenario.start, log, _StateView(state), attribution or Attribution(), None)
+    return all(rule.verdict(context)[0] for rule in compiled_goals(scenario).cheapest_first)
+
+
+@dataclass(frozen=True, slots=True)
+class _Context:
+    start: datetime
+    log: Sequence[LogEntry]
+    state: _StateView
+    attribution: Attribution
+    judge: Judge | None
+    credit_user: bool = False
+    """Count the user's own work as the assistant's (to tell whether the user did the task by hand)."""
+
+    def makers(self, actor: Actor) -> frozenset[Actor]:
+        if self.credit_user and actor == "assistant":
+            return _ASSISTANT_OR_USER
+        return frozenset({actor})
+
+
+_ASSISTANT_OR_USER: frozenset[Actor] = frozenset({"assistant", "user"})
+
+
+class _StateView:
+    """The final state as the state checks read it: what is at each path is found once per evaluation,
+    however many checks (and their second reading crediting the user) look there.
+    """
+
+    __slots__ = ("_items", "_places", "_source", "_state", "_values")
+
+    def __init__(self, state: Mapping[str, Any] | Callable[[], Mapping[str, Any]]) -> None:
+        self._source = state
+        self._state: Mapping[str, Any] | None = None
+        self._values: dict[str, Any] = {}
+        self._items: dict[str, list[tuple[str, Any]] | None] = {}
+        self._places: dict[str, StatePath | None] = {}
+
+    @property
+    def state(self) -> Mapping[str, Any]:
+        """The snapshot (taken now if it was given as a function)."""
+        if self._state is None:
+            source = self._source
+            self._state = source if isinstance(source, Mapping) else source()
+        return self._state
+
+    def value(self, path: str) -> Any:
+        """What is at ``path``, or :data:`MISSING`."""
+        if path not in self._values:
+            self._values[path] = lookup(self.state, path)
+        return self._values[path]
+
+    def items(self, path: str) -> list[tuple[str, Any]] | None:
+        """The collection at ``path`` as (key, item) pairs, or ``None`` when it is not a collection."""
+        if path not in self._items:
+            value = self.value(path)
+            items: list[tuple[str, Any]] | None = None
+            if isinstance(value, Mapping):
+                items = [(str(key), item) for key, item in value.items()]
+            elif isinstance(value, list):
+                items = [(item_key(item), item) for item in value]
+            self._items[path] = items
+        return self._items[path]
+
+    def place(self, path: str) -> StatePath | None:
+        """The attribution place of ``path`` (:func:`~pare.env.attribution.place_of`)."""
+        if path not in self._places:
+            self._places[path] = place_of(self.state, path)
+        return self._places[path]
+
+
+class _Pattern:
+    """An action pattern compiled with its description, and again with the user's work credited to the
+    assistant (``actor: any``) when it is about the assistant's work.
+    """
+
+    __slots__ = ("credited", "credited_text", "own", "own_text")
+
+    def __init__(self, pattern: ActionPattern, start: datetime) -> None:
+        self.own = CompiledPattern.of(pattern, start)
+        self.own_text = self.own.describe()
+        self.credited, self.credited_text = self.own, self.own_text
+        if pattern.actor == "assistant":
+            self.credited = CompiledPattern.of(pattern.model_copy(update={"actor": "any"}), start)
+            self.credited_text = self.credited.describe()
+
+    def of(self, context: _Context) -> tuple[CompiledPattern, str]:
+        """The pattern to use in ``context``, with its description."""
+        if context.credit_user:
+            return self.credited, self.credited_text
+        return self.own, self.own_text
+
+
+class _Rule(ABC):
+    """One check compiled once per scenario: ``verdict`` only runs it (see :func:`compiled_goals`)."""
+
+    cost = 0
+    """For :func:`goals_met`: which checks to run first (cheap ones, on the action log)."""
+
+    def __init__(self, check: Check) -> None:
+        self.check = check
+        self.on_the_assistant = _on_the_assistant(check)
+
+    @abstractmethod
+    def verdict(self, context: _Context) -> tuple[bool, str]:
+        """Whether the check holds in ``context``, and what was looked for and found."""
+
+
+class _ActionRule(_Rule):
+    def __init__(self, check: Check, action: ActionCheck, start: datetime) -> None:
+        super().__init__(check)
+        self.pattern = _Pattern(action, start)
+        self.count = as_count(action.count, _AT_LEAST_ONE)
+        self.counted = self.count.describe()
+
+    def verdict(self, context: _Context) -> tuple[bool, str]:
+        log = context.log
+        pattern, described = self.pattern.of(context)
+        found = pattern.find(log)
+        wanted = f"{self.counted} {described}"
+        if self.count.allows(len(found)):
+            return True, f"{wanted}: found {len(found)}"
+        seen = {id(entry) for entry in found}  # entries of one log: none equals another
+        near = [entry for entry in log if id(entry) not in seen and pattern.matches_call(entry)]
+        detail = f"wanted {wanted}; found {len(found)}"
+        if near:
+            detail += f"; other calls to that tool: {_calls(near)}"
+        return False, detail
+
+
+class _NoActionRule(_Rule):
+    def __init__(self, check: Check, pattern: ActionPattern, start: datetime) -> None:
+        super().__init__(check)
+        self.pattern = CompiledPattern.of(pattern, start)
+        self.described = self.pattern.describe()
+
+    def verdict(self, context: _Context) -> tuple[bool, str]:
+        found = self.pattern.find(context.log)
+        if not found:
+            return True, f"no {self.described}"
+        return False, f"forbidden {self.described} happened: {_calls(found)}"
+
+
+class _StateRule(_Rule):
+    cost = 1
+
+    def __init__(self, check: Check, state: StateCheck) -> None:
+        super().__init__(check)
+        self.state = state
+        self.value = compile_matcher(state.value) if "value" in state.model_fields_set else None
+        self.value_text = self.value.describe() if self.value is not None else ""
+        self.where = _ItemCondition(state.where)
+        self.condition = self.where.describe() if state.where else "(any)"
+        self.count = as_count(state.count, _AT_LEAST_ONE)
+        self.counted = self.count.describe()
+
+    def verdict(self, context: _Context) -> tuple[bool, str]:
+        check, start, view = self.state, context.start, context.state
+        value = view.value(check.path)
+        if value is MISSING:
+            return False, f"{check.path} does not exist in the final state"
+        makers = None if check.by is None else context.makers(check.by)
+        if self.value is not None:
+            passed = self.value.test(value, start)
+            shown = _short({"value": value}, 120)
+            verb = "matches" if passed else "does not match"
+            detail = f"{check.path} {verb} {self.value_text} ({shown})"
+            if makers is not None:
+                place = view.place(check.path)
+                made = place is not None and context.attribution.credits(place, makers)
+                detail += f"; {'made' if made else 'not made'} by the {check.by}"
+                passed = passed and made
+            return passed, detail
+        items = view.items(check.path)
+        if items is None:
+            return (
+                False,
+                f"{check.path} is not a collection (it is {type(value).__name__}); use 'value' to match it",
+            )
+        where = self.where
+        matching = [(key, item) for key, item in items if where.test(item, start, key)]
+        detail = f"{check.path}: {len(matching)} of {len(items)} items match {self.condition}"
+        if makers is not None:
+            place = view.place(check.path) or ()
+            credits = context.attribution.credits
+            matching = [(key, item) for key, item in matching if credits((*place, key), makers)]
+            detail += f", {len(matching)} of them made by the {check.by}"
+        passed = self.count.allows(len(matching))
+        return passed, f"{detail}; wanted {self.counted}"
+
+
+class _JudgeRule(_Rule):
+    cost = 2
+
+    def __init__(self, check: Check, judge: JudgeCheck, start: datetime) -> None:
+        super().__init__(check)
+        self.judge = judge
+        self.pattern = _Pattern(judge.action, start)
+        self.fallback = compile_matcher(judge.fallback)
+        self.fallback_text = self.fallback.describe()
+
+    def verdict(self, context: _Context) -> tuple[bool, str]:
+        check = self.judge
+        pattern, described = self.pattern.of(context)
+        texts = [entry.args.get(check.field) for entry in pattern.find(context.log)]
+        candidates = [text for text in texts if isinstance(text, str)]
+        if not candidates:
+            return False, f"no {described} with a text in '{check.field}' to judge"
+        if check.together and len(candidates) > 1:
+            candidates = ["\n\n".join(candidates)]  # one answer sent in parts is judged as the whole
+        judge = context.judge
+        if judge is not None:
+            passed = any(judge(check.criterion, text) for text in candidates)
+            verdict = "accepted" if passed else "rejected"
+            return passed, f"judge {verdict} {len(candidates)} text(s) for: {check.criterion}"
+        passed = any(self.fallback.test(text, context.start) for text in candidates)
+        verdict = "holds" if passed else "fails"
+        return (
+            passed,
+            f"no judge model; fallback {self.fallback_text} {verdict} on {len(candidates)} text(s)",
+        )
+
+
+def _rule(check: Check, start: datetime) -> _Rule:
+    if check.action is not None:
+        return _ActionRule(check, check.action, start)
+    if check.no_action is not None:
+        return _NoActionRule(check, check.no_action, start)
+    if check.state is not None:
+        return _StateRule(check, check.state)
+    assert check.judge is not None
+    return _JudgeRule(check, check.judge, start)
+
+
+class CompiledGoals:
+    """A scenario's goals with their checks compiled: matchers, patterns and the fixed parts of their
+    descriptions, made once per scenario instead of on every evaluation.
+    """
+
+    def __init__(self, scenario: Scenario) -> None:
+        self.goals = tuple(
+            (goal, tuple(_rule(check, scenario.start) for check in goal.checks)) for goal in scenario.goals
+        )
+        self.cheapest_first = tuple(
+            sorted((rule for _, rules in self.goals for rule in rules), key=lambda rule: rule.cost)
+        )
+
+
+_COMPILED: dict[int, tuple[Scenario, CompiledGoals]] = {}
+"""Each scenario's compiled goals, by the scenario object's id (kept with it, so the id is not reused
+while the entry lives). A scenario is immutable once loaded; a changed copy is another object."""
+
+
+def compiled_goals(scenario: Scenario) -> CompiledGoals:
+    """``scenario``'s goals compiled, once per scenario object: every episode of it, and every idle turn
+    of one that ends when met, evaluates the same checks.
+    """
+    known = _COMPILED.get(id(scenario))
+    if known is not None and known[0] is scenario:
+        return known[1]
+    compiled = CompiledGoals(scenario)
+    if len(_COMPILED) >= 1024:  # a long-lived process that loads scenarios again and again
+        _COMPILED.clear()
+    _COMPILED[id(scenario)] = (scenario, compiled)
+    return compiled
 
 
 def _on_the_assistant(check: Check) -> bool:
@@ -146,40 +407,6 @@ def _on_the_assistant(check: Check) -> bool:
     if check.action is not None:
         return check.action.actor == "assistant"
     return check.state is not None and check.state.by == "assistant"
-
-
-def _evaluate_check(
-    goal: str, index: int, check: Check, context: _Context, judge: Judge | None
-) -> CheckResult:
-    if check.action is not None:
-        passed, detail = _action(check.action, context)
-    elif check.no_action is not None:
-        pattern = CompiledPattern.of(check.no_action, context.scenario.start)
-        found = pattern.find(context.log)
-        passed = not found
-        what = pattern.describe()
-        detail = f"no {what}" if passed else f"forbidden {what} happened: {_calls(found)}"
-    elif check.state is not None:
-        passed, detail = _state(check.state, context)
-    else:
-        assert check.judge is not None
-        passed, detail = _judge(check.judge, context, judge)
-    return CheckResult(goal, index, check.form, passed, detail, check.description)
-
-
-def _action(check: ActionCheck, context: _Context) -> tuple[bool, str]:
-    log = context.log
-    pattern = context.pattern(check)
-    count = as_count(check.count, _AT_LEAST_ONE)
-    found = pattern.find(log)
-    wanted = f"{count.describe()} {pattern.describe()}"
-    if count.allows(len(found)):
-        return True, f"{wanted}: found {len(found)}"
-    near = [entry for entry in log if pattern.matches_call(entry) and entry not in found]
-    detail = f"wanted {wanted}; found {len(found)}"
-    if near:
-        detail += f"; other calls to that tool: {_calls(near)}"
-    return False, detail
 
 
 def _calls(entries: Sequence[LogEntry], limit: int = 3) -> str:
@@ -210,13 +437,15 @@ class _ItemCondition:
     def __init__(self, where: Mapping[str, Any]) -> None:
         self.fields = tuple((name, compile_matcher(raw)) for name, raw in where.items() if name != WHERE_ANY)
         self.alternatives = tuple(_ItemCondition(item) for item in where.get(WHERE_ANY, ()))
+        self.cheapest_first = tuple(sorted(self.fields, key=lambda field: field[1].cost))
+        """The fields in the order they are tested: most items fail a cheap comparison of one field."""
 
     def test(self, item: Any, start: datetime, key: str) -> bool:
         record = item if isinstance(item, Mapping) else {}
-        return all(
-            matcher.test(key if name == WHERE_KEY else record.get(name), start)
-            for name, matcher in self.fields
-        ) and (not self.alternatives or any(option.test(item, start, key) for option in self.alternatives))
+        for name, matcher in self.cheapest_first:  # a loop, not all(): it runs for every item of every check
+            if not matcher.test(key if name == WHERE_KEY else record.get(name), start):
+                return False
+        return not self.alternatives or any(option.test(item, start, key) for option in self.alternatives)
 
     def describe(self) -> str:
         parts = [f"{name}: {matcher.describe()}" for name, matcher in self.fields]
@@ -236,66 +465,3 @@ def lookup(data: Any, path: str) -> Any:
         else:
             return MISSING
     return value
-
-
-def _state(check: StateCheck, context: _Context) -> tuple[bool, str]:
-    start, state = context.scenario.start, context.state
-    value = lookup(state, check.path)
-    if value is MISSING:
-        return False, f"{check.path} does not exist in the final state"
-    makers = None if check.by is None else context.makers(check.by)
-    if "value" in check.model_fields_set:
-        matcher = compile_matcher(check.value)
-        passed = matcher.test(value, start)
-        shown = _short({"value": value}, 120)
-        detail = f"{check.path} {'matches' if passed else 'does not match'} {matcher.describe()} ({shown})"
-        if makers is not None:
-            place = place_of(state, check.path)
-            made = place is not None and context.attribution.credits(place, makers)
-            detail += f"; {'made' if made else 'not made'} by the {check.by}"
-            passed = passed and made
-        return passed, detail
-    items: list[tuple[str, Any]] | None
-    if isinstance(value, Mapping):
-        items = [(str(key), item) for key, item in value.items()]
-    elif isinstance(value, list):
-        items = [(item_key(item), item) for item in value]
-    else:
-        return (
-            False,
-            f"{check.path} is not a collection (it is {type(value).__name__}); use 'value' to match it",
-        )
-    where = _ItemCondition(check.where)
-    matching = [(key, item) for key, item in items if where.test(item, start, key)]
-    count = as_count(check.count, _AT_LEAST_ONE)
-    condition = where.describe() if check.where else "(any)"
-    detail = f"{check.path}: {len(matching)} of {len(items)} items match {condition}"
-    if makers is not None:
-        place = place_of(state, check.path) or ()
-        matching = [
-            (key, item) for key, item in matching if context.attribution.credits((*place, key), makers)
-        ]
-        detail += f", {len(matching)} of them made by the {check.by}"
-    passed = count.allows(len(matching))
-    return passed, f"{detail}; wanted {count.describe()}"
-
-
-def _judge(check: JudgeCheck, context: _Context, judge: Judge | None) -> tuple[bool, str]:
-    scenario, log = context.scenario, context.log
-    pattern = context.pattern(check.action)
-    texts = [entry.args.get(check.field) for entry in pattern.find(log)]
-    candidates = [text for text in texts if isinstance(text, str)]
-    if not candidates:
-        return False, f"no {pattern.describe()} with a text in '{check.field}' to judge"
-    if check.together and len(candidates) > 1:
-        candidates = ["\n\n".join(candidates)]  # one answer sent in parts is judged as the whole
-    if judge is not None:
-        passed = any(judge(check.criterion, text) for text in candidates)
-        return (
-            passed,
-            f"judge {'accepted' if passed else 'rejected'} {len(candidates)} text(s) for: {check.criterion}",
-        )
-    fallback = compile_matcher(check.fallback)
-    passed = any(fallback.test(text, scenario.start) for text in candidates)
-    verdict = "holds" if passed else "fails"
-    return passed, f"no judge model; fallback {fallback.describe()} {verdict} on {len(candidates)} text(s)"

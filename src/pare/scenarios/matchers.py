@@ -18,8 +18,9 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from datetime import UTC, date, datetime, time
+from functools import lru_cache
 from typing import Any
 
 from pare.scenarios import meaning
@@ -69,10 +70,16 @@ TEXT_OPERATORS = frozenset(
 NUMBER_OPERATORS = frozenset({"min", "max"})
 TIME_OPERATORS = frozenset({"after", "before"})
 LIST_OPERATORS = frozenset({"same_set"})
+_CHEAP_OPERATORS = frozenset({"equals", "one_of", "present", "min", "max"})
+"""Operators that only compare values (an equal time text is read as a time, but seldom)."""
 
 
 class MatcherError(ValueError):
     """A matcher that cannot be compiled; the message names the operator and what is wrong."""
+
+
+Test = Callable[[Any, datetime], bool]
+"""A compiled test: ``test(value, start)``."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -81,16 +88,43 @@ class Matcher:
 
     operators: tuple[tuple[str, Any], ...] = ()
     fields: tuple[tuple[str, Matcher], ...] = ()
+    _test: Test = field(init=False, repr=False, compare=False)
+    """The operators (or fields) made into one function once, so testing a value only runs it."""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "_test", self._fields_test() if self.fields else self._operators_test())
 
     def test(self, value: Any, start: datetime) -> bool:
         """Whether ``value`` is accepted; relative times are resolved against ``start``."""
-        if self.fields:
+        return self._test(value, start)
+
+    @property
+    def cost(self) -> int:
+        """A rough rank of what a test costs, to try cheap matchers first where the order does not
+        matter: 0 compares values, 1 reads times, 2 reads text or runs other matchers.
+        """
+        names = {name for name, _ in self.operators}
+        if self.fields or not names <= _CHEAP_OPERATORS | TIME_OPERATORS:
+            return 2
+        return 0 if names <= _CHEAP_OPERATORS else 1
+
+    def _fields_test(self) -> Test:
+        fields = self.fields
+
+        def test(value: Any, start: datetime) -> bool:
             if isinstance(value, list):  # a list holds such an item
-                return any(self.test(item, start) for item in value)
+                return any(test(item, start) for item in value)
             if not isinstance(value, Mapping):
                 return False
-            return all(matcher.test(value.get(key), start) for key, matcher in self.fields)
-        return all(_apply(name, expected, value, start) for name, expected in self.operators)
+            return all(matcher.test(value.get(key), start) for key, matcher in fields)
+
+        return test
+
+    def _operators_test(self) -> Test:
+        tests = tuple(_operator_test(name, expected) for name, expected in self.operators)
+        if len(tests) == 1:
+            return tests[0]
+        return lambda value, start: all(test(value, start) for test in tests)
 
     def describe(self) -> str:
         """A short human reading, e.g. ``contains ['thursday']``."""
@@ -221,41 +255,77 @@ def _compile_operator(name: str, value: Any) -> tuple[str, Any]:
     return name, value  # equals
 
 
-def _apply(name: str, expected: Any, value: Any, start: datetime) -> bool:
+def _operator_test(name: str, expected: Any) -> Test:
+    """The test of one compiled operator (what it accepts is listed in :data:`OPERATORS`)."""
     if name == "equals":
-        return _equal(expected, value, start)
+        return _equals_test(expected)
     if name == "not":
-        return not expected.test(value, start)
+        return lambda value, start: not expected.test(value, start)
     if name == "any_of":
-        return any(matcher.test(value, start) for matcher in expected)
+        return lambda value, start: any(matcher.test(value, start) for matcher in expected)
     if name == "present":
-        return (value is not None) is bool(expected)
-    if value is None:
-        return False
-    if name == "contains":
-        return all(_contains(value, piece) for piece in expected)
-    if name == "contains_any":
-        return any(_contains(value, piece) for piece in expected)
+        wanted = bool(expected)
+        return lambda value, start: (value is not None) is wanted
+    given = _given_value_test(name, expected)
+    return lambda value, start: value is not None and given(value, start)
+
+
+def _given_value_test(name: str, expected: Any) -> Test:
+    """The test of an operator that never accepts a missing value (``None``)."""
+    if name in ("contains", "contains_any"):
+        return _words_test(expected, every=name == "contains")
     if name in _READERS:
-        texts = value if isinstance(value, list) else [value]
-        return any(_READERS[name](_text(item), expected, start) for item in texts)
+        read = _READERS[name]
+        return lambda value, start: any(read(_text(item), expected, start) for item in _items(value))
     if name == "regex":
-        texts = value if isinstance(value, list) else [value]
-        return any(expected.search(_text(item)) is not None for item in texts)
+        return lambda value, start: any(expected.search(_text(item)) is not None for item in _items(value))
     if name == "one_of":
-        return any(_equal(option, value, start) for option in expected)
+        options = tuple(_equals_test(option) for option in expected)
+        return lambda value, start: any(option(value, start) for option in options)
     if name == "same_set":
-        return (
-            isinstance(value, Sequence) and not isinstance(value, str) and _as_set(value) == _as_set(expected)
+        wanted = _as_set(expected)
+        return lambda value, start: (
+            isinstance(value, Sequence) and not isinstance(value, str) and _as_set(value) == wanted
         )
-    if name in ("min", "max"):
-        number = _number(value)
-        return number is not None and (number >= expected if name == "min" else number <= expected)
-    moment = _time(value, start)
-    if moment is None:
-        return False
-    bound = parse_time(expected, start)
-    return moment >= bound if name == "after" else moment <= bound
+    if name == "min":
+        return lambda value, start: (number := _number(value)) is not None and number >= expected
+    if name == "max":
+        return lambda value, start: (number := _number(value)) is not None and number <= expected
+    assert name in ("after", "before"), name  # every other operator is tested above
+    after = name == "after"
+
+    def within(value: Any, start: datetime) -> bool:
+        moment = _time(value, start)
+        if moment is None:
+            return False
+        bound = _parse_time(expected, start)
+        return moment >= bound if after else moment <= bound
+
+    return within
+
+
+def _items(value: Any) -> list[Any]:
+    return value if isinstance(value, list) else [value]
+
+
+def _words_test(pieces: tuple[str, ...], *, every: bool) -> Test:
+    """``contains`` (every piece) or ``contains_any`` (some piece): a piece is found when some text of
+    the value (a list's items, nested lists too) has it at word boundaries.
+    """
+
+    def test(value: Any, start: datetime) -> bool:
+        texts = [meaning.normalise_quotes(_text(item)) for item in _leaves(value)]
+        found = (any(meaning.word_finder(piece).search(text) for text in texts) for piece in pieces)
+        return all(found) if every else any(found)
+
+    return test
+
+
+def _leaves(value: Any) -> list[Any]:
+    """The items of a list and of the lists in it; anything else alone."""
+    if not isinstance(value, list):
+        return [value]
+    return [leaf for item in value for leaf in _leaves(item)]
 
 
 def _text(value: Any) -> str:
@@ -269,12 +339,6 @@ def _text(value: Any) -> str:
     if isinstance(value, list):
         return " ".join(_text(item) for item in value)
     return str(value)
-
-
-def _contains(value: Any, piece: str) -> bool:
-    if isinstance(value, list):
-        return any(_contains(item, piece) for item in value)
-    return meaning.has_word(_text(value), piece)
 
 
 def _clock(value: Any) -> time:
@@ -338,33 +402,53 @@ def _number(value: Any) -> float | None:
     return None
 
 
+_parse_time = lru_cache(maxsize=16384)(parse_time)
+""":func:`~pare.scenarios.times.parse_time`, remembered: the same scenario times and state values are
+compared in every evaluation (a time that cannot be read is not remembered: it raises again)."""
+
+
 def _time(value: Any, start: datetime) -> datetime | None:
     if isinstance(value, datetime):
         return value if value.tzinfo else value.replace(tzinfo=UTC)
     if not isinstance(value, str):
         return None
     try:
-        return parse_time(value, start)
+        return _parse_time(value, start)
     except TimeFormatError:
         return None
 
 
+@lru_cache(maxsize=4096)
 def _looks_like_time(text: str) -> bool:
     if is_relative_time(text):
         return True
     return bool(re.match(r"^\d{4}-\d{2}-\d{2}[T ]\d{2}:\d{2}", text.strip()))
 
 
-def _equal(expected: Any, value: Any, start: datetime) -> bool:
-    if isinstance(expected, datetime) and isinstance(value, str | datetime):
+def _equals_test(expected: Any) -> Test:
+    """``equals``: times compare as times (whatever their format), numbers as numbers."""
+    if isinstance(expected, datetime):
         # YAML reads an unquoted 2024-12-14T14:00:00Z as a datetime; the state holds text
-        right = _time(value, start)
-        return right is not None and right == (expected if expected.tzinfo else expected.replace(tzinfo=UTC))
-    if isinstance(expected, str) and isinstance(value, str | datetime) and _looks_like_time(expected):
-        left, right = _time(expected, start), _time(value, start)
-        if left is not None and right is not None:
-            return left == right
+        moment = expected if expected.tzinfo else expected.replace(tzinfo=UTC)
+
+        def same_moment(value: Any, start: datetime) -> bool:
+            if isinstance(value, str | datetime):
+                right = _time(value, start)
+                return right is not None and right == moment
+            return bool(expected == value)
+
+        return same_moment
+    if isinstance(expected, str) and _looks_like_time(expected):
+
+        def same_time(value: Any, start: datetime) -> bool:
+            if isinstance(value, str | datetime):
+                left, right = _time(expected, start), _time(value, start)
+                if left is not None and right is not None:
+                    return left == right
+            return bool(expected == value)
+
+        return same_time
     if isinstance(expected, int | float) and not isinstance(expected, bool):
-        number = _number(value)
-        return number is not None and number == float(expected)
-    return bool(expected == value)
+        wanted = float(expected)
+        return lambda value, start: (number := _number(value)) is not None and number == wanted
+    return lambda value, start: bool(expected == value)

@@ -55,9 +55,17 @@ def word_pattern(piece: str) -> re.Pattern[str]:
     return re.compile(left + body + right, re.IGNORECASE)
 
 
+@lru_cache(maxsize=4096)
+def word_finder(piece: str) -> re.Pattern[str]:
+    """The pattern :func:`has_word` searches for ``piece``, in text passed through
+    :func:`normalise_quotes`.
+    """
+    return word_pattern(normalise_quotes(piece))
+
+
 def has_word(text: str, piece: str) -> bool:
     """Whether ``text`` contains ``piece`` at word boundaries (curly and straight apostrophes alike)."""
-    return word_pattern(_normalise_quotes(piece)).search(_normalise_quotes(text)) is not None
+    return word_finder(piece).search(normalise_quotes(text)) is not None
 
 
 # -- clauses and negation -------------------------------------------------------------------------------
@@ -214,26 +222,27 @@ _FRIENDLY_IDIOMS = re.compile(
 sought."""
 
 
-def _normalise_quotes(text: str) -> str:
+def normalise_quotes(text: str) -> str:
+    """``text`` with curly apostrophes made straight, as the words sought are written."""
     return text.replace("\u2019", "'").replace("\u2018", "'")
 
 
 def clauses(text: str) -> list[str]:
     """``text`` cut into clauses."""
-    return [part.strip() for part in _CLAUSE_BREAK.split(_normalise_quotes(text)) if part.strip()]
+    return [part.strip() for part in _CLAUSE_BREAK.split(normalise_quotes(text)) if part.strip()]
 
 
 @lru_cache(maxsize=64)
 def _any_cue(cues: tuple[str, ...]) -> re.Pattern[str]:
     """One pattern finding any of ``cues`` at word boundaries: one search instead of one per cue."""
     return re.compile(
-        "|".join(f"(?:{word_pattern(_normalise_quotes(cue)).pattern})" for cue in cues), re.IGNORECASE
+        "|".join(f"(?:{word_pattern(normalise_quotes(cue)).pattern})" for cue in cues), re.IGNORECASE
     )
 
 
 def has_any(text: str, cues: tuple[str, ...]) -> bool:
     """Whether ``text`` contains one of ``cues`` at word boundaries (what ``has_word`` finds for each)."""
-    return _any_cue(cues).search(_normalise_quotes(text)) is not None
+    return _any_cue(cues).search(normalise_quotes(text)) is not None
 
 
 def is_negated(clause: str) -> bool:
@@ -256,6 +265,7 @@ def affirms(text: str, piece: str) -> bool:
     return any(has_word(clause, piece) for clause in _affirmed(text))
 
 
+@lru_cache(maxsize=4096)
 def declines(text: str) -> bool:
     """Whether ``text`` reads as a refusal, a cancellation or a "does not work" as a whole.
 
@@ -435,16 +445,20 @@ def mentions(text: str, anchor: datetime) -> list[Mention]:
     return sorted(found, key=lambda mention: mention.start)
 
 
-def _affirmed_mentions(text: str, anchor: datetime) -> list[list[Mention]]:
-    """The mentions of each affirmed clause, grouped by sentence (clauses of one sentence together)."""
-    groups: list[list[Mention]] = []
-    for sentence in re.split(r"[!?\n]|\.(?=\s|$)", _normalise_quotes(text)):
+@lru_cache(maxsize=4096)
+def _affirmed_mentions(text: str, anchor: datetime) -> tuple[tuple[Mention, ...], ...]:
+    """The mentions of each affirmed clause, grouped by sentence (clauses of one sentence together).
+
+    Remembered: the same messages are read again by every check on them and every evaluation.
+    """
+    groups: list[tuple[Mention, ...]] = []
+    for sentence in re.split(r"[!?\n]|\.(?=\s|$)", normalise_quotes(text)):
         group: list[Mention] = []
         for clause in affirmed_clauses(sentence):
             group.extend(mentions(clause, anchor))
         if group:
-            groups.append(group)
-    return groups
+            groups.append(tuple(group))
+    return tuple(groups)
 
 
 def mentions_day(text: str, day: date, anchor: datetime) -> bool:

@@ -10,6 +10,9 @@ from pare.scenarios.matchers import Matcher, compile_matcher
 from pare.scenarios.model import ActionPattern
 from pare.sim.log import LogEntry
 
+_COMPILED: dict[tuple[int, int], CompiledPattern] = {}
+"""Compiled patterns by the ids of the pattern and the start (see :meth:`CompiledPattern.of`)."""
+
 
 def event_positions(log: Iterable[LogEntry]) -> dict[str, int]:
     """Log index at which each scheduled event fired (its first successful call)."""
@@ -33,12 +36,25 @@ class CompiledPattern:
 
     @classmethod
     def of(cls, pattern: ActionPattern, start: datetime) -> CompiledPattern:
-        """Compile ``pattern``; relative times in its matchers resolve against ``start``."""
+        """Compile ``pattern``; relative times in its matchers resolve against ``start``.
+
+        Compiled once per pattern object and start object: every episode of a scenario compiles its
+        patterns (its event triggers, the oracle's conditions) from the same two, and a compiled pattern
+        holds no state, so the episodes can share it.
+        """
+        key = (id(pattern), id(start))
+        known = _COMPILED.get(key)
+        if known is not None and known.pattern is pattern and known.start is start:
+            return known
         args = tuple((name, compile_matcher(raw)) for name, raw in pattern.args.items())
         result = compile_matcher(pattern.result) if pattern.result is not None else None
         tools = None if pattern.tools is None else frozenset(pattern.tools)
         screen = compile_matcher(pattern.screen) if pattern.screen is not None else None
-        return cls(pattern, args, result, start, tools, screen)
+        compiled = cls(pattern, args, result, start, tools, screen)
+        if len(_COMPILED) >= 16384:  # a long-lived process that loads scenarios again and again
+            _COMPILED.clear()
+        _COMPILED[key] = compiled  # it holds both: their ids are not reused while the entry lives
+        return compiled
 
     @property
     def needs_event_positions(self) -> bool:
