@@ -91,6 +91,26 @@ def _tool_tables(classes: tuple[type[App], ...]) -> _ToolTables:
     return known
 
 
+_SHELL_CHECKED: set[tuple[type[App], tuple[type[Screen], ...]]] = set()
+"""App classes, with the screens they had, known not to redefine a shell tool (screens belong to the
+class and are declared once, by :meth:`App.set_screens`)."""
+
+
+def _check_screens_keep_shell_names(cls: type[App]) -> None:
+    """Raise if a screen of ``cls`` has an action named like a shell tool (``go_back``), which would hide
+    it; checked once per class, and again each time for a class that failed.
+    """
+    key = (cls, cls.screens)
+    if key in _SHELL_CHECKED:
+        return
+    shell_names = set(SystemApp.tools) | set(AgentUIApp.tools)
+    for screen in cls.screens:
+        clash = shell_names & set(screen.actions)
+        if clash:
+            raise SimulationBug(f"{cls.name}.{screen.screen_name()} redefines shell tools {sorted(clash)}")
+    _SHELL_CHECKED.add(key)
+
+
 class Environment:
     """One episode's world.
 
@@ -140,13 +160,7 @@ class Environment:
         if app.name in self.apps:
             raise UserInputError(f"app '{app.name}' is registered twice")
         app.ctx = self._context
-        shell_names = set(SystemApp.tools) | set(AgentUIApp.tools)
-        for screen in app.screens:
-            clash = shell_names & set(screen.actions)
-            if clash:
-                raise SimulationBug(
-                    f"{app.name}.{screen.screen_name()} redefines shell tools {sorted(clash)}"
-                )
+        _check_screens_keep_shell_names(type(app))
         self.apps[app.name] = app
 
     def app(self, name: str) -> App:
