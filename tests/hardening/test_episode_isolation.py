@@ -4,6 +4,8 @@ anything an episode can change: one episode's writes never show in the next one'
 
 from __future__ import annotations
 
+import gc
+import weakref
 from datetime import timedelta
 from typing import Any
 
@@ -126,3 +128,31 @@ def test_a_screen_redefining_a_shell_tool_is_refused_every_time() -> None:
     for _ in range(2):
         with pytest.raises(SimulationBug, match="redefines shell tools"):
             Environment([_ClashingApp()])
+
+
+def test_an_episode_s_world_is_freed_as_soon_as_it_is_dropped() -> None:
+    """Nothing in an episode's world refers back to it (apps reach their siblings through a weak view,
+    triggers read the log only), so it is freed when dropped, not left for the cyclic collector."""
+    scenario = _scenario()
+    build_environment(scenario)  # the blueprint, made once
+    collecting = gc.isenabled()
+    gc.disable()
+    try:
+        env = build_environment(scenario)
+        env.advance(timedelta(minutes=6))
+        reply = {"email_id": "e_ann", "content": "Friday?"}
+        assert env.call("assistant", "email__reply_to_email", reply, mode="execute").ok
+        env.advance(timedelta(minutes=10))
+        assert "ann_confirms_otherwise" in env.scheduler.completed
+        pieces = [weakref.ref(env), weakref.ref(env.apps["email"]), weakref.ref(env.notifications)]
+        del env
+        assert [piece() for piece in pieces] == [None, None, None]
+    finally:
+        if collecting:
+            gc.enable()
+
+
+def test_an_app_outliving_its_environment_says_so() -> None:
+    shell = Environment(["email"]).system
+    with pytest.raises(SimulationBug, match="environment was discarded"):
+        shell.openable_apps()

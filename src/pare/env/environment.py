@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Mapping
+import weakref
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from datetime import datetime, timedelta
 from typing import Any, cast
@@ -111,6 +112,38 @@ def _check_screens_keep_shell_names(cls: type[App]) -> None:
     _SHELL_CHECKED.add(key)
 
 
+class _Siblings(Mapping[str, App]):
+    """An environment's apps as its apps reach them (``ctx.apps``: Files for attachments, the shell for
+    the apps it opens), holding the environment weakly.
+
+    Apps hold their context; a context holding the environment's apps would close a reference cycle,
+    and every episode's world (apps, states, inboxes) would stay in memory until the cyclic garbage
+    collector found it, which then runs far more often and for longer. Held weakly, the world is freed
+    as soon as its environment is no longer used. Apps live as long as their environment: reaching a
+    sibling after it is gone is a bug, said so.
+    """
+
+    __slots__ = ("_env",)
+
+    def __init__(self, env: Environment) -> None:
+        self._env = weakref.ref(env)
+
+    def _apps(self) -> dict[str, App]:
+        env = self._env()
+        if env is None:
+            raise SimulationBug("an app reached its sibling apps after their environment was discarded")
+        return env.apps
+
+    def __getitem__(self, name: str) -> App:
+        return self._apps()[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._apps())
+
+    def __len__(self) -> int:
+        return len(self._apps())
+
+
 class Environment:
     """One episode's world.
 
@@ -130,7 +163,7 @@ class Environment:
         self.scheduler = EventScheduler(self.clock.start)
         self.turn = 0
         self.apps: dict[str, App] = {}
-        self._context = AppContext(self.clock, self.notifications, self.rng, self.apps)
+        self._context = AppContext(self.clock, self.notifications, self.rng, _Siblings(self))
         for core in CORE_APPS:
             self._register(get_app_class(core)(self._context))
         for app in apps:

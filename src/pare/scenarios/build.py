@@ -22,7 +22,7 @@ from pare.scenarios.patterns import CompiledPattern, event_positions
 from pare.scenarios.seed import prepare_seed
 from pare.scenarios.times import parse_duration, parse_time, resolve_relative_times
 from pare.sim.events import AfterEvent, AtTime, EventAction, ScheduledEvent, Trigger, WhenLogged
-from pare.sim.log import LogEntry
+from pare.sim.log import ActionLog, LogEntry
 
 
 def build_environment(scenario: Scenario, config: EnvConfig | None = None) -> Environment:
@@ -78,7 +78,7 @@ class _Reactive:
     otherwise: _Otherwise | None
 
     def scheduled(self, env: Environment) -> list[ScheduledEvent]:
-        trigger = _Trigger(self, env)
+        trigger = _Trigger(self, env.log)
         action = EventAction(self.action.app, self.action.tool, _fresh(self.action.args))
         condition = WhenLogged(trigger.meets, self.delay, self.description)
         events = [ScheduledEvent(self.event_id, condition, action)]
@@ -192,11 +192,19 @@ def _timed_trigger(event: Event, scenario: Scenario) -> Trigger:
 
 
 class _Trigger:
-    """A reactive event's trigger in one episode: the action it waits for, and what that action must say."""
+    """A reactive event's trigger in one episode: the action it waits for, and what that action must say.
 
-    def __init__(self, plan: _Reactive, env: Environment) -> None:
+    It reads the episode's log (when events fired) but holds nothing that holds it back: the scheduler
+    keeps the trigger, so a reference to the environment would make a cycle that keeps the episode's
+    world in memory until the cyclic garbage collector runs.
+    """
+
+    def __init__(self, plan: _Reactive, log: ActionLog) -> None:
         self.plan = plan
-        self.env = env
+        self.log = log
+        self.met = False
+        """Whether the event's condition has been met: the scheduler stops waiting (and schedules the
+        event) on the first entry it :meth:`meets`."""
         self._last: tuple[LogEntry, bool, bool] | None = None
         """The latest entry tested and its verdicts: the event and its ``otherwise`` test the same entry."""
 
@@ -207,7 +215,7 @@ class _Trigger:
             return last[1], last[2]
         pattern = self.plan.pattern
         triggers = pattern.matches_call(entry) and pattern.matches(
-            entry, event_positions(self.env.log) if pattern.needs_event_positions else None
+            entry, event_positions(self.log) if pattern.needs_event_positions else None
         )
         meets_if = triggers and self.plan.if_args.matches_args(entry)
         self._last = (entry, triggers, meets_if)
@@ -215,11 +223,15 @@ class _Trigger:
 
     def meets(self, entry: LogEntry) -> bool:
         triggers, meets_if = self._verdicts(entry)
-        return triggers and meets_if
+        if triggers and meets_if:
+            self.met = True
+            return True
+        return False
 
     def misses(self, entry: LogEntry) -> bool:
-        # only while the event itself still waits: once it has fired, the world has answered
-        if not self.env.scheduler.is_waiting_on_condition(self.plan.event_id):
+        # only while the event itself still waits: once it was met, the world has answered (an entry that
+        # meets the event is never a miss, so the order in which the two are tested does not matter)
+        if self.met:
             return False
         triggers, meets_if = self._verdicts(entry)
         return triggers and not meets_if

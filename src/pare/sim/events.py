@@ -180,12 +180,6 @@ class EventScheduler:
         """Ids of events still waiting for their log condition."""
         return [e.event_id for e in self._conditions]
 
-    def is_waiting_on_condition(self, event_id: str) -> bool:
-        """Whether the event ``event_id`` still waits for its log condition (checked on every log entry
-        by reactions that only apply while their event waits, so without building a list).
-        """
-        return any(event.event_id == event_id for event in self._conditions)
-
     @property
     def pending(self) -> int:
         """Events not yet fired: scheduled, waiting on another event, or waiting on a condition."""
