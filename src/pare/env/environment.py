@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import weakref
-from collections.abc import Callable, Iterable, Iterator, Mapping
+from collections.abc import Callable, ItemsView, Iterable, Iterator, KeysView, Mapping, ValuesView
 from dataclasses import dataclass
 from datetime import datetime, timedelta
 from typing import Any, cast
@@ -142,6 +142,19 @@ class _Siblings(Mapping[str, App]):
 
     def __len__(self) -> int:
         return len(self._apps())
+
+    # the dict's own views and lookups, rather than Mapping's, which go through __getitem__ per app
+    def __contains__(self, name: object) -> bool:
+        return name in self._apps()
+
+    def keys(self) -> KeysView[str]:
+        return self._apps().keys()
+
+    def values(self) -> ValuesView[App]:
+        return self._apps().values()
+
+    def items(self) -> ItemsView[str, App]:
+        return self._apps().items()
 
 
 class Environment:
