@@ -39,9 +39,10 @@ def prepare_seed(
 
     The map only holds entries for items that moved (list items now stored under their ids).
     """
+    keyed_fields = _keyed_fields(get_app_class(app).State)
     prepared: dict[str, Any] = dict(resolve_relative_times(dict(data), start))
     moved: dict[Location, Location] = {}
-    for name, id_field in _keyed_fields(get_app_class(app).State):
+    for name, id_field in keyed_fields:
         value = prepared.get(name)
         if not isinstance(value, list):
             continue
