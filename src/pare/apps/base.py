@@ -176,6 +176,15 @@ class App:
                 "before the start, or make them events that arrive during the episode."
             )
 
+    def adopt(self, state: BaseModel) -> None:
+        """Take ``state`` as the app's data: a state that :meth:`load` already validated and checked for
+        this same start (a scenario's seed, loaded once), copied for this app alone.
+        """
+        if type(state) is not self.State:
+            raise SimulationBug(f"app '{self.name}' was given a {type(state).__name__}, not its State")
+        self._id_counters.clear()
+        self.state = state
+
     def records_dated_after(self, now: datetime) -> list[str]:
         """The loaded records that say they already happened (sent, created, placed) after ``now``.
 

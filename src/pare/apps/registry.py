@@ -36,8 +36,15 @@ def phone_apps() -> list[str]:
     return [*app_names(), "files"]
 
 
+_LOADED: dict[str, type[App]] = {}
+"""App classes already imported, by name: every environment looks its apps up."""
+
+
 def get_app_class(name: str) -> type[App]:
     """The app class registered as ``name``; a :class:`UserInputError` suggests close names."""
+    known = _LOADED.get(name)
+    if known is not None:
+        return known
     target = _APPS.get(name)
     if target is None:
         choices = app_names()
@@ -46,4 +53,5 @@ def get_app_class(name: str) -> type[App]:
         )
     module_name, _, class_name = target.partition(":")
     cls: type[App] = getattr(importlib.import_module(module_name), class_name)
+    _LOADED[name] = cls
     return cls

@@ -101,7 +101,9 @@ class ToolSpec:
         self.actors: frozenset[Actor] = meta.actors
         self.leads_to = meta.leads_to
         self.available = meta.available
-        doc = docstring_parser.parse(inspect.getdoc(func) or "")
+        # Tools are documented in the Google style; naming it spares trying every style on each of the
+        # few hundred docstrings read when the apps are imported.
+        doc = docstring_parser.parse(inspect.getdoc(func) or "", docstring_parser.DocstringStyle.GOOGLE)
         summary = " ".join(part for part in (doc.short_description, doc.long_description) if part)
         if not summary:
             raise SimulationBug(f"{owner}.{name} has no docstring: every tool needs one, models read it")

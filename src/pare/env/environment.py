@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Mapping
+import weakref
+from collections.abc import Callable, ItemsView, Iterable, Iterator, KeysView, Mapping, ValuesView
 from dataclasses import dataclass
 from datetime import datetime, timedelta
 from typing import Any, cast
@@ -91,6 +92,71 @@ def _tool_tables(classes: tuple[type[App], ...]) -> _ToolTables:
     return known
 
 
+_SHELL_CHECKED: set[tuple[type[App], tuple[type[Screen], ...]]] = set()
+"""App classes, with the screens they had, known not to redefine a shell tool (screens belong to the
+class and are declared once, by :meth:`App.set_screens`)."""
+
+
+def _check_screens_keep_shell_names(cls: type[App]) -> None:
+    """Raise if a screen of ``cls`` has an action named like a shell tool (``go_back``), which would hide
+    it; checked once per class, and again each time for a class that failed.
+    """
+    key = (cls, cls.screens)
+    if key in _SHELL_CHECKED:
+        return
+    shell_names = set(SystemApp.tools) | set(AgentUIApp.tools)
+    for screen in cls.screens:
+        clash = shell_names & set(screen.actions)
+        if clash:
+            raise SimulationBug(f"{cls.name}.{screen.screen_name()} redefines shell tools {sorted(clash)}")
+    _SHELL_CHECKED.add(key)
+
+
+class _Siblings(Mapping[str, App]):
+    """An environment's apps as its apps reach them (``ctx.apps``: Files for attachments, the shell for
+    the apps it opens), holding the environment weakly.
+
+    Apps hold their context; a context holding the environment's apps would close a reference cycle,
+    and every episode's world (apps, states, inboxes) would stay in memory until the cyclic garbage
+    collector found it, which then runs far more often and for longer. Held weakly, the world is freed
+    as soon as its environment is no longer used. Apps live as long as their environment: reaching a
+    sibling after it is gone is a bug, said so.
+    """
+
+    __slots__ = ("_env",)
+
+    def __init__(self, env: Environment) -> None:
+        self._env = weakref.ref(env)
+
+    def _apps(self) -> dict[str, App]:
+        env = self._env()
+        if env is None:
+            raise SimulationBug("an app reached its sibling apps after their environment was discarded")
+        return env.apps
+
+    def __getitem__(self, name: str) -> App:
+        return self._apps()[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._apps())
+
+    def __len__(self) -> int:
+        return len(self._apps())
+
+    # the dict's own views and lookups, rather than Mapping's, which go through __getitem__ per app
+    def __contains__(self, name: object) -> bool:
+        return name in self._apps()
+
+    def keys(self) -> KeysView[str]:
+        return self._apps().keys()
+
+    def values(self) -> ValuesView[App]:
+        return self._apps().values()
+
+    def items(self) -> ItemsView[str, App]:
+        return self._apps().items()
+
+
 class Environment:
     """One episode's world.
 
@@ -110,7 +176,7 @@ class Environment:
         self.scheduler = EventScheduler(self.clock.start)
         self.turn = 0
         self.apps: dict[str, App] = {}
-        self._context = AppContext(self.clock, self.notifications, self.rng, self.apps)
+        self._context = AppContext(self.clock, self.notifications, self.rng, _Siblings(self))
         for core in CORE_APPS:
             self._register(get_app_class(core)(self._context))
         for app in apps:
@@ -140,13 +206,7 @@ class Environment:
         if app.name in self.apps:
             raise UserInputError(f"app '{app.name}' is registered twice")
         app.ctx = self._context
-        shell_names = set(SystemApp.tools) | set(AgentUIApp.tools)
-        for screen in app.screens:
-            clash = shell_names & set(screen.actions)
-            if clash:
-                raise SimulationBug(
-                    f"{app.name}.{screen.screen_name()} redefines shell tools {sorted(clash)}"
-                )
+        _check_screens_keep_shell_names(type(app))
         self.apps[app.name] = app
 
     def app(self, name: str) -> App:

@@ -1,7 +1,18 @@
-"""Turning a scenario into a ready environment: apps seeded, events scheduled."""
+"""Turning a scenario into a ready environment: apps seeded, events scheduled.
+
+Everything an episode's world starts from depends on the scenario alone: which apps it has, the seed data
+validated into the apps' states, the scheduled events with their times resolved and their triggers'
+patterns compiled. That is worked out once per scenario (its :class:`_Blueprint`, made while the first
+episode's environment is built) and every episode gets its own copy of what it can change: fresh app
+states and fresh event arguments. Only immutable parts (compiled patterns, times, the pickled states)
+are shared between episodes.
+"""
 
 from __future__ import annotations
 
+import pickle
+from dataclasses import dataclass
+from datetime import timedelta
 from typing import Any
 
 from pare.apps.registry import CORE_APPS
@@ -11,7 +22,7 @@ from pare.scenarios.patterns import CompiledPattern, event_positions
 from pare.scenarios.seed import prepare_seed
 from pare.scenarios.times import parse_duration, parse_time, resolve_relative_times
 from pare.sim.events import AfterEvent, AtTime, EventAction, ScheduledEvent, Trigger, WhenLogged
-from pare.sim.log import LogEntry
+from pare.sim.log import ActionLog, LogEntry
 
 
 def build_environment(scenario: Scenario, config: EnvConfig | None = None) -> Environment:
@@ -21,51 +32,156 @@ def build_environment(scenario: Scenario, config: EnvConfig | None = None) -> En
     tool failures, noise, notifications) comes from ``config``.
     """
     settings = (config or EnvConfig()).model_copy(update={"start_time": scenario.start})
-    env = Environment([app for app in scenario.all_apps if app not in CORE_APPS], settings)
-    env.load(_prepared_seed(scenario))
-    for event in scenario.events:
-        for scheduled in scheduled_events(event, scenario, env):
+    blueprint = _known_blueprint(scenario)
+    if blueprint is None:
+        env = Environment([app for app in scenario.all_apps if app not in CORE_APPS], settings)
+        # The first episode of a scenario validates and checks its seed (errors are raised here, and
+        # again for every later build, since nothing is kept); its loaded states become the blueprint.
+        env.load({app: prepare_seed(app, data, scenario.start)[0] for app, data in scenario.seed.items()})
+        blueprint = _remember(_Blueprint.of(scenario, env))
+    else:
+        env = Environment(blueprint.apps, settings)
+        blueprint.seed(env)
+    for plan in blueprint.events:
+        for scheduled in plan.scheduled(env):
             env.schedule(scheduled)
     env.scheduler.validate()
     return env
 
 
-_PREPARED: dict[int, tuple[Scenario, dict[str, dict[str, Any]]]] = {}
-"""Each scenario's seed in the apps' formats, by the scenario object's id (kept with it, so the id is
-not reused while the entry lives)."""
+# -- what every episode of a scenario starts from -----------------------------------------------------
+@dataclass(frozen=True, slots=True)
+class _Timed:
+    """An event at a time, or after another event: the same for every episode but its arguments' copy."""
+
+    event: ScheduledEvent
+
+    def scheduled(self, env: Environment) -> list[ScheduledEvent]:
+        event = self.event
+        action = EventAction(event.action.app, event.action.tool, _fresh(event.action.args))
+        return [ScheduledEvent(event.event_id, event.trigger, action)]
 
 
-def _prepared_seed(scenario: Scenario) -> dict[str, dict[str, Any]]:
-    """The scenario's seed data in the apps' formats, relative times resolved: worked out once per
-    scenario, since every episode of it starts from the same data. Loading validates it into fresh
-    app states each time, so episodes share nothing.
+@dataclass(frozen=True, slots=True)
+class _Reactive:
+    """A reactive event (``when``) as compiled once: its patterns, delays, calls and descriptions. Each
+    episode binds it to its own environment (:class:`_Trigger`), which the trigger reads (the log, what
+    still waits).
     """
-    known = _PREPARED.get(id(scenario))
-    if known is not None and known[0] is scenario:
-        return known[1]
-    seed = {app: prepare_seed(app, data, scenario.start)[0] for app, data in scenario.seed.items()}
-    if len(_PREPARED) >= 1024:  # a long-lived process that loads scenarios again and again
-        _PREPARED.clear()
-    _PREPARED[id(scenario)] = (scenario, seed)
-    return seed
+
+    event_id: str
+    delay: timedelta
+    pattern: CompiledPattern
+    if_args: CompiledPattern
+    action: EventAction
+    description: str
+    otherwise: _Otherwise | None
+
+    def scheduled(self, env: Environment) -> list[ScheduledEvent]:
+        trigger = _Trigger(self, env.log)
+        action = EventAction(self.action.app, self.action.tool, _fresh(self.action.args))
+        condition = WhenLogged(trigger.meets, self.delay, self.description)
+        events = [ScheduledEvent(self.event_id, condition, action)]
+        otherwise = self.otherwise
+        if otherwise is not None:
+            call = otherwise.action
+            reaction = EventAction(call.app, call.tool, _fresh(call.args))
+            condition = WhenLogged(trigger.misses, otherwise.delay, otherwise.description)
+            events.append(ScheduledEvent(otherwise.event_id, condition, reaction))
+        return events
 
 
-def scheduled_events(event: Event, scenario: Scenario, env: Environment) -> list[ScheduledEvent]:
-    """The kernel events for a scenario event: the event itself, and its ``otherwise`` reaction if any."""
+@dataclass(frozen=True, slots=True)
+class _Otherwise:
+    """The reaction of a reactive event to a triggering action that does not meet its ``if_args``."""
+
+    event_id: str
+    delay: timedelta
+    action: EventAction
+    description: str
+
+
+@dataclass(frozen=True, slots=True)
+class _Blueprint:
+    """A scenario's world before its first call, shared (read only) by all its episodes."""
+
+    scenario: Scenario
+    """Kept so that the scenario's id, the cache key, is not reused while the blueprint lives."""
+    apps: tuple[str, ...]
+    """The apps besides the core ones."""
+    states: tuple[tuple[str, bytes], ...]
+    """Each seeded app's state as loaded (validated and checked), pickled: unpickling gives an episode
+    an exact copy of its own, for less than validating the seed again."""
+    events: tuple[_Timed | _Reactive, ...]
+    """The scenario's events in its order (which decides the order of events due at the same time)."""
+
+    @classmethod
+    def of(cls, scenario: Scenario, env: Environment) -> _Blueprint:
+        """The blueprint of ``scenario``, from ``env``: an environment for it whose seed was just loaded."""
+        return cls(
+            scenario=scenario,
+            apps=tuple(app for app in scenario.all_apps if app not in CORE_APPS),
+            states=tuple(
+                (app, pickle.dumps(env.apps[app].state, protocol=pickle.HIGHEST_PROTOCOL))
+                for app in scenario.seed
+            ),
+            events=tuple(_plan(event, scenario) for event in scenario.events),
+        )
+
+    def seed(self, env: Environment) -> None:
+        """Give each seeded app of ``env`` its own copy of its seed state."""
+        for app, state in self.states:
+            env.app(app).adopt(pickle.loads(state))
+
+
+_BLUEPRINTS: dict[int, _Blueprint] = {}
+"""Blueprints by the scenario object's id (each keeps its scenario, so the id is not reused)."""
+
+
+def _known_blueprint(scenario: Scenario) -> _Blueprint | None:
+    known = _BLUEPRINTS.get(id(scenario))
+    return known if known is not None and known.scenario is scenario else None
+
+
+def _remember(blueprint: _Blueprint) -> _Blueprint:
+    if len(_BLUEPRINTS) >= 1024:  # a long-lived process that loads scenarios again and again
+        _BLUEPRINTS.clear()
+    _BLUEPRINTS[id(blueprint.scenario)] = blueprint
+    return blueprint
+
+
+def _fresh(value: Any) -> Any:
+    """A copy of JSON-like ``value`` (an event's arguments) with its own lists and dicts: an episode's
+    calls never share a container with another episode's.
+    """
+    if isinstance(value, dict):
+        return {key: _fresh(item) for key, item in value.items()}
+    if isinstance(value, list):
+        return [_fresh(item) for item in value]
+    return value
+
+
+# -- events -------------------------------------------------------------------------------------------
+def _plan(event: Event, scenario: Scenario) -> _Timed | _Reactive:
+    """A scenario event compiled: its times resolved against the start, its patterns compiled."""
     app, _, tool = event.tool.partition("__")
     action = EventAction(app, tool, resolve_relative_times(event.args, scenario.start))
     if event.when is None:
-        return [ScheduledEvent(event.id, _timed_trigger(event, scenario), action)]
-    trigger = _Trigger(event, scenario, env)
-    events = [ScheduledEvent(event.id, WhenLogged(trigger.meets, trigger.delay, trigger.describe()), action)]
-    otherwise, otherwise_id = event.otherwise, event.otherwise_id
+        return _Timed(ScheduledEvent(event.id, _timed_trigger(event, scenario), action))
+    delay = parse_duration(event.delay)
+    pattern = CompiledPattern.of(event.when, scenario.start)
+    if_args = CompiledPattern.of(ActionPattern(actor="any", ok=None, args=event.if_args), scenario.start)
+    otherwise, otherwise_id, reaction = event.otherwise, event.otherwise_id, None
     if otherwise is not None and otherwise_id is not None:
         app, _, tool = otherwise.tool.partition("__")
-        reaction = EventAction(app, tool, resolve_relative_times(otherwise.args, scenario.start))
-        delay = trigger.delay if otherwise.delay is None else parse_duration(otherwise.delay)
-        description = f"{trigger.describe()} but not {trigger.describe_if()}"
-        events.append(ScheduledEvent(otherwise_id, WhenLogged(trigger.misses, delay, description), reaction))
-    return events
+        wanted = ", ".join(f"{name}: {matcher.describe()}" for name, matcher in if_args.args)
+        reaction = _Otherwise(
+            event_id=otherwise_id,
+            delay=delay if otherwise.delay is None else parse_duration(otherwise.delay),
+            action=EventAction(app, tool, resolve_relative_times(otherwise.args, scenario.start)),
+            description=f"{pattern.describe()} but not {wanted}",
+        )
+    return _Reactive(event.id, delay, pattern, if_args, action, pattern.describe(), reaction)
 
 
 def _timed_trigger(event: Event, scenario: Scenario) -> Trigger:
@@ -76,34 +192,46 @@ def _timed_trigger(event: Event, scenario: Scenario) -> Trigger:
 
 
 class _Trigger:
-    """A reactive event's trigger: the action it waits for, and what that action must say."""
+    """A reactive event's trigger in one episode: the action it waits for, and what that action must say.
 
-    def __init__(self, event: Event, scenario: Scenario, env: Environment) -> None:
-        assert event.when is not None
-        self.event_id = event.id
-        self.delay = parse_duration(event.delay)
-        self.pattern = CompiledPattern.of(event.when, scenario.start)
-        self.if_args = CompiledPattern.of(
-            ActionPattern(actor="any", ok=None, args=event.if_args), scenario.start
+    It reads the episode's log (when events fired) but holds nothing that holds it back: the scheduler
+    keeps the trigger, so a reference to the environment would make a cycle that keeps the episode's
+    world in memory until the cyclic garbage collector runs.
+    """
+
+    def __init__(self, plan: _Reactive, log: ActionLog) -> None:
+        self.plan = plan
+        self.log = log
+        self.met = False
+        """Whether the event's condition has been met: the scheduler stops waiting (and schedules the
+        event) on the first entry it :meth:`meets`."""
+        self._last: tuple[LogEntry, bool, bool] | None = None
+        """The latest entry tested and its verdicts: the event and its ``otherwise`` test the same entry."""
+
+    def _verdicts(self, entry: LogEntry) -> tuple[bool, bool]:
+        """Whether ``entry`` is a triggering action, and whether its arguments meet ``if_args``."""
+        last = self._last
+        if last is not None and last[0] is entry:  # entries are immutable and the log only grows
+            return last[1], last[2]
+        pattern = self.plan.pattern
+        triggers = pattern.matches_call(entry) and pattern.matches(
+            entry, event_positions(self.log) if pattern.needs_event_positions else None
         )
-        self.env = env
-
-    def triggers(self, entry: LogEntry) -> bool:
-        if not self.pattern.matches_call(entry):
-            return False
-        events = event_positions(self.env.log) if self.pattern.needs_event_positions else None
-        return self.pattern.matches(entry, events)
+        meets_if = triggers and self.plan.if_args.matches_args(entry)
+        self._last = (entry, triggers, meets_if)
+        return triggers, meets_if
 
     def meets(self, entry: LogEntry) -> bool:
-        return self.triggers(entry) and self.if_args.matches_args(entry)
+        triggers, meets_if = self._verdicts(entry)
+        if triggers and meets_if:
+            self.met = True
+            return True
+        return False
 
     def misses(self, entry: LogEntry) -> bool:
-        # only while the event itself still waits: once it has fired, the world has answered
-        waiting = self.event_id in self.env.scheduler.waiting_on_conditions
-        return waiting and self.triggers(entry) and not self.if_args.matches_args(entry)
-
-    def describe(self) -> str:
-        return self.pattern.describe()
-
-    def describe_if(self) -> str:
-        return ", ".join(f"{name}: {matcher.describe()}" for name, matcher in self.if_args.args)
+        # only while the event itself still waits: once it was met, the world has answered (an entry that
+        # meets the event is never a miss, so the order in which the two are tested does not matter)
+        if self.met:
+            return False
+        triggers, meets_if = self._verdicts(entry)
+        return triggers and not meets_if

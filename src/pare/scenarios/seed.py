@@ -9,10 +9,13 @@ Two conveniences over the raw state format:
 
 from __future__ import annotations
 
+import functools
 import typing
 from collections.abc import Mapping
 from datetime import datetime
 from typing import Any
+
+from pydantic import BaseModel
 
 from pare.apps.registry import get_app_class
 from pare.scenarios.annotations import item_type, model_fields, strip_optional
@@ -36,13 +39,12 @@ def prepare_seed(
 
     The map only holds entries for items that moved (list items now stored under their ids).
     """
-    state_model = get_app_class(app).State
+    keyed_fields = _keyed_fields(get_app_class(app).State)
     prepared: dict[str, Any] = dict(resolve_relative_times(dict(data), start))
     moved: dict[Location, Location] = {}
-    for name, info in state_model.model_fields.items():
+    for name, id_field in keyed_fields:
         value = prepared.get(name)
-        id_field = keyed_by(info.annotation)
-        if id_field is None or not isinstance(value, list):
+        if not isinstance(value, list):
             continue
         keyed: dict[str, Any] = {}
         for index, item in enumerate(value):
@@ -55,6 +57,15 @@ def prepare_seed(
             moved[(name, key)] = (name, index)
         prepared[name] = keyed
     return prepared, moved
+
+
+@functools.cache
+def _keyed_fields(state_model: type[BaseModel]) -> tuple[tuple[str, str], ...]:
+    """The fields of an app's state that key records by id, each with the records' id field, in the
+    state's order: read from the class once (every episode's seed is prepared with them).
+    """
+    found = ((name, keyed_by(info.annotation)) for name, info in state_model.model_fields.items())
+    return tuple((name, id_field) for name, id_field in found if id_field is not None)
 
 
 def original_location(location: Location, moved: Mapping[Location, Location]) -> Location:
