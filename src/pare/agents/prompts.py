@@ -17,6 +17,7 @@ from typing import Any
 import jinja2
 
 from pare.agents.policy import ASSISTANT_WAIT, SEND_MESSAGE, Task
+from pare.apps.base import App
 from pare.apps.registry import CORE_APPS
 from pare.env import Environment, NamedTool
 from pare.sim.budget import DEFAULT_BUDGET, TurnBudget
@@ -52,6 +53,7 @@ def template_environment(folder: Path) -> jinja2.Environment:
         loader=jinja2.FileSystemLoader(folder),
         undefined=jinja2.StrictUndefined,
         keep_trailing_newline=True,
+        auto_reload=False,  # the templates ship with the package: no need to check their files per render
         trim_blocks=True,
         lstrip_blocks=True,
         autoescape=False,  # plain-text prompts, not HTML
@@ -106,6 +108,37 @@ def tool_lines(tools: list[NamedTool]) -> list[ToolLine]:
     for tool in tools:
         arguments = tool.spec.signature[len(tool.spec.name) :]
         lines.append(ToolLine(f"{tool.name}{arguments}", tool.spec.summary))
+    return lines
+
+
+@dataclass(frozen=True, slots=True)
+class _AssistantToolLines:
+    """The assistant's tools as its prompts list them, for one phone's apps."""
+
+    observe: tuple[ToolLine, ...]
+    execute: tuple[ToolLine, ...]
+    execute_only: tuple[ToolLine, ...]
+
+
+_ASSISTANT_LINES: dict[tuple[type[App], ...], _AssistantToolLines] = {}
+
+
+def _assistant_lines(env: Environment) -> _AssistantToolLines:
+    """The assistant's tool lines for ``env``'s phone, worked out once per set of apps.
+
+    The assistant's tools are the tools of the phone's app classes (the environment's tool tables are
+    per set of app classes too), so every episode on the same phone lists the same lines; they are
+    immutable, so episodes can share them.
+    """
+    key = tuple(type(app) for app in env.apps.values())
+    lines = _ASSISTANT_LINES.get(key)
+    if lines is None:
+        lines = _AssistantToolLines(
+            observe=tuple(tool_lines(env.assistant_tools("observe"))),
+            execute=tuple(tool_lines(env.assistant_tools("execute"))),
+            execute_only=tuple(execute_only_lines(env)),
+        )
+        _ASSISTANT_LINES[key] = lines
     return lines
 
 
@@ -174,8 +207,8 @@ def observe_system_prompt(
         notification_policy=_assistant_notifications(env),
         propose_tool=SEND_MESSAGE,
         wait_tool=ASSISTANT_WAIT,
-        tools=tool_lines(env.assistant_tools("observe")),
-        execute_tools=execute_only_lines(env),
+        tools=_assistant_lines(env).observe,
+        execute_tools=_assistant_lines(env).execute_only,
         example=example,
     )
 
@@ -196,7 +229,7 @@ def execute_system_prompt(env: Environment, task: Task, *, max_steps: int, nativ
         answer=task.answer,
         report_tool=SEND_MESSAGE,
         max_steps=max_steps,
-        tools=tool_lines(env.assistant_tools("execute")),
+        tools=_assistant_lines(env).execute,
         example=example,
     )
 
