@@ -30,14 +30,15 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import functools
 import hashlib
 import json
 import os
 import statistics
 import time
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
 from pare.agents.actions import format_action
 from pare.agents.llm import LLMAssistant, LLMUser
@@ -47,18 +48,24 @@ from pare.bench import EpisodeResult, arun_episode
 from pare.env import AssistantObservation, Environment, ToolResult, UserView
 from pare.scenarios import OracleAssistant, OracleUser, Scenario, load_scenarios
 
-os.environ.setdefault("LITELLM_LOCAL_MODEL_COST_MAP", "True")  # litellm's bundled prices: no download
-try:
-    from litellm import token_counter
-except ImportError:  # the litellm extra is optional
-    token_counter = None
-
 ROLES = ("user", "observe", "execute")
 
 
+@functools.cache
+def tokenizer() -> Callable[..., int] | None:
+    """litellm's token counter, imported on first use (it takes seconds), or ``None`` without litellm."""
+    os.environ.setdefault("LITELLM_LOCAL_MODEL_COST_MAP", "True")  # litellm's bundled prices: no download
+    try:
+        from litellm import token_counter
+    except ImportError:  # the litellm extra is optional
+        return None
+    return cast(Callable[..., int], token_counter)
+
+
 def count_tokens(messages: Sequence[ChatMessage]) -> int:
-    if token_counter is not None:
-        return int(token_counter(model="gpt-4o", messages=[m.to_openai() for m in messages]))
+    counter = tokenizer()
+    if counter is not None:
+        return int(counter(model="gpt-4o", messages=[m.to_openai() for m in messages]))
     return sum(len(m.content or "") for m in messages) // 4
 
 
@@ -227,7 +234,7 @@ def growth_per_call(sizes: list[int]) -> float | None:
 
 
 def print_tokens(recordings: list[Recording]) -> None:
-    counter = "litellm's tokenizer (gpt-4o)" if token_counter is not None else "characters / 4"
+    counter = "litellm's tokenizer (gpt-4o)" if tokenizer() is not None else "characters / 4"
     print(f"prompt tokens per episode ({counter}, summed over every model call):")
     for role in ROLES:
         values = [r.tokens[role] for r in recordings]
@@ -250,7 +257,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5, help="Timed replay passes (the median is shown).")
     parser.add_argument(
-        "--quiet", action="store_true", help="Do not count prompt tokens (litellm's tokenizer is slow)."
+        "--quiet", action="store_true", help="Do not count prompt tokens (litellm is slow to import and run)."
     )
     options = parser.parse_args()
     scenarios = load_scenarios()
