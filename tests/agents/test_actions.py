@@ -543,8 +543,16 @@ def test_format_action_round_trips_any_thought_or_refuses_it(tool: str, thought:
         "Thought:" + " " * 100_000 + "x\nAction: " + " " * 100_000 + "{",
         'Action: {"action": "a"}' + "{" * 100_000,
         "Action:\n" * 20_000,
+        "a action: {" * 50_000,
     ],
-    ids=["long blank line", "many decorated lines", "long gaps", "many braces", "many labels"],
+    ids=[
+        "long blank line",
+        "many decorated lines",
+        "long gaps",
+        "many braces",
+        "many labels",
+        "labels on a line",
+    ],
 )
 def test_pathological_answers_are_handled_in_linear_time(text: str) -> None:
     started = time.perf_counter()

@@ -147,8 +147,9 @@ def _labels(label: re.Pattern[str], word: re.Pattern[str], text: str) -> list[re
     found = []
     position = 0
     while (occurrence := word.search(text, position)) is not None:
-        line_start = text.rfind("\n", 0, occurrence.start()) + 1
-        match = label.search(text, max(position, line_start))
+        # the line's start, or where the last match ended if that is later (so no text is read twice)
+        start = max(position, text.rfind("\n", position, occurrence.start()) + 1)
+        match = label.search(text, start)
         if match is None:
             break
         found.append(match)
