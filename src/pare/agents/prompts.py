@@ -112,34 +112,39 @@ def tool_lines(tools: list[NamedTool]) -> list[ToolLine]:
 
 
 @dataclass(frozen=True, slots=True)
-class _AssistantToolLines:
-    """The assistant's tools as its prompts list them, for one phone's apps."""
+class _AssistantToolLists:
+    """The assistant's tools as its prompts list them for one phone's apps: ``_tools.j2``'s text."""
 
-    observe: tuple[ToolLine, ...]
-    execute: tuple[ToolLine, ...]
-    execute_only: tuple[ToolLine, ...]
-
-
-_ASSISTANT_LINES: dict[tuple[type[App], ...], _AssistantToolLines] = {}
+    observe: str
+    execute: str
+    execute_only: str
 
 
-def _assistant_lines(env: Environment) -> _AssistantToolLines:
-    """The assistant's tool lines for ``env``'s phone, worked out once per set of apps.
+_ASSISTANT_TOOL_LISTS: dict[tuple[type[App], ...], _AssistantToolLists] = {}
+
+
+def _assistant_tool_lists(env: Environment) -> _AssistantToolLists:
+    """The assistant's tool lists for ``env``'s phone, written once per set of apps.
 
     The assistant's tools are the tools of the phone's app classes (the environment's tool tables are
-    per set of app classes too), so every episode on the same phone lists the same lines; they are
-    immutable, so episodes can share them.
+    per set of app classes too), so every episode on the same phone lists the same tools; the lists
+    are text, so episodes can share them.
     """
     key = tuple(type(app) for app in env.apps.values())
-    lines = _ASSISTANT_LINES.get(key)
-    if lines is None:
-        lines = _AssistantToolLines(
-            observe=tuple(tool_lines(env.assistant_tools("observe"))),
-            execute=tuple(tool_lines(env.assistant_tools("execute"))),
-            execute_only=tuple(execute_only_lines(env)),
+    lists = _ASSISTANT_TOOL_LISTS.get(key)
+    if lists is None:
+        lists = _AssistantToolLists(
+            observe=_tool_list(tool_lines(env.assistant_tools("observe"))),
+            execute=_tool_list(tool_lines(env.assistant_tools("execute"))),
+            execute_only=_tool_list(execute_only_lines(env)),
         )
-        _ASSISTANT_LINES[key] = lines
-    return lines
+        _ASSISTANT_TOOL_LISTS[key] = lists
+    return lists
+
+
+def _tool_list(lines: list[ToolLine]) -> str:
+    """Tool lines as a prompt lists them, one line each (empty for none)."""
+    return _templates().get_template("_tools.j2").render(tools=lines)
 
 
 _USER_NOTIFICATIONS: dict[DetailLevel, str] = {
@@ -207,8 +212,8 @@ def observe_system_prompt(
         notification_policy=_assistant_notifications(env),
         propose_tool=SEND_MESSAGE,
         wait_tool=ASSISTANT_WAIT,
-        tools=_assistant_lines(env).observe,
-        execute_tools=_assistant_lines(env).execute_only,
+        tools=_assistant_tool_lists(env).observe,
+        execute_tools=_assistant_tool_lists(env).execute_only,
         example=example,
     )
 
@@ -229,7 +234,7 @@ def execute_system_prompt(env: Environment, task: Task, *, max_steps: int, nativ
         answer=task.answer,
         report_tool=SEND_MESSAGE,
         max_steps=max_steps,
-        tools=_assistant_lines(env).execute,
+        tools=_assistant_tool_lists(env).execute,
         example=example,
     )
 
