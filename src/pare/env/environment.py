@@ -460,7 +460,7 @@ class Environment:
 
     # -- what actors see ------------------------------------------------------------------------------
     _NAMED_TOOLS: ClassVar[dict[type, tuple[Mapping[str, ToolSpec], tuple[NamedTool, ...]]]] = {}
-    """Per screen class and shell app class, its table of tools and the user's tools in it, named."""
+    """Per screen class and shell app class: its table of tools, and the tools the user is offered from it."""
 
     @classmethod
     def _named_tools(
