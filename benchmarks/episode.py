@@ -1,42 +1,71 @@
-"""Episode timings with instant scripted models: simulation overhead per turn, and prompt sizes.
+"""Episode timings with instant models: PARE's own overhead per turn, and prompt sizes.
 
-    python benchmarks/episode.py [--repeat 5]
+    python benchmarks/episode.py [--repeat 5] [--quiet]
 
-Plays every library scenario with model-backed actors whose models answer instantly from the oracle's
-script (the user waits or follows the oracle's steps, the assistant proposes and acts as the oracle), so
-the time measured is PARE's own: prompts, parsing, the environment, the loop. Also prints the prompt
-tokens per episode the paper's prompts cost (counted with litellm's tokenizer when installed, else
-estimated as characters / 4). Prints numbers only; no assertion.
+Plays every library scenario with the model-backed actors (:class:`~pare.agents.llm.LLMUser`,
+:class:`~pare.agents.llm.LLMAssistant`) in two stages:
+
+1. **Recording (untimed).** The actors' models answer what the scenario's oracle would do (the user
+   waits or follows the oracle's steps, the assistant proposes and acts as the oracle), formatted as the
+   paper's text actions. Every answer is kept, per episode and per model, in order. Unless ``--quiet``,
+   the prompt tokens of every call are counted here (litellm's tokenizer when installed, else characters
+   / 4): the prompts are the same in every pass.
+2. **Timing (``--repeat`` passes).** The same episodes again, each model replaying its recorded answers
+   in order: same prompts, same answers, so the episodes are the same. What is timed is PARE's own work
+   per model call (rendering prompts and observations, parsing answers, the environment, the turn loop,
+   evaluating the goals), with no model work in it. After each pass every episode is compared with its
+   recording (its whole result as JSON); a difference is printed, as it means an episode is not
+   deterministic.
+
+**The figure's definition changed** (issue 13). Before, the timed passes ran the model doubles live: at
+every call the oracle policy decided, ``format_action`` wrote the answer and parsed it back to check it,
+which is the model's work, not PARE's (about a fifth of the old figure, 0.70-0.86 ms per turn). Now only
+the replay is timed, so figures printed by this version are lower and not comparable with older ones.
+
+:class:`Bridge`, :class:`ShimUser` and :class:`ShimAssistant` (the recording actors) are also what
+``benchmarks/fingerprint.py`` plays in its ``llm`` configuration. Prints numbers only; no assertion.
 """
 
 from __future__ import annotations
 
 import argparse
 import asyncio
+import functools
+import hashlib
+import json
 import os
 import statistics
 import time
-from collections.abc import Sequence
-from typing import Any
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass, field
+from typing import Any, cast
 
 from pare.agents.actions import format_action
 from pare.agents.llm import LLMAssistant, LLMUser
 from pare.agents.models.types import ChatMessage, Completion, Usage
 from pare.agents.policy import Action, AssistantPolicy, Task, UserPolicy
-from pare.bench import arun_episode
+from pare.bench import EpisodeResult, arun_episode
 from pare.env import AssistantObservation, Environment, ToolResult, UserView
 from pare.scenarios import OracleAssistant, OracleUser, Scenario, load_scenarios
 
-os.environ.setdefault("LITELLM_LOCAL_MODEL_COST_MAP", "True")  # litellm's bundled prices: no download
-try:
-    from litellm import token_counter
-except ImportError:  # the litellm extra is optional
-    token_counter = None
+ROLES = ("user", "observe", "execute")
+
+
+@functools.cache
+def tokenizer() -> Callable[..., int] | None:
+    """litellm's token counter, imported on first use (it takes seconds), or ``None`` without litellm."""
+    os.environ.setdefault("LITELLM_LOCAL_MODEL_COST_MAP", "True")  # litellm's bundled prices: no download
+    try:
+        from litellm import token_counter
+    except ImportError:  # the litellm extra is optional
+        return None
+    return cast(Callable[..., int], token_counter)
 
 
 def count_tokens(messages: Sequence[ChatMessage]) -> int:
-    if token_counter is not None:
-        return int(token_counter(model="gpt-4o", messages=[m.to_openai() for m in messages]))
+    counter = tokenizer()
+    if counter is not None:
+        return int(counter(model="gpt-4o", messages=[m.to_openai() for m in messages]))
     return sum(len(m.content or "") for m in messages) // 4
 
 
@@ -50,6 +79,8 @@ class OracleDrivenModel:
         self.calls = 0
         self.sizes: list[int] = []
         """The prompt size of each call, in order: how the conversation grows."""
+        self.answers: list[Completion] = []
+        """Every answer given, in order: what a :class:`ReplayModel` gives back."""
 
     async def complete(
         self, messages: Sequence[ChatMessage], tools: Sequence[dict[str, Any]] | None = None
@@ -60,13 +91,30 @@ class OracleDrivenModel:
             self.prompt_tokens += size
             self.sizes.append(size)
         action: Action = await self.decide()
-        return Completion(
+        completion = Completion(
             text=format_action(action.tool, action.args, "Following the plan."),
             usage=Usage(),
             cost_usd=0.0,
             latency_s=0.0,
             model="oracle-driven",
         )
+        self.answers.append(completion)
+        return completion
+
+
+class ReplayModel:
+    """A model that gives back recorded answers in order, whatever it is asked: no work of its own."""
+
+    def __init__(self, answers: Sequence[Completion]) -> None:
+        self._answers: Iterator[Completion] = iter(answers)
+
+    async def complete(
+        self, messages: Sequence[ChatMessage], tools: Sequence[dict[str, Any]] | None = None
+    ) -> Completion:
+        answer = next(self._answers, None)
+        if answer is None:
+            raise RuntimeError("the episode asked for more answers than were recorded: not deterministic")
+        return answer
 
 
 class Bridge(UserPolicy, AssistantPolicy):
@@ -125,18 +173,59 @@ class ShimAssistant(LLMAssistant):
         return await super().execute(task, previous)
 
 
-Outcome = tuple[int, int, dict[str, int], bool, dict[str, list[int]]]
+@dataclass
+class Recording:
+    """One episode as the oracle-driven models played it: their answers, and what came of it."""
+
+    scenario: Scenario
+    answers: dict[str, list[Completion]]
+    """Per role (user, observe, execute), every answer in order."""
+    turns: int
+    steps: int
+    success: bool
+    digest: str
+    """The SHA-256 of the episode's whole result as JSON: a replay must give the same."""
+    tokens: dict[str, int] = field(default_factory=dict)
+    """Per role, the prompt tokens summed over its calls (when counted)."""
+    sizes: dict[str, list[int]] = field(default_factory=dict)
+    """Per role, the prompt tokens of each call, in order (when counted)."""
 
 
-async def play(scenario: Scenario, count: bool) -> Outcome:
-    """One episode; with ``count``, prompt tokens are counted (slow, so not while timing)."""
+def digest(result: EpisodeResult) -> str:
+    text = json.dumps(result.to_dict(), sort_keys=True, ensure_ascii=False)
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+async def record(scenario: Scenario, count: bool) -> Recording:
+    """Play one episode with oracle-driven models, keeping their answers (and prompt sizes if ``count``)."""
     bridge = Bridge(scenario)
     user, assistant = ShimUser(bridge, count), ShimAssistant(bridge, count)
     result = await arun_episode(scenario, user, assistant)
     models = {"user": user.model, "observe": assistant.observe_model, "execute": assistant.execute_model}
-    tokens = {role: model.prompt_tokens for role, model in models.items()}
-    sizes = {role: model.sizes for role, model in models.items()}
-    return result.turns, len(result.steps), tokens, result.success, sizes
+    return Recording(
+        scenario=scenario,
+        answers={role: model.answers for role, model in models.items()},
+        turns=result.turns,
+        steps=len(result.steps),
+        success=result.success,
+        digest=digest(result),
+        tokens={role: model.prompt_tokens for role, model in models.items()} if count else {},
+        sizes={role: model.sizes for role, model in models.items()} if count else {},
+    )
+
+
+async def replay(recording: Recording) -> EpisodeResult:
+    """Play a recorded episode again, the actors' models giving back the recorded answers."""
+    answers = recording.answers
+    user = LLMUser(ReplayModel(answers["user"]))
+    assistant = LLMAssistant(ReplayModel(answers["observe"]), ReplayModel(answers["execute"]))
+    return await arun_episode(recording.scenario, user, assistant)
+
+
+def differences(recordings: list[Recording], results: list[EpisodeResult]) -> list[str]:
+    """The scenarios whose replayed episode is not the same as its recording."""
+    pairs = zip(recordings, results, strict=True)
+    return [recording.scenario.id for recording, result in pairs if digest(result) != recording.digest]
 
 
 def growth_per_call(sizes: list[int]) -> float | None:
@@ -144,46 +233,68 @@ def growth_per_call(sizes: list[int]) -> float | None:
     return (sizes[-1] - sizes[0]) / (len(sizes) - 1) if len(sizes) > 1 else None
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeat", type=int, default=5)
-    options = parser.parse_args()
-    scenarios = load_scenarios()
-
-    async def all_episodes(count: bool = False) -> list[Outcome]:
-        return [await play(scenario, count) for scenario in scenarios]
-
-    samples = []
-    for _ in range(options.repeat):
-        began = time.perf_counter()
-        outcomes = asyncio.run(all_episodes())
-        samples.append(time.perf_counter() - began)
-    elapsed = statistics.median(samples)
-    turns = sum(o[0] for o in outcomes)
-    steps = sum(o[1] for o in outcomes)
-    print(f"episodes: {len(scenarios)}, oracle-driven successes: {sum(o[3] for o in outcomes)}")
-    per_turn, per_step = elapsed / turns * 1000, elapsed / steps * 1000
-    print(f"simulation overhead: {per_turn:.2f} ms per turn, {per_step:.2f} ms per step")
-    print(f"  ({turns} turns, {steps} steps, {elapsed * 1000:.0f} ms in all, median of {options.repeat})")
-
-    outcomes = asyncio.run(all_episodes(count=True))
-    counter = "litellm's tokenizer (gpt-4o)" if token_counter is not None else "characters / 4"
+def print_tokens(recordings: list[Recording]) -> None:
+    counter = "litellm's tokenizer (gpt-4o)" if tokenizer() is not None else "characters / 4"
     print(f"prompt tokens per episode ({counter}, summed over every model call):")
-    for role in ("user", "observe", "execute"):
-        values = [o[2][role] for o in outcomes]
+    for role in ROLES:
+        values = [r.tokens[role] for r in recordings]
         print(f"  {role:8s} mean {statistics.mean(values):9.0f}   max {max(values):9.0f}")
-    totals = [sum(o[2].values()) for o in outcomes]
+    totals = [sum(r.tokens.values()) for r in recordings]
     print(f"  {'total':8s} mean {statistics.mean(totals):9.0f}   max {max(totals):9.0f}")
     print("prompt tokens per turn (per episode: a role's prompt tokens / the episode's turns), and growth:")
-    for role in ("user", "observe", "execute"):
-        per_turn_values = [o[2][role] / o[0] for o in outcomes if o[0]]
-        first = [o[4][role][0] for o in outcomes if o[4][role]]
-        growth = [g for o in outcomes if (g := growth_per_call(o[4][role])) is not None]
+    for role in ROLES:
+        per_turn_values = [r.tokens[role] / r.turns for r in recordings if r.turns]
+        first = [r.sizes[role][0] for r in recordings if r.sizes[role]]
+        growth = [g for r in recordings if (g := growth_per_call(r.sizes[role])) is not None]
         print(
             f"  {role:8s} {statistics.mean(per_turn_values):7.0f} per turn;"
             f" first prompt {statistics.mean(first):6.0f};"
             f" grows {statistics.mean(growth) if growth else 0:5.0f} per call"
         )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=5, help="Timed replay passes (the median is shown).")
+    parser.add_argument(
+        "--quiet", action="store_true", help="Do not count prompt tokens (litellm is slow to import and run)."
+    )
+    options = parser.parse_args()
+    scenarios = load_scenarios()
+
+    async def record_all() -> list[Recording]:
+        return [await record(scenario, count=not options.quiet) for scenario in scenarios]
+
+    async def replay_all(recordings: list[Recording]) -> list[EpisodeResult]:
+        return [await replay(recording) for recording in recordings]
+
+    recordings = asyncio.run(record_all())
+    samples = []
+    differing: set[str] = set()
+    for _ in range(options.repeat):
+        began = time.perf_counter()
+        results = asyncio.run(replay_all(recordings))
+        samples.append(time.perf_counter() - began)
+        # compared after the clock stops: the check is not PARE's per-turn work
+        differing.update(differences(recordings, results))
+        del results
+    elapsed = statistics.median(samples)
+    turns = sum(r.turns for r in recordings)
+    steps = sum(r.steps for r in recordings)
+    print(f"episodes: {len(recordings)}, oracle-driven successes: {sum(r.success for r in recordings)}")
+    if differing:
+        print(f"WARNING: {len(differing)} replayed episodes differ from their recording: {sorted(differing)}")
+    else:
+        print("every replayed episode is identical to its recording")
+    per_turn, per_step = elapsed / turns * 1000, elapsed / steps * 1000
+    print(f"PARE overhead (replayed answers): {per_turn:.2f} ms per turn, {per_step:.2f} ms per step")
+    fastest = min(samples) / turns * 1000  # on a busy machine, the least disturbed pass
+    print(
+        f"  ({turns} turns, {steps} steps, {elapsed * 1000:.0f} ms in all, median of {options.repeat};"
+        f" fastest pass {fastest:.2f} ms per turn)"
+    )
+    if not options.quiet:
+        print_tokens(recordings)
 
 
 if __name__ == "__main__":

@@ -10,9 +10,10 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
+from pare.agents import actions
 from pare.agents.actions import END_ACTION, FORMAT_HINT, ParsedAction, format_action, parse_action, to_action
 from pare.agents.policy import Action
 from pare.errors import ActionFormatError, ToolError
@@ -437,6 +438,46 @@ answers_made_of_fragments = st.lists(
 ).map("".join)
 
 
+LABEL_FRAGMENTS = [
+    "action",
+    "ACTION",
+    "act\u0131on",  # a dotless i: the same word to a case-insensitive pattern
+    "observation",
+    "Observation",
+    ":",
+    " ",
+    "\t",
+    "\n",
+    "*",
+    "_",
+    "#",
+    ">",
+    "<end_action>",
+    "</end_action>",
+    "{",
+    "[",
+    "```json",
+    "x",
+    '"',
+]
+texts_around_labels = st.lists(
+    st.one_of(st.sampled_from(LABEL_FRAGMENTS), st.text(max_size=3)), max_size=30
+).map("".join)
+
+
+@settings(max_examples=1000, deadline=None)
+@given(texts_around_labels)
+@example("**Action: x\nthe action: {} and ACTION:\n{}")
+@example("Thought: x\n> Observation: y <end_action> observation: z\n_observation_:")
+def test_labels_are_found_as_a_scan_of_the_whole_answer_finds_them(text: str) -> None:
+    for label, word in (
+        (actions._ACTION_RE, actions._ACTION_WORD_RE),
+        (actions._OBSERVATION_RE, actions._OBSERVATION_WORD_RE),
+    ):
+        found = [match.span() for match in actions._labels(label, word, text)]
+        assert found == [match.span() for match in label.finditer(text)]
+
+
 def read_or_refuse(text: str) -> None:
     try:
         parsed = parse_action(text)
@@ -502,8 +543,16 @@ def test_format_action_round_trips_any_thought_or_refuses_it(tool: str, thought:
         "Thought:" + " " * 100_000 + "x\nAction: " + " " * 100_000 + "{",
         'Action: {"action": "a"}' + "{" * 100_000,
         "Action:\n" * 20_000,
+        "a action: {" * 50_000,
     ],
-    ids=["long blank line", "many decorated lines", "long gaps", "many braces", "many labels"],
+    ids=[
+        "long blank line",
+        "many decorated lines",
+        "long gaps",
+        "many braces",
+        "many labels",
+        "labels on a line",
+    ],
 )
 def test_pathological_answers_are_handled_in_linear_time(text: str) -> None:
     started = time.perf_counter()

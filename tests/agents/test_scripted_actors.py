@@ -104,6 +104,35 @@ def test_native_tool_calling_sends_schemas_and_answers_calls_with_tool_messages(
     assert third[-1].content is not None and "must be a JSON object" in third[-1].content
 
 
+def test_a_native_assistant_is_sent_the_schemas_of_its_mode_and_a_text_one_none() -> None:
+    observe = NativeModel([("system__wait", "{}")])
+    run_episode(
+        SCENARIO,
+        LLMUser(ScriptedModel([], fallback=WAIT_USER)),
+        LLMAssistant(observe, native_tools=True),
+        EpisodeSettings(max_turns=1),
+    )
+    names = {schema["function"]["name"] for schema in observe.tools[0]}
+    assert {"email__list_emails", "system__wait", "agent_ui__send_message_to_user"} <= names
+    assert "email__reply_to_email" not in names  # a write tool: execute mode only
+
+    class TextModel(NativeModel):
+        async def complete(
+            self, messages: Sequence[ChatMessage], tools: Sequence[dict[str, Any]] | None = None
+        ) -> Completion:
+            self.tools.append(tools)
+            return Completion(text=WAIT_ASSISTANT, cost_usd=0.0, latency_s=0.0, model="text")
+
+    text = TextModel([])
+    run_episode(
+        SCENARIO,
+        LLMUser(ScriptedModel([], fallback=WAIT_USER)),
+        LLMAssistant(text),
+        EpisodeSettings(max_turns=1),
+    )
+    assert text.tools == [None]  # the text format lists the tools in the prompt instead
+
+
 def test_a_model_judge_decides_judge_checks_and_only_a_clear_yes_passes() -> None:
     data = base()
     data["goals"][0]["checks"] = [

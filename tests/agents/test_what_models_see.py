@@ -114,6 +114,24 @@ def test_observe_prompt_lists_what_becomes_possible_after_acceptance() -> None:
     assert "email__reply_to_email" not in calls_now
 
 
+def test_each_phone_s_prompts_list_its_own_apps_tools() -> None:
+    # the tool lines are worked out once per set of apps: each phone still gets its own
+    for apps, present, absent in (
+        (["calendar"], "calendar__add_calendar_event", "email__"),
+        (["email"], "email__reply_to_email", "calendar__"),
+        (["calendar", "email"], "email__reply_to_email", "contacts__"),
+        (["email", "calendar"], "calendar__add_calendar_event", "contacts__"),
+    ):
+        env = Environment(apps)
+        task = Task("Do it.", "", "proposal-1")
+        for prompt in (observe_system_prompt(env), execute_system_prompt(env, task, max_steps=10)):
+            assert f"- {present}" in prompt and f"- {absent}" not in prompt
+        listed = execute_system_prompt(env, task, max_steps=10).split("## Tools\n")[1].split("\n#")[0]
+        assert [line.split("(")[0] for line in listed.strip().splitlines()] == [
+            f"- {tool.name}" for tool in env.assistant_tools("execute")
+        ]
+
+
 def test_nested_arguments_and_date_formats_are_spelt_out() -> None:
     env = Environment(["calendar", "contacts"])
     tools = {tool.name: tool.spec.signature for tool in env.assistant_tools("execute")}

@@ -133,3 +133,16 @@ def test_undeclared_transition_is_a_bug_not_silence(env: Environment) -> None:
 def test_get_current_time_for_both_actors(env: Environment) -> None:
     assert ok(env.call("user", "get_current_time")) == "2025-03-03T09:00:00+00:00"
     assert ok(env.call("assistant", "system__get_current_time")) == "2025-03-03T09:00:00+00:00"
+
+
+def test_the_user_s_tools_follow_a_screen_class_given_new_actions(
+    env: Environment, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # the named tools are made once per class; a class whose table is replaced is named again
+    ok(env.call("user", "open_app", {"app_name": "notebook"}))
+    screen = type(env.system.current_screen())
+    first, *rest = screen.actions
+    assert names(env)[: len(screen.actions)] == [first, *rest]
+    monkeypatch.setattr(screen, "actions", {name: screen.actions[name] for name in rest})
+    assert names(env)[: len(rest)] == rest
+    assert first not in names(env)

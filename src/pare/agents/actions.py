@@ -78,6 +78,12 @@ _OBSERVATION_RE = re.compile(
     r"(?:^[ \t*_#>]*|</?end_action>[ \t]*)observation[ \t*_]*:",
     re.IGNORECASE | re.MULTILINE,
 )
+# What every match of the two labels above contains, within the one line it lies on: the word and its
+# colon. Searched for first, so that the labels' patterns run only from the lines that may hold one
+# (:func:`_labels`); run over a whole answer, their word-boundary and line-start tests at every
+# position cost more than the rest of the parse.
+_ACTION_WORD_RE = re.compile(r"action[ \t*_]*:", re.IGNORECASE)
+_OBSERVATION_WORD_RE = re.compile(r"observation[ \t*_]*:", re.IGNORECASE)
 _THOUGHT_RE = re.compile(r"^[ \t*_#>]*thought[ \t*_]*:[*_]*", re.IGNORECASE | re.MULTILINE)
 _END_RE = re.compile(r"</?end_action>", re.IGNORECASE)
 _JSON_START_RE = re.compile(r"[{\[]")
@@ -132,6 +138,25 @@ def _first_at_or_after(matches: Sequence[re.Match[str]], position: int) -> re.Ma
     return next((m for m in matches if m.start() >= position), None)
 
 
+def _labels(label: re.Pattern[str], word: re.Pattern[str], text: str) -> list[re.Match[str]]:
+    """The matches of ``label`` in ``text``, exactly as ``label.finditer(text)`` gives them.
+
+    Every match of ``label`` lies within one line and contains a match of ``word``, so none starts
+    before the line of the next occurrence of ``word``: the search for ``label`` starts there.
+    """
+    found = []
+    position = 0
+    while (occurrence := word.search(text, position)) is not None:
+        # the line's start, or where the last match ended if that is later (so no text is read twice)
+        start = max(position, text.rfind("\n", position, occurrence.start()) + 1)
+        match = label.search(text, start)
+        if match is None:
+            break
+        found.append(match)
+        position = match.end()  # never empty: a label holds its word
+    return found
+
+
 def parse_action(text: str) -> ParsedAction:
     """Read a model's answer in the Thought/Action format.
 
@@ -141,8 +166,8 @@ def parse_action(text: str) -> ParsedAction:
     """
     if not text.strip():
         _fail("empty", "Your answer was empty, so no tool was called.")
-    actions = list(_ACTION_RE.finditer(text))
-    observations = list(_OBSERVATION_RE.finditer(text))
+    actions = _labels(_ACTION_RE, _ACTION_WORD_RE, text)
+    observations = _labels(_OBSERVATION_RE, _OBSERVATION_WORD_RE, text)
     first_observation = observations[0].start() if observations else len(text)
     if not actions:
         _fail("no_action", "Your answer had no Action: section, so no tool was called.")

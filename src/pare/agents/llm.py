@@ -17,9 +17,10 @@ from pare.agents.actions import parse_action, parse_tool_arguments
 from pare.agents.models.types import ChatMessage, Completion
 from pare.agents.policy import Action, AssistantPolicy, Task, UserPolicy
 from pare.agents.prompts import execute_system_prompt, observe_system_prompt, user_system_prompt
-from pare.env import AssistantObservation, Environment, ToolResult, UserView
+from pare.env import AssistantObservation, Environment, NamedTool, ToolResult, UserView
 from pare.errors import ActionFormatError
 from pare.sim.budget import DEFAULT_BUDGET, TurnBudget
+from pare.sim.log import AssistantMode
 
 
 class ChatModel(Protocol):
@@ -55,14 +56,19 @@ class Conversation:
         else:
             self.messages.append(ChatMessage(role="user", content=text))
 
-    async def decide(self, tools: list[dict[str, Any]] | None = None) -> Action:
-        """Ask the model for its next action; malformed answers are returned to it with a hint."""
+    async def decide(self, tools: Sequence[NamedTool] = ()) -> Action:
+        """Ask the model for its next action; malformed answers are returned to it with a hint.
+
+        ``tools`` are the actor's tools now; with native tool calling they go to the model as function
+        schemas (built only then: the text format lists them in the prompt instead).
+        """
+        schemas = [tool.function_schema() for tool in tools] if self.native_tools else None
         usage = {"calls": 0, "prompt_tokens": 0, "completion_tokens": 0, "cached_tokens": 0}
         costs: list[float | None] = []
         errors: list[str] = []
         raw = ""
         for _ in range(self.max_format_retries + 1):
-            completion = await self.model.complete(self.messages, tools if self.native_tools else None)
+            completion = await self.model.complete(self.messages, schemas)
             usage["calls"] += 1
             usage["prompt_tokens"] += completion.usage.prompt_tokens
             usage["completion_tokens"] += completion.usage.completion_tokens
@@ -151,7 +157,7 @@ class LLMUser(UserPolicy):
     async def step(self, view: UserView, previous: ToolResult | None) -> Action:
         """Show the model the result of its last action and the current screen; take its next action."""
         self.conversation.tell(_observation_text(previous, view.render(self.described)))
-        return await self.conversation.decide([tool.function_schema() for tool in view.tools])
+        return await self.conversation.decide(view.tools)
 
 
 class LLMAssistant(AssistantPolicy):
@@ -185,9 +191,9 @@ class LLMAssistant(AssistantPolicy):
 
     async def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
         """Show the model what happened (and its last action's result); take its next action."""
-        env = self._env()
+        self._env()  # fails clearly when start() was not called
         self.observer.tell(_observation_text(previous, observation.render() if observation else ""))
-        return await self.observer.decide([t.function_schema() for t in env.assistant_tools("observe")])
+        return await self.observer.decide(self._tools(self.observer, "observe"))
 
     async def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
         """Carry out the accepted task in a fresh conversation."""
@@ -200,7 +206,13 @@ class LLMAssistant(AssistantPolicy):
             self.executor.tell("The user accepted your proposal. Carry out the task now.")
         else:
             self.executor.tell(_observation_text(previous))
-        return await self.executor.decide([t.function_schema() for t in env.assistant_tools("execute")])
+        return await self.executor.decide(self._tools(self.executor, "execute"))
+
+    def _tools(self, conversation: Conversation, mode: AssistantMode) -> Sequence[NamedTool]:
+        """The tools to send with a call: only native tool calling sends them (the text format's prompt
+        lists them), so they are not gathered otherwise.
+        """
+        return self._env().assistant_tools(mode) if conversation.native_tools else ()
 
     def _env(self) -> Environment:
         if self.env is None:

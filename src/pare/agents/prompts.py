@@ -17,6 +17,7 @@ from typing import Any
 import jinja2
 
 from pare.agents.policy import ASSISTANT_WAIT, SEND_MESSAGE, Task
+from pare.apps.base import App
 from pare.apps.registry import CORE_APPS
 from pare.env import Environment, NamedTool
 from pare.sim.budget import DEFAULT_BUDGET, TurnBudget
@@ -52,6 +53,7 @@ def template_environment(folder: Path) -> jinja2.Environment:
         loader=jinja2.FileSystemLoader(folder),
         undefined=jinja2.StrictUndefined,
         keep_trailing_newline=True,
+        auto_reload=False,  # the templates ship with the package: no need to check their files per render
         trim_blocks=True,
         lstrip_blocks=True,
         autoescape=False,  # plain-text prompts, not HTML
@@ -107,6 +109,42 @@ def tool_lines(tools: list[NamedTool]) -> list[ToolLine]:
         arguments = tool.spec.signature[len(tool.spec.name) :]
         lines.append(ToolLine(f"{tool.name}{arguments}", tool.spec.summary))
     return lines
+
+
+@dataclass(frozen=True, slots=True)
+class _AssistantToolLists:
+    """The assistant's tools as its prompts list them for one phone's apps: ``_tools.j2``'s text."""
+
+    observe: str
+    execute: str
+    execute_only: str
+
+
+_ASSISTANT_TOOL_LISTS: dict[tuple[type[App], ...], _AssistantToolLists] = {}
+
+
+def _assistant_tool_lists(env: Environment) -> _AssistantToolLists:
+    """The assistant's tool lists for ``env``'s phone, written once per set of apps.
+
+    The assistant's tools are the tools of the phone's app classes (the environment's tool tables are
+    per set of app classes too), so every episode on the same phone lists the same tools; the lists
+    are text, so episodes can share them.
+    """
+    key = tuple(type(app) for app in env.apps.values())
+    lists = _ASSISTANT_TOOL_LISTS.get(key)
+    if lists is None:
+        lists = _AssistantToolLists(
+            observe=_tool_list(tool_lines(env.assistant_tools("observe"))),
+            execute=_tool_list(tool_lines(env.assistant_tools("execute"))),
+            execute_only=_tool_list(execute_only_lines(env)),
+        )
+        _ASSISTANT_TOOL_LISTS[key] = lists
+    return lists
+
+
+def _tool_list(lines: list[ToolLine]) -> str:
+    """Tool lines as a prompt lists them, one line each (empty for none)."""
+    return _templates().get_template("_tools.j2").render(tools=lines)
 
 
 _USER_NOTIFICATIONS: dict[DetailLevel, str] = {
@@ -174,8 +212,8 @@ def observe_system_prompt(
         notification_policy=_assistant_notifications(env),
         propose_tool=SEND_MESSAGE,
         wait_tool=ASSISTANT_WAIT,
-        tools=tool_lines(env.assistant_tools("observe")),
-        execute_tools=execute_only_lines(env),
+        tools=_assistant_tool_lists(env).observe,
+        execute_tools=_assistant_tool_lists(env).execute_only,
         example=example,
     )
 
@@ -196,7 +234,7 @@ def execute_system_prompt(env: Environment, task: Task, *, max_steps: int, nativ
         answer=task.answer,
         report_tool=SEND_MESSAGE,
         max_steps=max_steps,
-        tools=tool_lines(env.assistant_tools("execute")),
+        tools=_assistant_tool_lists(env).execute,
         example=example,
     )
 

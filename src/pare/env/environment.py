@@ -6,7 +6,7 @@ import weakref
 from collections.abc import Callable, ItemsView, Iterable, Iterator, KeysView, Mapping, ValuesView
 from dataclasses import dataclass
 from datetime import datetime, timedelta
-from typing import Any, cast
+from typing import Any, ClassVar, cast
 
 import jsonpatch
 from pydantic_core import to_jsonable_python
@@ -519,16 +519,35 @@ class Environment:
         return entry
 
     # -- what actors see ------------------------------------------------------------------------------
+    _NAMED_TOOLS: ClassVar[dict[type, tuple[Mapping[str, ToolSpec], tuple[NamedTool, ...]]]] = {}
+    """Per screen class and shell app class: its table of tools, and the tools the user is offered from it."""
+
+    @classmethod
+    def _named_tools(
+        cls, owner: type, table: Mapping[str, ToolSpec], *, users_only: bool
+    ) -> tuple[NamedTool, ...]:
+        """The tools of a screen's actions or of a shell app (``users_only``: those the user may call),
+        named, made once per class: both tables are class-level and read-only (set when the app class
+        is defined), so they are the same at every step. A class given a new table is named again.
+        """
+        known = cls._NAMED_TOOLS.get(owner)
+        if known is None or known[0] is not table:
+            items = table.items()
+            named = tuple(NamedTool(n, spec) for n, spec in items if not users_only or "user" in spec.actors)
+            known = cls._NAMED_TOOLS[owner] = (table, named)
+        return known[1]
+
     def user_tools(self) -> list[NamedTool]:
         """The tools the user can call right now, under the names the user calls them by."""
         tools: list[NamedTool] = []
         screen = self.system.current_screen()
         if screen is not None:
-            tools.extend(NamedTool(name, spec) for name, spec in screen.actions.items())
+            tools.extend(self._named_tools(type(screen), screen.actions, users_only=False))
         for shell_app in (self.agent_ui, self.system):
-            for name, spec in shell_app.tools.items():
-                if "user" in spec.actors and (spec.available is None or spec.available(shell_app)):
-                    tools.append(NamedTool(name, spec))
+            for tool in self._named_tools(type(shell_app), shell_app.tools, users_only=True):
+                available = tool.spec.available
+                if available is None or available(shell_app):
+                    tools.append(tool)
         return tools
 
     def user_view(self) -> UserView:

@@ -23,9 +23,19 @@ class ToolResult:
     screen_display: Any = None
     """For a user action that brought the user to a screen without showing it (opening or switching
     apps, going back): what that screen displays. Shown to the user, not logged as the call's result."""
+    _observation: str | None = field(default=None, init=False, repr=False, compare=False)
+    """:meth:`observation`, kept once written: the turn loop records it and the actor is shown it."""
 
     def observation(self) -> str:
         """The text an actor is shown: the result as JSON, or the error, then the screen arrived on."""
+        text = self._observation
+        if text is None:
+            text = self._write_observation()
+            # the result is not changed after the call (the log holds it too), so the text cannot go stale
+            object.__setattr__(self, "_observation", text)
+        return text
+
+    def _write_observation(self) -> str:
         if not self.ok:
             return f"Error: {self.error}"
         text = self.value if isinstance(self.value, str) else json.dumps(self.value, ensure_ascii=False)
