@@ -8,7 +8,7 @@ itself.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import asdict, dataclass, replace
+from dataclasses import dataclass, fields, replace
 from datetime import datetime
 from typing import Any
 
@@ -48,6 +48,13 @@ class CheckResult:
     user_made: bool = False
     """The check failed, but would hold had the user's own work been the assistant's: the user did it."""
 
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready form: every field, in declaration order (the values are immutable: no copies)."""
+        return {name: getattr(self, name) for name in _CHECK_FIELDS}
+
+
+_CHECK_FIELDS = tuple(field.name for field in fields(CheckResult))
+
 
 @dataclass(frozen=True, slots=True)
 class GoalResult:
@@ -57,6 +64,15 @@ class GoalResult:
     description: str
     passed: bool
     checks: tuple[CheckResult, ...]
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready form (what ``dataclasses.asdict`` gives, without its deep copies of every string)."""
+        return {
+            "id": self.id,
+            "description": self.description,
+            "passed": self.passed,
+            "checks": [check.to_dict() for check in self.checks],
+        }
 
 
 @dataclass(frozen=True, slots=True)
@@ -85,7 +101,7 @@ class Outcome:
             "success": self.success,
             "goal_rate": self.goal_rate,
             "user_did_work": self.user_did_work,
-            "goals": [asdict(goal) for goal in self.goals],
+            "goals": [goal.to_dict() for goal in self.goals],
         }
 
 
