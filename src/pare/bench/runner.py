@@ -89,12 +89,21 @@ def select_scenarios(config: RunConfig) -> dict[str, Scenario]:
     return {scenario.id: scenario for scenario in sorted(chosen, key=lambda s: s.id)}
 
 
-def plan_episodes(config: RunConfig, scenarios: Mapping[str, Scenario]) -> list[EpisodePlan]:
+def plan_episodes(
+    config: RunConfig, scenarios: Mapping[str, Scenario], hashes: Mapping[str, str] | None = None
+) -> list[EpisodePlan]:
     """Every episode of the run, run-major (all scenarios' run 1, then run 2, ...). The runner plays
     scenarios it has not seen yet in this order, so run 1 of every scenario comes first, then the
     remaining runs longest expected first (see :class:`LongestFirst`).
+
+    ``hashes`` are the scenarios' content hashes when already known (the store computes them when it
+    opens: hashing the library takes about a tenth of a second); the missing ones are computed.
     """
-    hashes = {scenario_id: scenario_hash(scenario) for scenario_id, scenario in scenarios.items()}
+    known = hashes or {}
+    hashes = {
+        scenario_id: known.get(scenario_id) or scenario_hash(scenario)
+        for scenario_id, scenario in scenarios.items()
+    }
     return [
         EpisodePlan(scenario, run, config.episode_seed(scenario_id, run), hashes[scenario_id])
         for run in range(1, config.runs + 1)
@@ -457,7 +466,7 @@ def run_benchmark(
     run_dir = config.output_dir()
     started = time.perf_counter()
     with RunStore.open(run_dir, config, scenarios, sweep_point=sweep_point) as store:
-        plans = plan_episodes(config, scenarios)
+        plans = plan_episodes(config, scenarios, store.hashes)
         todo = [plan for plan in plans if not store.done(plan.key)]
         progress.started(len(plans), len(plans) - len(todo), config.label())
         try:

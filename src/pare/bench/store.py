@@ -167,6 +167,8 @@ class RunStore:
     path: Path
     manifest: dict[str, Any]
     records: dict[EpisodeKey, EpisodeRecord] = field(default_factory=dict)
+    hashes: dict[str, str] = field(default_factory=dict)
+    """The content hash of every scenario of the run, by id (computed once, when the store is opened)."""
     _lock: IO[str] | None = None
     _episodes: IO[str] | None = None
     _synced_at: float = float("-inf")
@@ -193,6 +195,7 @@ class RunStore:
             store = cls(path=path, manifest={}, _lock=lock)
             previous = store._read_manifest()
             hashes = {scenario_id: scenario_hash(s) for scenario_id, s in sorted(scenarios.items())}
+            store.hashes = hashes
             if previous is not None:
                 _check_same_configuration(path, previous, config)
             _repair_tail(path / EPISODES)
