@@ -20,6 +20,7 @@ Failures are sorted by who is to blame:
 from __future__ import annotations
 
 import asyncio
+import heapq
 import json
 import math
 import time
@@ -350,6 +351,11 @@ class LongestFirst:
     slots sit idle. Runs of one scenario take similar times, so once one run of a scenario has finished
     (in this session or an earlier one) its other runs are expected to take as long, and the longest go
     first. Scenarios not seen yet go before all others, in plan order, to learn their length early.
+
+    The scenarios wait in a heap keyed by (minus the expected seconds, the plan index of the scenario's
+    next episode), so a pick costs a logarithm of the scenarios rather than a pass over all of them. A key
+    that changed (a run finished, an episode was picked) is pushed anew; the old entry is recognised as
+    stale when it reaches the top and dropped.
     """
 
     def __init__(self, plans: Sequence[EpisodePlan], finished: Iterable[EpisodeRecord] = ()) -> None:
@@ -357,32 +363,46 @@ class LongestFirst:
         self._pending: dict[str, deque[tuple[int, EpisodePlan]]] = {}
         for index, plan in enumerate(plans):
             self._pending.setdefault(plan.scenario.id, deque()).append((index, plan))
+        self._count = len(plans)
         self._seconds: dict[str, list[float]] = {}
+        self._heap: list[tuple[float, int, str]] = []
         for record in finished:
             self.learn(record)
+        self._heap.extend(self._entry(name) for name in self._pending)
+        heapq.heapify(self._heap)
 
     def __len__(self) -> int:
-        return sum(len(queue) for queue in self._pending.values())
+        return self._count
 
     def learn(self, record: EpisodeRecord) -> None:
         """Remember how long a finished episode took."""
         if record.complete:
             self._seconds.setdefault(record.scenario_id, []).append(record.wall_s)
+            if record.scenario_id in self._pending:
+                heapq.heappush(self._heap, self._entry(record.scenario_id))
 
     def expected_seconds(self, scenario_id: str) -> float:
         """The mean time of the scenario's finished episodes; infinite while none has finished."""
         seen = self._seconds.get(scenario_id)
         return sum(seen) / len(seen) if seen else math.inf
 
+    def _entry(self, scenario_id: str) -> tuple[float, int, str]:
+        """The scenario's heap entry now: the longest expected first, the earliest planned among equals."""
+        return (-self.expected_seconds(scenario_id), self._pending[scenario_id][0][0], scenario_id)
+
     def pop(self) -> EpisodePlan:
         """The next episode to play: the longest expected, the earliest planned among equals."""
-        scenario_id = max(
-            self._pending,
-            key=lambda name: (self.expected_seconds(name), -self._pending[name][0][0]),
-        )
+        while True:
+            entry = heapq.heappop(self._heap)
+            scenario_id = entry[2]
+            if scenario_id in self._pending and entry == self._entry(scenario_id):
+                break  # else stale: the scenario's key changed since this entry was pushed
         queue = self._pending[scenario_id]
         _, plan = queue.popleft()
-        if not queue:
+        self._count -= 1
+        if queue:
+            heapq.heappush(self._heap, self._entry(scenario_id))
+        else:
             del self._pending[scenario_id]
         return plan
 
