@@ -102,7 +102,10 @@ def test_a_folder_that_is_not_a_run_is_refused(tmp_path: Path) -> None:
         run_benchmark(_config(tmp_path))
 
 
-def test_two_writers_are_refused(tmp_path: Path) -> None:
+def test_two_writers_are_refused(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import pare.bench.store as store_module
+
+    monkeypatch.setattr(store_module, "LOCK_WAIT_S", 0.1)  # no need to wait for a killed run's writer
     config = _config(tmp_path / "run")
     scenarios = {scenario_id: library()[scenario_id] for scenario_id in SMOKE}
     with (

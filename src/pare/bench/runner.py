@@ -50,6 +50,8 @@ from pare.scenarios.oracle import OracleAssistant, OracleUser
 
 RETRY_PAUSE_S = 2.0
 """Pause before an episode that failed for infrastructure reasons runs again (doubling each time)."""
+REPORT_INTERVAL_S = 0.2
+"""At most this long between an episode being stored and the progress display counting it."""
 
 
 # -- planning ---------------------------------------------------------------------------------------------
@@ -431,6 +433,15 @@ class RunSummary:
         return [record for record in self.records if not record.complete]
 
 
+def report_written(store: RunStore, progress: ProgressSink, written: list[EpisodeRecord]) -> None:
+    """Count as finished the episodes whose lines the store wrote since the last call (an episode handed
+    to the store is not finished yet: a run killed before its line is written plays it again).
+    """
+    for record in store.committed():
+        written.append(record)
+        progress.finished(record)
+
+
 async def run_local(
     plans: Sequence[EpisodePlan],
     config: RunConfig,
@@ -451,18 +462,28 @@ async def run_local(
             output = await play_with_retries(plan, play, config.episode_retries)
             queue.learn(output.record)
             store.append(output.record, output.trajectory)
-            written.append(output.record)
-            progress.finished(output.record)
+            report_written(store, progress, written)
             # an episode without model calls never suspends: yield, so the loop sees Ctrl-C between them
             await asyncio.sleep(0)
 
+    async def reporter() -> None:
+        # episodes are stored a moment after they are handed over: report them also while no other
+        # episode finishes (a model-backed episode can take minutes)
+        while True:
+            await asyncio.sleep(REPORT_INTERVAL_S)
+            report_written(store, progress, written)
+
+    ticker = asyncio.create_task(reporter())
     try:
         async with asyncio.TaskGroup() as group:
             for _ in range(min(config.concurrency, len(plans))):
                 group.create_task(worker())
+        store.flush()
+        report_written(store, progress, written)
     except BaseExceptionGroup as errors:
         raise first_error(errors) from None
     finally:
+        ticker.cancel()
         await models.aclose()
     return written
 
