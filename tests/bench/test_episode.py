@@ -186,3 +186,13 @@ def test_jumps_over_idle_time_bring_no_pile_of_noise() -> None:
     assert len(noise) < 10 * active_minutes  # not the ~5,760 two idle days would bring
     arrival = next(e for e in result.env.log.entries if e.event_id == "ann_asks")
     assert arrival.time == scenario.start + timedelta(days=2)
+
+
+def test_the_verdict_serialises_every_field_of_goals_and_checks() -> None:
+    """The trajectory's outcome holds what ``dataclasses.asdict`` gives (built without its deep copies)."""
+    from dataclasses import asdict
+
+    result = run_episode(SCENARIO, OracleUser(SCENARIO), SilentAssistant())  # fails: checks with details
+    goals = result.to_dict()["outcome"]["goals"]
+    assert goals and any(not check["passed"] for goal in goals for check in goal["checks"])
+    assert json.dumps(goals) == json.dumps([asdict(goal) for goal in result.outcome.goals])

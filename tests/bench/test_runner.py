@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 import json
+import math
 import os
+import random
 import signal
 import subprocess
 import sys
 import time
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 import pytest
@@ -99,7 +102,10 @@ def test_a_folder_that_is_not_a_run_is_refused(tmp_path: Path) -> None:
         run_benchmark(_config(tmp_path))
 
 
-def test_two_writers_are_refused(tmp_path: Path) -> None:
+def test_two_writers_are_refused(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import pare.bench.store as store_module
+
+    monkeypatch.setattr(store_module, "LOCK_WAIT_S", 0.1)  # no need to wait for a killed run's writer
     config = _config(tmp_path / "run")
     scenarios = {scenario_id: library()[scenario_id] for scenario_id in SMOKE}
     with (
@@ -287,3 +293,55 @@ def test_episodes_run_longest_expected_first_once_a_scenario_was_seen() -> None:
     queue.learn(finished(dad, 1, 9.0))
     order = [queue.pop().key for _ in range(len(queue))]
     assert order == [(dad, 2), (dad, 3), (dentist, 2), (dentist, 3), (five, 2), (five, 3)]
+
+
+def _scan_pick(pending: list[tuple[int, Any]], learned: dict[str, list[float]]) -> tuple[int, Any]:
+    """The plain rule, by a pass over every pending episode: the longest expected, then earliest planned."""
+
+    def rank(item: tuple[int, Any]) -> tuple[float, int]:
+        scenario_id = item[1].scenario.id
+        seen = learned[scenario_id]
+        expected = sum(seen) / len(seen) if seen else math.inf
+        first = min(index for index, plan in pending if plan.scenario.id == scenario_id)
+        return (expected, -first)
+
+    return max(pending, key=rank)  # among one scenario's episodes, the first planned
+
+
+def test_longest_first_picks_what_a_scan_of_every_scenario_picks() -> None:
+    """The queue keeps its scenarios in a heap; its picks are those of the plain rule over many random
+    plans, earlier finished episodes and timings, ties included."""
+    from pare.bench.runner import LongestFirst
+
+    def record(scenario_id: str, run: int, seconds: float, complete: bool = True) -> EpisodeRecord:
+        status = "complete" if complete else "failed"
+        return EpisodeRecord(
+            scenario_id=scenario_id, run=run, status=status, scenario_hash="h", seed=0, wall_s=seconds
+        )
+
+    for trial in range(300):
+        rng = random.Random(trial)
+        ids = [f"s{i:02d}" for i in range(rng.randint(1, 10))]
+        plans: list[Any] = [
+            SimpleNamespace(scenario=SimpleNamespace(id=s), key=(s, r))
+            for r in range(1, rng.randint(1, 4) + 1)
+            for s in ids
+        ]
+        seconds = [0.5, 1.0, 2.0, 3.0]  # few values: many ties
+        done = {plan.key for plan in plans if rng.random() < 0.3}
+        finished = [record(s, r, rng.choice(seconds), rng.random() < 0.9) for s, r in sorted(done)]
+        todo = [plan for plan in plans if plan.key not in done]
+        queue = LongestFirst(todo, finished)
+        learned = {s: [r.wall_s for r in finished if r.scenario_id == s and r.complete] for s in ids}
+        pending = list(enumerate(todo))
+        while pending:
+            assert len(queue) == len(pending)
+            expected = _scan_pick(pending, learned)
+            pending.remove(expected)
+            assert queue.pop() is expected[1]
+            if rng.random() < 0.7:  # it finished (some runs fail)
+                finished_now = record(*expected[1].key, rng.choice(seconds), rng.random() < 0.9)
+                queue.learn(finished_now)
+                if finished_now.complete:
+                    learned[finished_now.scenario_id].append(finished_now.wall_s)
+        assert not queue

@@ -20,6 +20,7 @@ from typing import Any
 from pare.bench.records import EpisodeRecord
 from pare.bench.runconfig import RunConfig
 from pare.bench.runner import (
+    REPORT_INTERVAL_S,
     EpisodeOutput,
     EpisodePlan,
     LongestFirst,
@@ -27,6 +28,7 @@ from pare.bench.runner import (
     RunModels,
     play_episode,
     play_with_retries,
+    report_written,
 )
 from pare.bench.store import RunStore
 from pare.errors import UserInputError
@@ -91,7 +93,9 @@ def run_ray(
                 pending[task.remote(plan, config, run_dir)] = plan
             if not pending:
                 break
-            ready, _ = ray.wait(list(pending), num_returns=1)
+            # with a timeout, so episodes stored meanwhile are reported while the tasks run on
+            ready, _ = ray.wait(list(pending), num_returns=1, timeout=REPORT_INTERVAL_S)
+            report_written(store, progress, written)
             for ref in ready:
                 pending.pop(ref)
                 status, value = ray.get(ref)
@@ -99,8 +103,9 @@ def run_ray(
                     raise UserInputError(value)
                 queue.learn(value.record)
                 store.append(value.record, value.trajectory)
-                written.append(value.record)
-                progress.finished(value.record)
+                report_written(store, progress, written)
+        store.flush()
+        report_written(store, progress, written)
     finally:
         for ref in pending:
             ray.cancel(ref, force=True)

@@ -20,6 +20,7 @@ Failures are sorted by who is to blame:
 from __future__ import annotations
 
 import asyncio
+import heapq
 import json
 import math
 import time
@@ -49,6 +50,8 @@ from pare.scenarios.oracle import OracleAssistant, OracleUser
 
 RETRY_PAUSE_S = 2.0
 """Pause before an episode that failed for infrastructure reasons runs again (doubling each time)."""
+REPORT_INTERVAL_S = 0.2
+"""At most this long between an episode being stored and the progress display counting it."""
 
 
 # -- planning ---------------------------------------------------------------------------------------------
@@ -89,12 +92,21 @@ def select_scenarios(config: RunConfig) -> dict[str, Scenario]:
     return {scenario.id: scenario for scenario in sorted(chosen, key=lambda s: s.id)}
 
 
-def plan_episodes(config: RunConfig, scenarios: Mapping[str, Scenario]) -> list[EpisodePlan]:
+def plan_episodes(
+    config: RunConfig, scenarios: Mapping[str, Scenario], hashes: Mapping[str, str] | None = None
+) -> list[EpisodePlan]:
     """Every episode of the run, run-major (all scenarios' run 1, then run 2, ...). The runner plays
     scenarios it has not seen yet in this order, so run 1 of every scenario comes first, then the
     remaining runs longest expected first (see :class:`LongestFirst`).
+
+    ``hashes`` are the scenarios' content hashes when already known (the store computes them when it
+    opens: hashing the library takes about a tenth of a second); the missing ones are computed.
     """
-    hashes = {scenario_id: scenario_hash(scenario) for scenario_id, scenario in scenarios.items()}
+    known = hashes or {}
+    hashes = {
+        scenario_id: known.get(scenario_id) or scenario_hash(scenario)
+        for scenario_id, scenario in scenarios.items()
+    }
     return [
         EpisodePlan(scenario, run, config.episode_seed(scenario_id, run), hashes[scenario_id])
         for run in range(1, config.runs + 1)
@@ -341,6 +353,11 @@ class LongestFirst:
     slots sit idle. Runs of one scenario take similar times, so once one run of a scenario has finished
     (in this session or an earlier one) its other runs are expected to take as long, and the longest go
     first. Scenarios not seen yet go before all others, in plan order, to learn their length early.
+
+    The scenarios wait in a heap keyed by (minus the expected seconds, the plan index of the scenario's
+    next episode), so a pick costs a logarithm of the scenarios rather than a pass over all of them. A key
+    that changed (a run finished, an episode was picked) is pushed anew; the old entry is recognised as
+    stale when it reaches the top and dropped.
     """
 
     def __init__(self, plans: Sequence[EpisodePlan], finished: Iterable[EpisodeRecord] = ()) -> None:
@@ -348,32 +365,46 @@ class LongestFirst:
         self._pending: dict[str, deque[tuple[int, EpisodePlan]]] = {}
         for index, plan in enumerate(plans):
             self._pending.setdefault(plan.scenario.id, deque()).append((index, plan))
+        self._count = len(plans)
         self._seconds: dict[str, list[float]] = {}
+        self._heap: list[tuple[float, int, str]] = []
         for record in finished:
             self.learn(record)
+        self._heap.extend(self._entry(name) for name in self._pending)
+        heapq.heapify(self._heap)
 
     def __len__(self) -> int:
-        return sum(len(queue) for queue in self._pending.values())
+        return self._count
 
     def learn(self, record: EpisodeRecord) -> None:
         """Remember how long a finished episode took."""
         if record.complete:
             self._seconds.setdefault(record.scenario_id, []).append(record.wall_s)
+            if record.scenario_id in self._pending:
+                heapq.heappush(self._heap, self._entry(record.scenario_id))
 
     def expected_seconds(self, scenario_id: str) -> float:
         """The mean time of the scenario's finished episodes; infinite while none has finished."""
         seen = self._seconds.get(scenario_id)
         return sum(seen) / len(seen) if seen else math.inf
 
+    def _entry(self, scenario_id: str) -> tuple[float, int, str]:
+        """The scenario's heap entry now: the longest expected first, the earliest planned among equals."""
+        return (-self.expected_seconds(scenario_id), self._pending[scenario_id][0][0], scenario_id)
+
     def pop(self) -> EpisodePlan:
         """The next episode to play: the longest expected, the earliest planned among equals."""
-        scenario_id = max(
-            self._pending,
-            key=lambda name: (self.expected_seconds(name), -self._pending[name][0][0]),
-        )
+        while True:
+            entry = heapq.heappop(self._heap)
+            scenario_id = entry[2]
+            if scenario_id in self._pending and entry == self._entry(scenario_id):
+                break  # else stale: the scenario's key changed since this entry was pushed
         queue = self._pending[scenario_id]
         _, plan = queue.popleft()
-        if not queue:
+        self._count -= 1
+        if queue:
+            heapq.heappush(self._heap, self._entry(scenario_id))
+        else:
             del self._pending[scenario_id]
         return plan
 
@@ -402,6 +433,15 @@ class RunSummary:
         return [record for record in self.records if not record.complete]
 
 
+def report_written(store: RunStore, progress: ProgressSink, written: list[EpisodeRecord]) -> None:
+    """Count as finished the episodes whose lines the store wrote since the last call (an episode handed
+    to the store is not finished yet: a run killed before its line is written plays it again).
+    """
+    for record in store.committed():
+        written.append(record)
+        progress.finished(record)
+
+
 async def run_local(
     plans: Sequence[EpisodePlan],
     config: RunConfig,
@@ -422,18 +462,28 @@ async def run_local(
             output = await play_with_retries(plan, play, config.episode_retries)
             queue.learn(output.record)
             store.append(output.record, output.trajectory)
-            written.append(output.record)
-            progress.finished(output.record)
+            report_written(store, progress, written)
             # an episode without model calls never suspends: yield, so the loop sees Ctrl-C between them
             await asyncio.sleep(0)
 
+    async def reporter() -> None:
+        # episodes are stored a moment after they are handed over: report them also while no other
+        # episode finishes (a model-backed episode can take minutes)
+        while True:
+            await asyncio.sleep(REPORT_INTERVAL_S)
+            report_written(store, progress, written)
+
+    ticker = asyncio.create_task(reporter())
     try:
         async with asyncio.TaskGroup() as group:
             for _ in range(min(config.concurrency, len(plans))):
                 group.create_task(worker())
+        store.flush()
+        report_written(store, progress, written)
     except BaseExceptionGroup as errors:
         raise first_error(errors) from None
     finally:
+        ticker.cancel()
         await models.aclose()
     return written
 
@@ -457,7 +507,7 @@ def run_benchmark(
     run_dir = config.output_dir()
     started = time.perf_counter()
     with RunStore.open(run_dir, config, scenarios, sweep_point=sweep_point) as store:
-        plans = plan_episodes(config, scenarios)
+        plans = plan_episodes(config, scenarios, store.hashes)
         todo = [plan for plan in plans if not store.done(plan.key)]
         progress.started(len(plans), len(plans) - len(todo), config.label())
         try:

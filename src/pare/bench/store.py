@@ -11,16 +11,24 @@ The episode line is the commit point: a trajectory is written (atomically) befor
 always names a trajectory that exists, and an episode whose line was never written is simply run again
 on resume. A line cut short by a kill is dropped when the store is next opened. Only one process may
 write a run at a time (an advisory lock on ``RUN/.lock``).
+
+The files are written by a small process of the store's own (:mod:`pare.bench._store_writer`), so the
+next episode plays while the last one is written. Only an episode whose line is written counts as
+finished (:meth:`RunStore.committed`): a killed run loses nothing it reported.
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
 import platform
+import select
+import subprocess
 import sys
 import time
+from collections import deque
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
@@ -32,6 +40,7 @@ from pydantic import ValidationError
 
 from pare import __version__
 from pare.agents.models.secrets import redact_secrets
+from pare.bench import _store_writer
 from pare.bench.records import EpisodeRecord
 from pare.bench.runconfig import RunConfig
 from pare.errors import UserInputError
@@ -48,8 +57,15 @@ TRAJECTORIES = "trajectories"
 CACHE_FILE = "model_calls.sqlite"
 LOCK = ".lock"
 SWEEP_FILE = "sweep.json"
-SYNC_INTERVAL_S = 1.0
-"""At most this long between forcing the episodes file to the disk (it is handed to the OS at once)."""
+WRITER_PROCESS = True
+"""Store episodes through a writer process (on POSIX systems); False stores each one in the run's thread."""
+PIPE_BYTES = 1 << 20
+"""Room for finished episodes on their way to the writer (about 45 oracle episodes); when it is full, the
+run waits for the writer."""
+LOCK_WAIT_S = 3.0
+"""How long opening a locked run folder waits for the lock: a killed run's writer may still be storing the
+episodes it was sent."""
+_WRITER_PROGRAM = _store_writer.__file__
 MANIFEST_FORMAT = 1
 
 PROVENANCE_PACKAGES = ("pydantic", "openai", "litellm", "ray", "jinja2", "rich", "typer")
@@ -89,23 +105,6 @@ def provenance() -> dict[str, Any]:
 def trajectory_path(scenario_id: str, run: int) -> str:
     """Where one episode's trajectory lives, relative to the run folder."""
     return f"{TRAJECTORIES}/{scenario_id}/run-{run}.json"
-
-
-_MADE_FOLDERS: set[Path] = set()
-"""Folders this process has made or found, so writing the next trajectory beside them skips mkdir."""
-
-
-def _write_atomically(path: Path, text: str) -> None:
-    if path.parent not in _MADE_FOLDERS:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        _MADE_FOLDERS.add(path.parent)
-    temporary = path.with_name(path.name + ".tmp")
-    try:
-        temporary.write_text(text, encoding="utf-8")
-    except FileNotFoundError:  # the folder went away since (a run folder deleted and made again)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        temporary.write_text(text, encoding="utf-8")
-    os.replace(temporary, path)
 
 
 def read_records(path: Path) -> list[EpisodeRecord]:
@@ -167,10 +166,10 @@ class RunStore:
     path: Path
     manifest: dict[str, Any]
     records: dict[EpisodeKey, EpisodeRecord] = field(default_factory=dict)
+    hashes: dict[str, str] = field(default_factory=dict)
+    """The content hash of every scenario of the run, by id (computed once, when the store is opened)."""
     _lock: IO[str] | None = None
-    _episodes: IO[str] | None = None
-    _synced_at: float = float("-inf")
-    """When the episodes file was last forced to the disk (monotonic seconds)."""
+    _writer: _WriterProcess | _InlineWriter | None = None
 
     # -- opening -------------------------------------------------------------------------------------------
     @classmethod
@@ -193,16 +192,16 @@ class RunStore:
             store = cls(path=path, manifest={}, _lock=lock)
             previous = store._read_manifest()
             hashes = {scenario_id: scenario_hash(s) for scenario_id, s in sorted(scenarios.items())}
+            store.hashes = hashes
             if previous is not None:
                 _check_same_configuration(path, previous, config)
             _repair_tail(path / EPISODES)
             store.records = latest_records(read_records(path / EPISODES))
             _check_scenarios_unchanged(path, store.records, hashes)
             store.manifest = _manifest(config, hashes, previous, sweep_point)
-            _write_atomically(
-                path / MANIFEST, json.dumps(store.manifest, indent=2, ensure_ascii=False) + "\n"
-            )
-            store._episodes = (path / EPISODES).open("a", encoding="utf-8")
+            manifest = json.dumps(store.manifest, indent=2, ensure_ascii=False) + "\n"
+            _store_writer.write_atomically(str(path / MANIFEST), manifest.encode("utf-8"))
+            store._writer = _start_writer(path, lock)
         except BaseException:
             lock.close()
             raise
@@ -231,34 +230,50 @@ class RunStore:
         return record is not None and record.complete
 
     def append(self, record: EpisodeRecord, trajectory: str | None = None) -> None:
-        """Store one finished episode: its trajectory (JSON text) first, then its line (the commit point)."""
-        if self._episodes is None:
+        """Hand one finished episode to the writer: its trajectory (JSON text) is written first, then its
+        line (the commit point). Returns at once, unless :data:`PIPE_BYTES` of episodes already wait; the
+        episode counts as finished once :meth:`committed` returns it. Raises what stopped the writer.
+        """
+        if self._writer is None or self._writer.stopped:
             raise RuntimeError("the run store is closed")
-        if trajectory is not None and record.trajectory is not None:
-            _write_atomically(self.path / record.trajectory, trajectory + "\n")
-        self._episodes.write(record.model_dump_json() + "\n")
-        # Handed to the OS at once: a killed process (kill -9, Ctrl-C) loses nothing it recorded. Forcing
-        # it to the disk costs milliseconds, so that is done at most once per SYNC_INTERVAL_S and when the
-        # run ends: a power cut loses at most that window, which a resume plays again.
-        self._episodes.flush()
-        now = time.monotonic()
-        if now - self._synced_at >= SYNC_INTERVAL_S:
-            os.fsync(self._episodes.fileno())
-            self._synced_at = now
-        current = self.records.get(record.key)
-        if current is None or not current.complete:
-            self.records[record.key] = record
+        self._writer.check()
+        path = record.trajectory if trajectory is not None else None
+        data = (trajectory + "\n").encode("utf-8") if path and trajectory is not None else b""
+        self._writer.put(record, path, data, (record.model_dump_json() + "\n").encode("utf-8"))
+        self._writer.check()
+
+    def committed(self) -> list[EpisodeRecord]:
+        """The episodes whose lines were written since the last call, in the order they were written:
+        only these count as finished (a run killed now keeps them).
+        """
+        if self._writer is None:
+            return []
+        written = self._writer.take_written()
+        for record in written:
+            current = self.records.get(record.key)
+            if current is None or not current.complete:
+                self.records[record.key] = record
+        return written
+
+    def flush(self) -> None:
+        """Wait until every episode handed to :meth:`append` is written; raise what stopped the writer."""
+        if self._writer is not None:
+            self._writer.wait()
+            self._writer.check()
 
     def close(self) -> None:
-        """Force what was recorded to the disk and release the folder."""
-        if self._episodes is not None:
-            self._episodes.flush()
-            os.fsync(self._episodes.fileno())
-            self._episodes.close()
-            self._episodes = None
-        if self._lock is not None:
-            self._lock.close()
-            self._lock = None
+        """Write what is still waiting, force the episodes file to the disk and release the folder.
+        Raises what stopped the writer, unless that was raised already. The episodes written meanwhile
+        are still given by :meth:`committed`.
+        """
+        try:
+            if self._writer is not None:
+                self._writer.stop()
+                self._writer.check()
+        finally:
+            if self._lock is not None:
+                self._lock.close()
+                self._lock = None
 
     def __enter__(self) -> RunStore:
         return self
@@ -267,16 +282,190 @@ class RunStore:
         self.close()
 
 
+def _start_writer(path: Path, lock: IO[str]) -> _WriterProcess | _InlineWriter:
+    """The writer process where it can run (POSIX pipes, a Python to start it with), else the inline one."""
+    if WRITER_PROCESS and os.name == "posix" and sys.executable and os.path.isfile(_WRITER_PROGRAM):
+        with contextlib.suppress(OSError):  # it cannot be started: store in the run's thread instead
+            return _WriterProcess(path, lock)
+    return _InlineWriter(path)
+
+
+class _WriterProcess:
+    """The run's writer process (:mod:`pare.bench._store_writer`) and what it has stored.
+
+    Episodes are sent as frames on its stdin (a full pipe makes the run wait: the queue is bounded); it
+    answers one byte per episode stored, in order, so the records sent and not yet answered are exactly
+    the episodes not yet finished. An error it meets is raised in the run's thread at its next call.
+    """
+
+    def __init__(self, path: Path, lock: IO[str] | None) -> None:
+        self.path = path
+        # It holds the run's lock too (the same open file): a run killed while episodes are still on their
+        # way keeps its folder locked until they are written, so a resume never writes beside it.
+        inherited = (lock.fileno(),) if lock is not None and fcntl is not None else ()
+        self._process = subprocess.Popen(
+            [sys.executable, "-I", "-S", _WRITER_PROGRAM, str(path)],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            pass_fds=inherited,
+            start_new_session=True,  # Ctrl-C interrupts the run, which then lets the writer finish
+        )
+        assert self._process.stdin is not None and self._process.stdout is not None
+        self._frames = self._process.stdin
+        self._reply_pipe = self._process.stdout
+        self._replies = self._reply_pipe.fileno()
+        os.set_blocking(self._replies, False)
+        with contextlib.suppress(OSError, AttributeError):  # Linux only: room for ~45 episodes, not 3
+            fcntl.fcntl(self._frames.fileno(), fcntl.F_SETPIPE_SZ, PIPE_BYTES)
+        self._sent: deque[EpisodeRecord] = deque()
+        self._written: deque[EpisodeRecord] = deque()
+        self._failure = b""
+        """The writer's error reply, as read so far."""
+        self._ended = False
+        self._error: BaseException | None = None
+        self._error_raised = False
+        self.stopped = False
+
+    def put(self, record: EpisodeRecord, trajectory_path: str | None, data: bytes, line: bytes) -> None:
+        """Send one episode (waiting while the pipe is full)."""
+        try:
+            self._frames.write(_store_writer.frame(trajectory_path, data, line))
+            self._frames.flush()
+        except BrokenPipeError:  # the writer has stopped: its reply says why
+            self._read(until_done=True)
+            return
+        self._sent.append(record)
+        self._read(until_done=False)
+
+    def take_written(self) -> list[EpisodeRecord]:
+        """The records stored since the last call."""
+        self._read(until_done=False)
+        taken = list(self._written)
+        self._written.clear()
+        return taken
+
+    def wait(self) -> None:
+        """Return once every episode sent is stored (or the writer has stopped)."""
+        self._read(until_done=True)
+
+    def check(self) -> None:
+        """Raise the error that stopped the writer, once."""
+        if self._error is not None and not self._error_raised:
+            self._error_raised = True
+            raise self._error
+
+    def stop(self) -> None:
+        """Let the writer store what was sent and end (forcing the episodes file to the disk)."""
+        if self.stopped:
+            return
+        self.stopped = True
+        with contextlib.suppress(BrokenPipeError):
+            self._frames.close()  # the end of its input: it writes what it has, then exits
+        os.set_blocking(self._replies, True)
+        while not self._ended:
+            self._take(os.read(self._replies, 65536))
+        self._reply_pipe.close()
+        self._process.wait()
+
+    def _read(self, *, until_done: bool) -> None:
+        """Take the writer's replies that have arrived; with ``until_done``, wait until every episode sent
+        is answered or the writer has ended.
+        """
+        while not self._ended:
+            try:
+                self._take(os.read(self._replies, 65536))
+            except BlockingIOError:
+                if not (until_done and self._sent) and not self._failure:
+                    return
+                select.select([self._replies], [], [])
+
+    def _take(self, data: bytes) -> None:
+        if not data:  # the writer ended: told to (stop), after an error reply, or killed
+            self._ended = True
+            if self._error is None and (not self.stopped or self._sent):
+                self._error = RuntimeError(
+                    f"{self.path}: the run's writer process ended unexpectedly "
+                    f"(exit status {self._process.wait()}); run the same command again to resume"
+                )
+            return
+        if self._failure:
+            self._failure += data
+        else:
+            stored = data.find(_store_writer.FAILED)
+            stored = len(data) if stored < 0 else stored
+            for _ in range(stored):
+                self._written.append(self._sent.popleft())
+            self._failure = data[stored:]
+        if self._failure.endswith(b"\n"):
+            self._error = _writer_error(self.path, self._failure[1:].decode("utf-8", "replace"))
+            self._failure = b""
+            self._ended = True  # it stops after an error: the episodes still sent were not stored
+
+
+class _InlineWriter:
+    """The writer where no writer process can run (no POSIX pipes): stores each episode at once."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self._episodes = _store_writer.EpisodesFile(str(path))
+        self._made: set[str] = set()
+        self._written: list[EpisodeRecord] = []
+        self.stopped = False
+
+    def put(self, record: EpisodeRecord, trajectory_path: str | None, data: bytes, line: bytes) -> None:
+        """Store one episode now."""
+        try:
+            _store_writer.store(str(self.path), trajectory_path or "", data, line, self._episodes, self._made)
+        except OSError as error:
+            raise _writer_error(self.path, _store_writer.describe(error).decode()) from error
+        self._written.append(record)
+
+    def take_written(self) -> list[EpisodeRecord]:
+        """The records stored since the last call."""
+        taken, self._written = self._written, []
+        return taken
+
+    def wait(self) -> None:
+        """Nothing waits."""
+
+    def check(self) -> None:
+        """Errors were raised by :meth:`put`."""
+
+    def stop(self) -> None:
+        """Force the episodes file to the disk and close it."""
+        if not self.stopped:
+            self.stopped = True
+            self._episodes.close()
+
+
+def _writer_error(path: Path, reply: str) -> Exception:
+    """The error to raise for the writer's error reply (``errno<TAB>message<TAB>filename``)."""
+    number, message, filename = [*reply.rstrip("\n").split("\t"), "", ""][:3]
+    where = f" ({filename})" if filename else ""
+    if number == "0":  # not a failure of the disk: a bug
+        return RuntimeError(f"{path}: the run's writer failed: {message}{where}")
+    return UserInputError(
+        f"{path}: cannot write the run: {message}{where}. Every episode reported as finished is recorded; "
+        "fix this and run the same command again to resume."
+    )
+
+
 def _acquire_lock(path: Path) -> IO[str]:
     handle = (path / LOCK).open("a", encoding="utf-8")
     if fcntl is not None:
-        try:
-            fcntl.flock(handle.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            handle.close()
-            raise UserInputError(
-                f"another 'pare run' is writing {path}; wait for it to finish or choose another --output"
-            ) from None
+        deadline = time.monotonic() + LOCK_WAIT_S
+        while True:
+            try:
+                fcntl.flock(handle.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+                break
+            except BlockingIOError:
+                if time.monotonic() < deadline:
+                    time.sleep(0.02)
+                    continue
+                handle.close()
+                raise UserInputError(
+                    f"another 'pare run' is writing {path}; wait for it to finish or choose another --output"
+                ) from None
     return handle
 
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass, fields
 from datetime import datetime
 from typing import Any
 
@@ -49,6 +49,13 @@ class CheckResult:
     user_made: bool = False
     """The check failed, but would hold had the user's own work been the assistant's: the user did it."""
 
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready form: every field, in declaration order (the values are immutable: no copies)."""
+        return {name: getattr(self, name) for name in _CHECK_FIELDS}
+
+
+_CHECK_FIELDS = tuple(field.name for field in fields(CheckResult))
+
 
 @dataclass(frozen=True, slots=True)
 class GoalResult:
@@ -58,6 +65,15 @@ class GoalResult:
     description: str
     passed: bool
     checks: tuple[CheckResult, ...]
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready form (what ``dataclasses.asdict`` gives, without its deep copies of every string)."""
+        return {
+            "id": self.id,
+            "description": self.description,
+            "passed": self.passed,
+            "checks": [check.to_dict() for check in self.checks],
+        }
 
 
 @dataclass(frozen=True, slots=True)
@@ -86,7 +102,7 @@ class Outcome:
             "success": self.success,
             "goal_rate": self.goal_rate,
             "user_did_work": self.user_did_work,
-            "goals": [asdict(goal) for goal in self.goals],
+            "goals": [goal.to_dict() for goal in self.goals],
         }
 
 
