@@ -370,7 +370,7 @@ def _read_call(call: dict[str, Any]) -> tuple[str, dict[str, Any]]:
                 '"action_input" is a string that does not hold a JSON object. Give the arguments as an '
                 'object, e.g. "action_input": {"param": "value"}, or {} if the tool takes none.',
             )
-        args = decoded
+        args = valid_json_value(decoded)  # arguments decoded a second time get the same clean-up of text
     if not isinstance(args, dict):
         _fail(
             "bad_input",
