@@ -13,7 +13,6 @@ follows the order in which episodes finish.
 
 from __future__ import annotations
 
-import asyncio
 from collections.abc import Mapping, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
@@ -24,13 +23,13 @@ from pare.bench.processes import available_cores, start_method
 from pare.bench.records import EpisodeRecord
 from pare.bench.runconfig import RunConfig
 from pare.bench.runner import (
+    REPORT_INTERVAL_S,
     EpisodeOutput,
     EpisodePlan,
     LongestFirst,
     ProgressSink,
-    RunModels,
-    play_episode,
-    play_with_retries,
+    play_apart,
+    report_written,
 )
 from pare.bench.store import RunStore
 from pare.errors import UserInputError
@@ -63,27 +62,9 @@ def _start_worker(config: RunConfig, run_dir: str, scenarios: Mapping[str, Scena
 
 
 def _play(task: _Task) -> tuple[str, EpisodeOutput | str]:
-    """One task in a worker: ``("ok", output)``, or ``("error", message)`` for a mistake in the
-    configuration (returned, so this process raises it with PARE's own message).
-    """
+    """One task in a worker (see :func:`~pare.bench.runner.play_apart`)."""
     plan = EpisodePlan(_Worker.scenarios[task.scenario_id], task.run, task.seed, task.scenario_hash)
-    config = _Worker.config
-
-    async def play() -> EpisodeOutput:
-        models = RunModels.create(config, _Worker.run_dir)
-        try:
-
-            async def attempt(plan: EpisodePlan, number: int) -> EpisodeOutput:
-                return await play_episode(plan, config, models, number)
-
-            return await play_with_retries(plan, attempt, config.episode_retries)
-        finally:
-            await models.aclose()
-
-    try:
-        return ("ok", asyncio.run(play()))
-    except UserInputError as error:
-        return ("error", str(error))
+    return play_apart(plan, _Worker.config, _Worker.run_dir)
 
 
 def worker_count(config: RunConfig) -> int:
@@ -116,7 +97,9 @@ def run_processes(
                 pending[pool.submit(_play, task)] = plan
             if not pending:
                 break
-            done, _ = wait(pending, return_when=FIRST_COMPLETED)
+            # with a timeout, so episodes stored meanwhile are reported while the workers play on
+            done, _ = wait(pending, timeout=REPORT_INTERVAL_S, return_when=FIRST_COMPLETED)
+            report_written(store, progress, written)
             for future in sorted(done, key=lambda f: pending[f].key):  # a fixed order among simultaneous ones
                 plan = pending.pop(future)
                 try:
@@ -133,8 +116,9 @@ def run_processes(
                 assert isinstance(value, EpisodeOutput)
                 queue.learn(value.record)
                 store.append(value.record, value.trajectory)
-                written.append(value.record)
-                progress.finished(value.record)
+                report_written(store, progress, written)
+        store.flush()
+        report_written(store, progress, written)
     finally:  # finished, an error or Ctrl-C: start nothing more, and leave no worker behind
         pool.shutdown(wait=True, cancel_futures=True)
     return written

@@ -11,7 +11,6 @@ On a cluster, every node needs PARE installed, and a model-call cache shared bet
 
 from __future__ import annotations
 
-import asyncio
 import os
 from collections.abc import Sequence
 from pathlib import Path
@@ -21,13 +20,10 @@ from pare.bench.records import EpisodeRecord
 from pare.bench.runconfig import RunConfig
 from pare.bench.runner import (
     REPORT_INTERVAL_S,
-    EpisodeOutput,
     EpisodePlan,
     LongestFirst,
     ProgressSink,
-    RunModels,
-    play_episode,
-    play_with_retries,
+    play_apart,
     report_written,
 )
 from pare.bench.store import RunStore
@@ -47,25 +43,8 @@ def _import_ray() -> Any:
 
 
 def play_remote(plan: EpisodePlan, config: RunConfig, run_dir: str) -> tuple[str, Any]:
-    """The body of one Ray task: ``("ok", EpisodeOutput)`` or ``("error", message)`` for a mistake in
-    the configuration (returned, not raised, so the driver gets PARE's message rather than Ray's wrapper).
-    """
-
-    async def play() -> EpisodeOutput:
-        models = RunModels.create(config, Path(run_dir))
-        try:
-
-            async def attempt(plan: EpisodePlan, number: int) -> EpisodeOutput:
-                return await play_episode(plan, config, models, number)
-
-            return await play_with_retries(plan, attempt, config.episode_retries)
-        finally:
-            await models.aclose()
-
-    try:
-        return ("ok", asyncio.run(play()))
-    except UserInputError as error:
-        return ("error", str(error))
+    """The body of one Ray task (see :func:`~pare.bench.runner.play_apart`)."""
+    return play_apart(plan, config, Path(run_dir))
 
 
 def run_ray(

@@ -433,6 +433,30 @@ class RunSummary:
         return [record for record in self.records if not record.complete]
 
 
+def play_apart(plan: EpisodePlan, config: RunConfig, run_dir: Path) -> tuple[str, EpisodeOutput | str]:
+    """One episode played on its own, in a process other than the run's (a Ray task, a worker process):
+    with its own model clients, retrying infrastructure failures like the local backend. Returns
+    ``("ok", output)``, or ``("error", message)`` for a mistake in the configuration (returned, not
+    raised, so the run raises it with PARE's own message rather than the executor's wrapper).
+    """
+
+    async def play() -> EpisodeOutput:
+        models = RunModels.create(config, run_dir)
+        try:
+
+            async def attempt(plan: EpisodePlan, number: int) -> EpisodeOutput:
+                return await play_episode(plan, config, models, number)
+
+            return await play_with_retries(plan, attempt, config.episode_retries)
+        finally:
+            await models.aclose()
+
+    try:
+        return ("ok", asyncio.run(play()))
+    except UserInputError as error:
+        return ("error", str(error))
+
+
 def report_written(store: RunStore, progress: ProgressSink, written: list[EpisodeRecord]) -> None:
     """Count as finished the episodes whose lines the store wrote since the last call (an episode handed
     to the store is not finished yet: a run killed before its line is written plays it again).
