@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import asyncio
 import time
-from collections.abc import Callable, Collection, Iterable, Iterator, Mapping
+from collections.abc import Awaitable, Callable, Collection, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -133,14 +133,14 @@ def check_scenario(
     with asyncio.Runner() as runner:  # one event loop for the scenario's runs, not one per run
         for name, make, expected, why in plays:
             user, assistant = make(scenario)
+            played: list[EpisodeResult] = []
+            episode = arun_episode(scenario, user, assistant, _settings_for(name, scenario, settings))
             try:
-                result = runner.run(
-                    arun_episode(scenario, user, assistant, _settings_for(name, scenario, settings))
-                )
+                runner.run(_kept(episode, played))
             except UserInputError as error:
                 verdicts.append(RunVerdict(name, expected, None, (str(error),), why=why))
                 continue
-            details[name] = result
+            details[name] = result = played[0]
             verdicts.append(_verdict(name, scenario, user, result, expected, why, fails.get(name, [])))
     return ScenarioVerdict(
         scenario.id,
@@ -150,6 +150,14 @@ def check_scenario(
         tuple(_declaration_problems(scenario)),
         tuple(restated_answers(scenario)),
     )
+
+
+async def _kept(episode: Awaitable[EpisodeResult], into: list[EpisodeResult]) -> None:
+    """Play ``episode`` and keep its result in ``into`` rather than return it: asyncio formats what a
+    run returned when it puts back the Ctrl-C handler (``signal.getsignal`` reprs the handler, which
+    holds the task), and the repr of a whole episode costs more than playing a short one.
+    """
+    into.append(await episode)
 
 
 def _verdict(
