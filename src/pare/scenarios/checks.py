@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass, fields
 from datetime import datetime
 from typing import Any
 
@@ -86,8 +86,23 @@ class Outcome:
             "success": self.success,
             "goal_rate": self.goal_rate,
             "user_did_work": self.user_did_work,
-            "goals": [asdict(goal) for goal in self.goals],
+            "goals": [_goal_dict(goal) for goal in self.goals],
         }
+
+
+_CHECK_FIELDS = tuple(item.name for item in fields(CheckResult))
+
+
+def _goal_dict(goal: GoalResult) -> dict[str, Any]:
+    """What ``dataclasses.asdict`` makes of ``goal``, without its generic recursion and deep copies:
+    a check's fields are plain values (text, numbers, booleans).
+    """
+    return {
+        "id": goal.id,
+        "description": goal.description,
+        "passed": goal.passed,
+        "checks": tuple({name: getattr(check, name) for name in _CHECK_FIELDS} for check in goal.checks),
+    }
 
 
 def evaluate(
