@@ -20,13 +20,14 @@ Warnings do not fail the gate: a reactive reply that restates what the assistant
 
 from __future__ import annotations
 
+import asyncio
 import time
-from collections.abc import Callable, Collection, Iterable, Iterator, Mapping
+from collections.abc import Awaitable, Callable, Collection, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 from pare.agents.policy import AssistantPolicy, SilentAssistant, SilentUser, UserPolicy
-from pare.bench.episode import EpisodeResult, EpisodeSettings, run_episode
+from pare.bench.episode import EpisodeResult, EpisodeSettings, arun_episode
 from pare.errors import UserInputError
 from pare.scenarios.matchers import OPERATORS, TEXT_OPERATORS, compile_matcher
 from pare.scenarios.model import Scenario, Solution
@@ -129,32 +130,18 @@ def check_scenario(
         pair = _playing(scenario.solution(variant.id))
         plays.append((f"variant:{variant.id}", pair, variant.expect == "pass", variant.why))
         fails[f"variant:{variant.id}"] = variant.fails
-    for name, make, expected, why in plays:
-        user, assistant = make(scenario)
-        try:
-            result = run_episode(scenario, user, assistant, _settings_for(name, scenario, settings))
-        except UserInputError as error:
-            verdicts.append(RunVerdict(name, expected, None, (str(error),), why=why))
-            continue
-        details[name] = result
-        problems = _problems(name, scenario, result)
-        if name == "by_hand" and isinstance(user, OracleUser) and user.position < len(user.steps):
-            problems.append(
-                f"by_hand played {user.position} of its {len(user.steps)} steps: step "
-                f"#{user.position + 1} ({user.steps[user.position].tool}) never came (its 'when' never held)"
-            )
-        met = {goal.id for goal in result.outcome.goals if goal.passed}
-        problems.extend(
-            f"goal '{goal_id}' should fail ({why}) but was met"
-            for goal_id in fails.get(name, [])
-            if goal_id in met
-        )
-        if expected and not result.success:
-            problems.extend(
-                f"check failed: {check.goal}[{check.index}] {check.detail}"
-                for check in result.outcome.failures()
-            )
-        verdicts.append(RunVerdict(name, expected, result.success, tuple(problems), result.turns, why))
+    with asyncio.Runner() as runner:  # one event loop for the scenario's runs, not one per run
+        for name, make, expected, why in plays:
+            user, assistant = make(scenario)
+            played: list[EpisodeResult] = []
+            episode = arun_episode(scenario, user, assistant, _settings_for(name, scenario, settings))
+            try:
+                runner.run(_kept(episode, played))
+            except UserInputError as error:
+                verdicts.append(RunVerdict(name, expected, None, (str(error),), why=why))
+                continue
+            details[name] = result = played[0]
+            verdicts.append(_verdict(name, scenario, user, result, expected, why, fails.get(name, [])))
     return ScenarioVerdict(
         scenario.id,
         tuple(verdicts),
@@ -163,6 +150,41 @@ def check_scenario(
         tuple(_declaration_problems(scenario)),
         tuple(restated_answers(scenario)),
     )
+
+
+async def _kept(episode: Awaitable[EpisodeResult], into: list[EpisodeResult]) -> None:
+    """Play ``episode`` and keep its result in ``into`` rather than return it: asyncio formats what a
+    run returned when it puts back the Ctrl-C handler (``signal.getsignal`` reprs the handler, which
+    holds the task), and the repr of a whole episode costs more than playing a short one.
+    """
+    into.append(await episode)
+
+
+def _verdict(
+    name: str,
+    scenario: Scenario,
+    user: UserPolicy,
+    result: EpisodeResult,
+    expected: bool,
+    why: str,
+    fails: list[str],
+) -> RunVerdict:
+    """The verdict on one played run: what went wrong, and whether it succeeded as demanded."""
+    problems = _problems(name, scenario, result)
+    if name == "by_hand" and isinstance(user, OracleUser) and user.position < len(user.steps):
+        problems.append(
+            f"by_hand played {user.position} of its {len(user.steps)} steps: step "
+            f"#{user.position + 1} ({user.steps[user.position].tool}) never came (its 'when' never held)"
+        )
+    met = {goal.id for goal in result.outcome.goals if goal.passed}
+    problems.extend(
+        f"goal '{goal_id}' should fail ({why}) but was met" for goal_id in fails if goal_id in met
+    )
+    if expected and not result.success:
+        problems.extend(
+            f"check failed: {check.goal}[{check.index}] {check.detail}" for check in result.outcome.failures()
+        )
+    return RunVerdict(name, expected, result.success, tuple(problems), result.turns, why)
 
 
 def oracle_breaches(scenario: Scenario) -> list[str]:
