@@ -78,8 +78,8 @@ class MatcherError(ValueError):
     """A matcher that cannot be compiled; the message names the operator and what is wrong."""
 
 
-Test = Callable[[Any, datetime], bool]
-"""A compiled test: ``test(value, start)``."""
+Check = Callable[[Any, Any, datetime], bool]
+"""One operator's test, chosen when the matcher is compiled: ``check(prepared, value, start)``."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -88,15 +88,27 @@ class Matcher:
 
     operators: tuple[tuple[str, Any], ...] = ()
     fields: tuple[tuple[str, Matcher], ...] = ()
-    _test: Test = field(init=False, repr=False, compare=False)
-    """The operators (or fields) made into one function once, so testing a value only runs it."""
+    _checks: tuple[tuple[Check, Any, bool], ...] = field(init=False, repr=False, compare=False)
+    """Each operator's test with what it compares against, prepared once (whether an expected text is a
+    time, a set to compare with), and whether it refuses a missing value: testing a value only runs them.
+    """
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "_test", self._fields_test() if self.fields else self._operators_test())
+        checks = tuple(_operator_check(name, expected) for name, expected in self.operators)
+        object.__setattr__(self, "_checks", checks)
 
     def test(self, value: Any, start: datetime) -> bool:
         """Whether ``value`` is accepted; relative times are resolved against ``start``."""
-        return self._test(value, start)
+        if self.fields:
+            if isinstance(value, list):  # a list holds such an item
+                return any(self.test(item, start) for item in value)
+            if not isinstance(value, Mapping):
+                return False
+            return all(matcher.test(value.get(key), start) for key, matcher in self.fields)
+        for check, prepared, needs_value in self._checks:
+            if (needs_value and value is None) or not check(prepared, value, start):
+                return False
+        return True
 
     @property
     def cost(self) -> int:
@@ -107,24 +119,6 @@ class Matcher:
         if self.fields or not names <= _CHEAP_OPERATORS | TIME_OPERATORS:
             return 2
         return 0 if names <= _CHEAP_OPERATORS else 1
-
-    def _fields_test(self) -> Test:
-        fields = self.fields
-
-        def test(value: Any, start: datetime) -> bool:
-            if isinstance(value, list):  # a list holds such an item
-                return any(test(item, start) for item in value)
-            if not isinstance(value, Mapping):
-                return False
-            return all(matcher.test(value.get(key), start) for key, matcher in fields)
-
-        return test
-
-    def _operators_test(self) -> Test:
-        tests = tuple(_operator_test(name, expected) for name, expected in self.operators)
-        if len(tests) == 1:
-            return tests[0]
-        return lambda value, start: all(test(value, start) for test in tests)
 
     def describe(self) -> str:
         """A short human reading, e.g. ``contains ['thursday']``."""
@@ -255,70 +249,111 @@ def _compile_operator(name: str, value: Any) -> tuple[str, Any]:
     return name, value  # equals
 
 
-def _operator_test(name: str, expected: Any) -> Test:
-    """The test of one compiled operator (what it accepts is listed in :data:`OPERATORS`)."""
+def _operator_check(name: str, expected: Any) -> tuple[Check, Any, bool]:
+    """One compiled operator's test, what it compares against, and whether it refuses ``None`` (every
+    operator but ``equals``, ``not``, ``any_of`` and ``present``); see :data:`OPERATORS`.
+    """
     if name == "equals":
-        return _equals_test(expected)
+        return (*_equals_check(expected), False)
     if name == "not":
-        return lambda value, start: not expected.test(value, start)
+        return _not, expected, False
     if name == "any_of":
-        return lambda value, start: any(matcher.test(value, start) for matcher in expected)
+        return _any_of, expected, False
     if name == "present":
-        wanted = bool(expected)
-        return lambda value, start: (value is not None) is wanted
-    given = _given_value_test(name, expected)
-    return lambda value, start: value is not None and given(value, start)
-
-
-def _given_value_test(name: str, expected: Any) -> Test:
-    """The test of an operator that never accepts a missing value (``None``)."""
-    if name in ("contains", "contains_any"):
-        return _words_test(expected, every=name == "contains")
+        return _present, bool(expected), False
     if name in _READERS:
-        read = _READERS[name]
-        return lambda value, start: any(read(_text(item), expected, start) for item in _items(value))
-    if name == "regex":
-        return lambda value, start: any(expected.search(_text(item)) is not None for item in _items(value))
+        return _reads, (_READERS[name], expected), True
     if name == "one_of":
-        options = tuple(_equals_test(option) for option in expected)
-        return lambda value, start: any(option(value, start) for option in options)
+        return _one_of, tuple(_equals_check(option) for option in expected), True
     if name == "same_set":
-        wanted = _as_set(expected)
-        return lambda value, start: (
-            isinstance(value, Sequence) and not isinstance(value, str) and _as_set(value) == wanted
-        )
-    if name == "min":
-        return lambda value, start: (number := _number(value)) is not None and number >= expected
-    if name == "max":
-        return lambda value, start: (number := _number(value)) is not None and number <= expected
-    assert name in ("after", "before"), name  # every other operator is tested above
-    after = name == "after"
+        return _same_set, _as_set(expected), True
+    return _GIVEN_VALUE_CHECKS[name], expected, True
 
-    def within(value: Any, start: datetime) -> bool:
-        moment = _time(value, start)
-        if moment is None:
-            return False
-        bound = _parse_time(expected, start)
-        return moment >= bound if after else moment <= bound
 
-    return within
+def _not(matcher: Matcher, value: Any, start: datetime) -> bool:
+    return not matcher.test(value, start)
+
+
+def _any_of(matchers: tuple[Matcher, ...], value: Any, start: datetime) -> bool:
+    return any(matcher.test(value, start) for matcher in matchers)
+
+
+def _present(wanted: bool, value: Any, start: datetime) -> bool:
+    return (value is not None) is wanted
+
+
+def _contains(pieces: tuple[str, ...], value: Any, start: datetime) -> bool:
+    texts = _word_texts(value)
+    return all(_has_word(texts, piece) for piece in pieces)
+
+
+def _contains_any(pieces: tuple[str, ...], value: Any, start: datetime) -> bool:
+    texts = _word_texts(value)
+    return any(_has_word(texts, piece) for piece in pieces)
+
+
+def _word_texts(value: Any) -> list[str]:
+    """The texts a value's words are sought in, read once for all the pieces sought: a list's items
+    (nested lists too), each alone.
+    """
+    return [meaning.normalise_quotes(_text(item)) for item in _leaves(value)]
+
+
+def _has_word(texts: list[str], piece: str) -> bool:
+    finder = meaning.word_finder(piece)
+    return any(finder.search(text) for text in texts)
+
+
+def _reads(reading: tuple[Callable[[str, Any, datetime], bool], Any], value: Any, start: datetime) -> bool:
+    read, expected = reading
+    return any(read(_text(item), expected, start) for item in _items(value))
+
+
+def _regex(pattern: re.Pattern[str], value: Any, start: datetime) -> bool:
+    return any(pattern.search(_text(item)) is not None for item in _items(value))
+
+
+def _one_of(options: tuple[tuple[Check, Any], ...], value: Any, start: datetime) -> bool:
+    return any(check(prepared, value, start) for check, prepared in options)
+
+
+def _same_set(wanted: set[Any], value: Any, start: datetime) -> bool:
+    return isinstance(value, Sequence) and not isinstance(value, str) and _as_set(value) == wanted
+
+
+def _at_least(bound: float, value: Any, start: datetime) -> bool:
+    number = _number(value)
+    return number is not None and number >= bound
+
+
+def _at_most(bound: float, value: Any, start: datetime) -> bool:
+    number = _number(value)
+    return number is not None and number <= bound
+
+
+def _after(expected: str | datetime, value: Any, start: datetime) -> bool:
+    moment = _time(value, start)
+    return moment is not None and moment >= _parse_time(expected, start)
+
+
+def _before(expected: str | datetime, value: Any, start: datetime) -> bool:
+    moment = _time(value, start)
+    return moment is not None and moment <= _parse_time(expected, start)
+
+
+_GIVEN_VALUE_CHECKS: dict[str, Check] = {
+    "contains": _contains,
+    "contains_any": _contains_any,
+    "regex": _regex,
+    "min": _at_least,
+    "max": _at_most,
+    "after": _after,
+    "before": _before,
+}
 
 
 def _items(value: Any) -> list[Any]:
     return value if isinstance(value, list) else [value]
-
-
-def _words_test(pieces: tuple[str, ...], *, every: bool) -> Test:
-    """``contains`` (every piece) or ``contains_any`` (some piece): a piece is found when some text of
-    the value (a list's items, nested lists too) has it at word boundaries.
-    """
-
-    def test(value: Any, start: datetime) -> bool:
-        texts = [meaning.normalise_quotes(_text(item)) for item in _leaves(value)]
-        found = (any(meaning.word_finder(piece).search(text) for text in texts) for piece in pieces)
-        return all(found) if every else any(found)
-
-    return test
 
 
 def _leaves(value: Any) -> list[Any]:
@@ -425,30 +460,38 @@ def _looks_like_time(text: str) -> bool:
     return bool(re.match(r"^\d{4}-\d{2}-\d{2}[T ]\d{2}:\d{2}", text.strip()))
 
 
-def _equals_test(expected: Any) -> Test:
+def _equals_check(expected: Any) -> tuple[Check, Any]:
     """``equals``: times compare as times (whatever their format), numbers as numbers."""
     if isinstance(expected, datetime):
         # YAML reads an unquoted 2024-12-14T14:00:00Z as a datetime; the state holds text
-        moment = expected if expected.tzinfo else expected.replace(tzinfo=UTC)
-
-        def same_moment(value: Any, start: datetime) -> bool:
-            if isinstance(value, str | datetime):
-                right = _time(value, start)
-                return right is not None and right == moment
-            return bool(expected == value)
-
-        return same_moment
+        return _same_moment, (expected, expected if expected.tzinfo else expected.replace(tzinfo=UTC))
     if isinstance(expected, str) and _looks_like_time(expected):
-
-        def same_time(value: Any, start: datetime) -> bool:
-            if isinstance(value, str | datetime):
-                left, right = _time(expected, start), _time(value, start)
-                if left is not None and right is not None:
-                    return left == right
-            return bool(expected == value)
-
-        return same_time
+        return _same_time, expected
     if isinstance(expected, int | float) and not isinstance(expected, bool):
-        wanted = float(expected)
-        return lambda value, start: (number := _number(value)) is not None and number == wanted
-    return lambda value, start: bool(expected == value)
+        return _same_number, float(expected)
+    return _same, expected
+
+
+def _same(expected: Any, value: Any, start: datetime) -> bool:
+    return bool(expected == value)
+
+
+def _same_number(wanted: float, value: Any, start: datetime) -> bool:
+    number = _number(value)
+    return number is not None and number == wanted
+
+
+def _same_moment(expected: tuple[datetime, datetime], value: Any, start: datetime) -> bool:
+    written, moment = expected
+    if isinstance(value, str | datetime):
+        right = _time(value, start)
+        return right is not None and right == moment
+    return bool(written == value)
+
+
+def _same_time(expected: str, value: Any, start: datetime) -> bool:
+    if isinstance(value, str | datetime):
+        left, right = _time(expected, start), _time(value, start)
+        if left is not None and right is not None:
+            return left == right
+    return bool(expected == value)
