@@ -563,7 +563,8 @@ def test_pathological_answers_are_handled_in_linear_time(text: str) -> None:
 def test_arguments_given_as_a_json_string_get_no_lone_surrogate() -> None:
     """An escaped lone surrogate inside a string-encoded action_input cannot be written as UTF-8 later."""
     inner = json.dumps({"content": "hi \\ud800 there"}).replace("\\\\ud800", "\\ud800")
-    text = "Action:\n" + json.dumps({"action": "messaging__send_message", "action_input": inner}) + "\n<end_action>"
+    call = json.dumps({"action": "messaging__send_message", "action_input": inner})
+    text = f"Action:\n{call}\n<end_action>"
     parsed = parse_action(text)
     assert parsed.args == {"content": "hi \ufffd there"}
     parsed.args["content"].encode("utf-8")
