@@ -34,7 +34,7 @@ from pare.scenarios.times import TimeFormatError, parse_duration
 from pare.sim.notifications import NotificationPolicy
 from pare.yaml_source import UnreadableFile, YamlSyntaxError, load_yaml, read_text_file
 
-ExecutionBackend = Literal["local", "processes", "ray"]
+ExecutionBackend = Literal["local", "ray"]
 
 IDENTITY_MODEL_FIELDS = ("model", "backend", "temperature", "max_tokens", "seed", "extra")
 """The fields of a model configuration that can change what the model answers (timeouts, retries,
@@ -177,11 +177,7 @@ class RunConfig(BaseModel):
         default=None, description="The cache file; default: model_calls.sqlite in the output folder."
     )
     output: str | None = Field(default=None, description="Run folder; default: runs/<label>-<identity>.")
-    backend: ExecutionBackend = Field(
-        default="local",
-        description="local (one process, asyncio), processes (one worker process per core, at most "
-        "concurrency: for runs bound by PARE's own work, such as the oracle or a fast local model) or ray.",
-    )
+    backend: ExecutionBackend = Field(default="local", description="local (asyncio) or ray.")
     ray_address: str | None = Field(default=None, description="Ray cluster address; none: local Ray.")
 
     # -- derived -----------------------------------------------------------------------------------------

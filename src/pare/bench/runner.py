@@ -544,10 +544,6 @@ def run_benchmark(
                 from pare.bench.ray_backend import run_ray
 
                 written = run_ray(todo, config, store, progress)
-            elif config.backend == "processes":
-                from pare.bench.process_backend import run_processes
-
-                written = run_processes(todo, config, store, progress)
             else:
                 models = RunModels.create(config, run_dir)
                 written = asyncio.run(run_local(todo, config, models, store, progress))

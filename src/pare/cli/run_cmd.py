@@ -163,9 +163,7 @@ def run(
     output: Annotated[
         str | None, typer.Option("--output", "-o", help="Run folder (default runs/<label>-<identity>).")
     ] = None,
-    backend: Annotated[
-        str | None, typer.Option("--backend", help="local (default), processes (one per core) or ray.")
-    ] = None,
+    backend: Annotated[str | None, typer.Option("--backend", help="local (default) or ray.")] = None,
     ray_address: Annotated[str | None, typer.Option("--ray-address", help="Ray cluster to join.")] = None,
     sets: Sets = None,
     progress: Annotated[bool, typer.Option("--progress/--no-progress", help="Show a progress bar.")] = True,
