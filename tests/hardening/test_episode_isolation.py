@@ -156,3 +156,43 @@ def test_an_app_outliving_its_environment_says_so() -> None:
     shell = Environment(["email"]).system
     with pytest.raises(SimulationBug, match="environment was discarded"):
         shell.openable_apps()
+
+
+def test_an_app_builds_its_data_only_when_read_and_reports_the_same() -> None:
+    """An episode that never reads an app's data reports its seed's snapshot, shared and unchanged; one
+    that reads it gets its own copy, and ``snapshot()`` always hands the caller data of its own.
+    """
+    scenario = _scenario()
+    build_environment(scenario)  # the first build makes the scenario's blueprint
+    env = build_environment(scenario)
+    calendar = env.apps["calendar"]
+    assert "state" not in vars(calendar)  # not built yet
+    shared = env.snapshot(shared=True)
+    assert shared["calendar"] is build_environment(scenario).snapshot(shared=True)["calendar"]
+    own = env.snapshot()
+    assert own == shared and own["calendar"] is not shared["calendar"]
+    own["calendar"]["events"].clear()  # the caller's own data: nothing else sees this
+    assert env.snapshot(shared=True)["calendar"] == env.snapshot()["calendar"] != own["calendar"]
+
+    calendar.state.events["ev1"].title = "Changed in place"  # a read builds the episode's own copy
+    assert env.snapshot(shared=True)["calendar"]["events"]["ev1"]["title"] == "Changed in place"
+    assert build_environment(scenario).snapshot(shared=True) == shared
+
+
+def test_episodes_never_change_the_snapshots_they_share() -> None:
+    """Every library scenario played twice by the oracle: the seed snapshots its episodes shared (start
+    state, checks, state diff, attribution) are still what the seed states give.
+    """
+    from pare.bench import run_episode
+    from pare.scenarios import OracleAssistant, OracleUser
+
+    scenarios = list(library().values())
+    for scenario in scenarios:
+        for _ in range(2):
+            run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
+    for scenario in scenarios:
+        env = build_environment(scenario)
+        for name, app in env.apps.items():
+            seed = app._seed
+            if seed is not None:
+                assert seed.snapshot == app.state.model_dump(mode="json"), (scenario.id, name)

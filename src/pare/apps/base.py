@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import pickle
 from collections.abc import Collection, Iterable, Mapping
+from dataclasses import dataclass
 from datetime import UTC, datetime
 from typing import Any, ClassVar
 
@@ -70,6 +72,46 @@ class AppContext:
         )
 
 
+@dataclass(frozen=True, slots=True)
+class SeedState:
+    """An app's validated start state as many episodes share it: pickled, each episode unpickling its
+    own copy only if it reads the data, and as the snapshot that state gives (what an episode that never
+    reads the app's data reports, without building the state at all).
+    """
+
+    pickled: bytes
+    snapshot: dict[str, Any]
+    """Shared by every episode that starts from this state: read it, never change it."""
+
+    @classmethod
+    def of(cls, state: BaseModel) -> SeedState:
+        """``state`` kept for sharing: it must not change afterwards (its snapshot is taken now)."""
+        return cls(pickle.dumps(state, protocol=pickle.HIGHEST_PROTOCOL), state.model_dump(mode="json"))
+
+
+_DEFAULT_SNAPSHOTS: dict[type[BaseModel], dict[str, Any]] = {}
+"""The snapshot of each app's empty ``State()``, by State class (shared, read only)."""
+
+
+class _LazyState:
+    """``App.state``: an app's data, built when first read.
+
+    An episode reads the data of only a few of its apps; building the others' states (unpickling a seed,
+    or an empty ``State()``) and dumping them again for every snapshot was a fifth of an episode. The
+    first read builds the state and stores it in the instance, where every later read finds it without
+    coming here (a non-data descriptor, as ``functools.cached_property``). Assigning ``app.state``
+    replaces it the same way.
+    """
+
+    def __get__(self, app: App | None, owner: type[App]) -> Any:
+        if app is None:
+            return self
+        seed = app._seed
+        state = pickle.loads(seed.pickled) if seed is not None else app.State()
+        app.__dict__["state"] = state
+        return state
+
+
 class App:
     """An app: typed backend data (``State``), flat API methods (tools) and screens.
 
@@ -94,7 +136,8 @@ class App:
     """An ``env`` tool the environment calls (as the ``env`` actor, logged) when :meth:`next_wakeup` comes
     due: how time-driven changes such as a reminder falling due enter the simulation."""
 
-    state: Any
+    state: Any = _LazyState()
+    """The app's data (an instance of ``State``), built on first read (:class:`_LazyState`)."""
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
@@ -125,7 +168,8 @@ class App:
 
     def __init__(self, ctx: AppContext | None = None) -> None:
         self.ctx = ctx or AppContext.standalone()
-        self.state = self.State()
+        self._seed: SeedState | None = None
+        """The shared start state, until :attr:`state` is first read (then in ``__dict__``)."""
         self._id_counters: dict[str, int] = {}
         self.write_count = 0
         """Backend writes so far; how a user action is known to have changed data."""
@@ -149,14 +193,28 @@ class App:
                 return screen
         raise KeyError(name)
 
-    def snapshot(self) -> dict[str, Any]:
-        """All of the app's data as JSON-ready values."""
+    def snapshot(self, *, shared: bool = False) -> dict[str, Any]:
+        """All of the app's data as JSON-ready values.
+
+        With ``shared``, an app whose data was never read returns its start state's snapshot, shared with
+        other episodes (and other calls): for readers that do not change it, such as the checks and the
+        episode's state diff. Without it, the data is always the caller's own.
+        """
+        if shared and "state" not in self.__dict__:
+            seed = self._seed
+            if seed is not None:
+                return seed.snapshot
+            default = _DEFAULT_SNAPSHOTS.get(self.State)
+            if default is None:
+                default = _DEFAULT_SNAPSHOTS[self.State] = self.State().model_dump(mode="json")
+            return default
         data: dict[str, Any] = self.state.model_dump(mode="json")
         return data
 
     def load(self, data: Mapping[str, Any], *, where: str = "") -> None:
         """Replace the app's data with ``data`` (seed data), validating it fully."""
         self._id_counters.clear()
+        self._seed = None
         try:
             self.state = self.State.model_validate(dict(data))
         except ValidationError as error:
@@ -183,7 +241,16 @@ class App:
         if type(state) is not self.State:
             raise SimulationBug(f"app '{self.name}' was given a {type(state).__name__}, not its State")
         self._id_counters.clear()
+        self._seed = None
         self.state = state
+
+    def adopt_seed(self, seed: SeedState) -> None:
+        """Start from ``seed``, a state that :meth:`load` already validated and checked for this same start
+        (a scenario's seed, loaded once): the app's own copy is made only if its data is read.
+        """
+        self._id_counters.clear()
+        self.__dict__.pop("state", None)
+        self._seed = seed
 
     def records_dated_after(self, now: datetime) -> list[str]:
         """The loaded records that say they already happened (sent, created, placed) after ``now``.

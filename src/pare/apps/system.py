@@ -64,8 +64,8 @@ class SystemApp(App):
         screen = self.current_screen()
         return HOME if screen is None else f"{self.foreground} > {screen.label()}"
 
-    def snapshot(self) -> dict[str, Any]:
-        """The navigation state (not app data)."""
+    def snapshot(self, *, shared: bool = False) -> dict[str, Any]:
+        """The navigation state (not app data), always the caller's own."""
         return {
             "foreground": self.foreground,
             "background": list(self.background),

@@ -214,7 +214,7 @@ class _Episode:
         self.assistant = assistant
         self.settings = settings
         self.env = build_environment(scenario, settings.env)
-        self.start_state = self.env.snapshot()
+        self.start_state = self.env.snapshot(shared=True)  # read only: diffed at the end
         self.steps: list[Step] = []
         self.handled: set[str] = set()
         """Proposals the assistant has already executed (or that expired)."""
@@ -236,7 +236,7 @@ class _Episode:
             if error.kind != "context_length":
                 raise
             ended = "context_limit"  # the model cannot take the episode further: judge what it achieved
-        final = env.snapshot()
+        final = env.snapshot(shared=True)  # read only: evaluated and diffed
         if judge is None:
             outcome = evaluate(self.scenario, env.log.entries, final, attribution=env.attribution)
         else:  # a model judge makes its own blocking calls: keep them off this event loop
@@ -294,7 +294,7 @@ class _Episode:
         if not self.scenario.end_when_met:
             return False
         env = self.env
-        return goals_met(self.scenario, env.log.entries, env.snapshot, attribution=env.attribution)
+        return goals_met(self.scenario, env.log.entries, env.shared_snapshot, attribution=env.attribution)
 
     # -- the user --------------------------------------------------------------------------------------
     async def _user_turn(self, turn: int) -> bool:

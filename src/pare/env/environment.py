@@ -451,7 +451,7 @@ class Environment:
             return None
         owner = self.apps[spec.app]
         reached = [spec.app, *(name for name in owner.also_writes if name in self.apps)]
-        return {name: self.apps[name].snapshot() for name in reached}
+        return {name: self.apps[name].snapshot(shared=True) for name in reached}
 
     def _attribute(self, result: ToolResult, before: dict[str, Any] | None) -> None:
         """Mark what a successful write changed, in every app whose data it changed."""
@@ -459,7 +459,9 @@ class Environment:
             return
         entry = result.entry
         for name, data in before.items():
-            self.attribution.record(entry.actor, entry.index, name, data, self.apps[name].snapshot())
+            self.attribution.record(
+                entry.actor, entry.index, name, data, self.apps[name].snapshot(shared=True)
+            )
 
     # -- recording ------------------------------------------------------------------------------------
     def _run(self, call: _Call, spec: ToolSpec, body: Callable[[], Any]) -> ToolResult:
@@ -682,12 +684,20 @@ class Environment:
         return self.call("env", f"{action.app}__{action.tool}", action.args, event_id=event_id)
 
     # -- state ----------------------------------------------------------------------------------------
-    def snapshot(self, *, include_navigation: bool = False) -> dict[str, Any]:
-        """The data of every app as JSON-ready values (and the user's navigation state if asked)."""
-        state = {name: app.snapshot() for name, app in self.apps.items() if name != "system"}
+    def snapshot(self, *, include_navigation: bool = False, shared: bool = False) -> dict[str, Any]:
+        """The data of every app as JSON-ready values (and the user's navigation state if asked).
+
+        With ``shared``, apps whose data was never read give their start state's snapshot, shared with
+        other episodes of the scenario (:meth:`App.snapshot`): for readers that never change it.
+        """
+        state = {name: app.snapshot(shared=shared) for name, app in self.apps.items() if name != "system"}
         if include_navigation:
-            state["system"] = self.system.snapshot()
+            state["system"] = self.system.snapshot(shared=shared)
         return state
+
+    def shared_snapshot(self) -> dict[str, Any]:
+        """:meth:`snapshot` with ``shared``: what the episode's checks and state diff read."""
+        return self.snapshot(shared=True)
 
     @staticmethod
     def diff(before: Mapping[str, Any], after: Mapping[str, Any]) -> list[dict[str, Any]]:

@@ -10,11 +10,11 @@ are shared between episodes.
 
 from __future__ import annotations
 
-import pickle
 from dataclasses import dataclass
 from datetime import timedelta
 from typing import Any
 
+from pare.apps.base import SeedState
 from pare.apps.registry import CORE_APPS
 from pare.env import EnvConfig, Environment
 from pare.scenarios.model import ActionPattern, Event, Scenario
@@ -109,9 +109,10 @@ class _Blueprint:
     """Kept so that the scenario's id, the cache key, is not reused while the blueprint lives."""
     apps: tuple[str, ...]
     """The apps besides the core ones."""
-    states: tuple[tuple[str, bytes], ...]
+    states: tuple[tuple[str, SeedState], ...]
     """Each seeded app's state as loaded (validated and checked), pickled: unpickling gives an episode
-    an exact copy of its own, for less than validating the seed again."""
+    an exact copy of its own, for less than validating the seed again, and only if the episode reads
+    the app's data at all; with the snapshot it gives, for the apps it never reads."""
     events: tuple[_Timed | _Reactive, ...]
     """The scenario's events in its order (which decides the order of events due at the same time)."""
 
@@ -121,17 +122,14 @@ class _Blueprint:
         return cls(
             scenario=scenario,
             apps=tuple(app for app in scenario.all_apps if app not in CORE_APPS),
-            states=tuple(
-                (app, pickle.dumps(env.apps[app].state, protocol=pickle.HIGHEST_PROTOCOL))
-                for app in scenario.seed
-            ),
+            states=tuple((app, SeedState.of(env.apps[app].state)) for app in scenario.seed),
             events=tuple(_plan(event, scenario) for event in scenario.events),
         )
 
     def seed(self, env: Environment) -> None:
-        """Give each seeded app of ``env`` its own copy of its seed state."""
+        """Give each seeded app of ``env`` its seed state (its own copy, made if it reads it)."""
         for app, state in self.states:
-            env.app(app).adopt(pickle.loads(state))
+            env.app(app).adopt_seed(state)
 
 
 _BLUEPRINTS: dict[int, _Blueprint] = {}
