@@ -202,7 +202,16 @@ def run_episode(
     judge: Judge | None = None,
 ) -> EpisodeResult:
     """Play ``scenario`` with ``user`` and ``assistant`` and evaluate its goals (outside an event loop)."""
-    return asyncio.run(arun_episode(scenario, user, assistant, settings, judge=judge))
+    played: list[EpisodeResult] = []
+
+    async def play() -> None:
+        # Kept in a list rather than returned: on Python 3.11, asyncio.run formats the repr of the task
+        # (and so of what it returned) when it puts back the Ctrl-C handler, which cost about a seventh
+        # of a short episode.
+        played.append(await arun_episode(scenario, user, assistant, settings, judge=judge))
+
+    asyncio.run(play())
+    return played[0]
 
 
 class _Episode:
