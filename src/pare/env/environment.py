@@ -62,12 +62,15 @@ def _misuse(actor: object, tool: object, mode: object) -> str | None:
     return None
 
 
-_ToolTables = tuple[dict[AssistantMode, dict[str, ToolSpec]], dict[str, ToolSpec]]
+_ToolTables = tuple[
+    dict[AssistantMode, dict[str, ToolSpec]], dict[str, ToolSpec], dict[AssistantMode, tuple[NamedTool, ...]]
+]
 _TOOL_TABLES: dict[tuple[type[App], ...], _ToolTables] = {}
 
 
 def _tool_tables(classes: tuple[type[App], ...]) -> _ToolTables:
-    """The assistant's tools per mode and every tool by qualified name, for a phone with these apps.
+    """The assistant's tools per mode (by qualified name, and as the named tools it is shown) and every
+    tool by qualified name, for a phone with these apps.
 
     Tools belong to app classes, so the tables are the same for every episode on the same phone: they
     are worked out once per set of apps and shared (read only).
@@ -87,7 +90,11 @@ def _tool_tables(classes: tuple[type[App], ...]) -> _ToolTables:
                     or (spec.kind == "control" and (mode == "observe" or spec.name != "wait"))
                 )
             }
-        known = per_mode, {spec.qualified_name: spec for spec in specs}
+        named = {
+            mode: tuple(NamedTool(name, spec) for name, spec in table.items())
+            for mode, table in per_mode.items()
+        }
+        known = per_mode, {spec.qualified_name: spec for spec in specs}, named
         _TOOL_TABLES[classes] = known
     return known
 
@@ -194,7 +201,9 @@ class Environment:
             contents=self.rng.stream("noise_contents"),
         )
         self._wakeup_apps = [app for app in self.apps.values() if app.wakeup_tool is not None]
-        self._assistant_tools, self._all_tools = _tool_tables(tuple(type(app) for app in self.apps.values()))
+        self._assistant_tools, self._all_tools, self._named_assistant_tools = _tool_tables(
+            tuple(type(app) for app in self.apps.values())
+        )
         self._assistant_cursor = 0
         self._shown_versions: dict[str, int] = {}
         """Per app, its data version (write count) when the user last saw the screen on view."""
@@ -580,7 +589,7 @@ class Environment:
         """The assistant's tools in ``mode``: observe has read tools, ``wait`` and
         ``send_message_to_user``; execute has every app tool and ``send_message_to_user``.
         """
-        return [NamedTool(name, spec) for name, spec in self._assistant_tools[mode].items()]
+        return list(self._named_assistant_tools[mode])
 
     def assistant_observation(self) -> AssistantObservation:
         """The user's actions and the notifications since the assistant last looked (marked seen)."""
