@@ -121,3 +121,27 @@ def test_corpus_placeholders_all_resolve() -> None:
 def test_noise_does_not_keep_an_episode_alive() -> None:
     env = make_env([NotebookApp()], noise_rate_per_minute=5.0)
     assert env.next_event_time() is None
+
+
+def test_features_that_are_off_never_draw_and_leave_the_others_draws_alone() -> None:
+    """With failures off, noise draws exactly what it draws with failures on (streams are per feature);
+    a draw from the stream handed to a feature that is off is a bug, and raises.
+    """
+    from pare.errors import SimulationBug
+    from pare.sim.rng import UNUSED_STREAM
+
+    def noise_times(failures: float) -> list[object]:
+        env = make_env(
+            ["email", "messaging"], seed=3, noise_rate_per_minute=0.5, tool_failure_probability=failures
+        )
+        env.advance(timedelta(hours=2))
+        return [entry.time for entry in env.log if entry.actor == "env"]
+
+    assert noise_times(0.0) == noise_times(0.3) != []
+    with pytest.raises(SimulationBug, match="feature that is off"):
+        UNUSED_STREAM.random()
+    with pytest.raises(SimulationBug, match="feature that is off"):
+        UNUSED_STREAM.choice(["a", "b"])
+    quiet = make_env([NotebookApp()], seed=3)
+    for _ in range(50):
+        assert quiet.call("assistant", "notebook__list_items", {}, mode="observe").ok

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import random
 import weakref
 from collections.abc import Callable, ItemsView, Iterable, Iterator, KeysView, Mapping, ValuesView
 from dataclasses import dataclass
@@ -27,7 +28,7 @@ from pare.sim.faults import ToolFailureInjector
 from pare.sim.log import ActionLog, Actor, AssistantMode, LogEntry, ToolKind
 from pare.sim.noise import NoiseStream
 from pare.sim.notifications import NotificationCenter
-from pare.sim.rng import EpisodeRandom
+from pare.sim.rng import UNUSED_STREAM, EpisodeRandom
 
 MODES: tuple[AssistantMode, ...] = ("observe", "execute")
 ACTORS: tuple[Actor, ...] = ("user", "assistant", "env", "oracle")
@@ -190,15 +191,14 @@ class Environment:
             self._register(get_app_class(app)(self._context) if isinstance(app, str) else app)
         self.system = cast(SystemApp, self.apps["system"])
         self.agent_ui = cast(AgentUIApp, self.apps["agent_ui"])
-        self._failures = ToolFailureInjector(
-            self.config.tool_failure_probability, self.rng.stream("tool_failures")
-        )
+        failure_rate, noise_rate = self.config.tool_failure_probability, self.config.noise_rate_per_minute
+        self._failures = ToolFailureInjector(failure_rate, self._stream("tool_failures", failure_rate > 0))
         self.noise = NoiseStream(
-            rate_per_minute=self.config.noise_rate_per_minute,
+            rate_per_minute=noise_rate,
             start=self.clock.start,
             apps=set(self.apps),
-            arrivals=self.rng.stream("noise_arrivals"),
-            contents=self.rng.stream("noise_contents"),
+            arrivals=self._stream("noise_arrivals", noise_rate > 0),
+            contents=self._stream("noise_contents", noise_rate > 0),
         )
         self._wakeup_apps = [app for app in self.apps.values() if app.wakeup_tool is not None]
         self._assistant_tools, self._all_tools, self._named_assistant_tools = _tool_tables(
@@ -211,6 +211,12 @@ class Environment:
         """Who created or last changed each place of the app data (the user's and assistant's writes)."""
 
     # -- set-up ---------------------------------------------------------------------------------------
+    def _stream(self, name: str, used: bool) -> random.Random:
+        """The episode's random stream ``name`` for a feature, or, when the feature is off, a stream that
+        is never drawn from (streams are independent by name, so skipping one shifts no other).
+        """
+        return self.rng.stream(name) if used else UNUSED_STREAM
+
     def _register(self, app: App) -> None:
         if app.name in self.apps:
             raise UserInputError(f"app '{app.name}' is registered twice")

@@ -5,6 +5,8 @@ from __future__ import annotations
 import hashlib
 import random
 
+from pare.errors import SimulationBug
+
 
 class EpisodeRandom:
     """Named, independent random streams derived from one episode seed.
@@ -29,3 +31,22 @@ class EpisodeRandom:
             generator = random.Random(int.from_bytes(digest[:8], "big"))
             self._streams[name] = generator
         return generator
+
+
+class _UnusedStream(random.Random):
+    """The stream handed to a feature that is off (no tool failures, no noise), which never draws.
+
+    Seeding a stream is the costliest part of setting up a short episode, so features that are off do
+    not get one of their own; a draw from this one would be a bug, and says so rather than sharing
+    randomness between episodes.
+    """
+
+    def random(self) -> float:
+        raise SimulationBug("a random draw from the stream of a feature that is off")
+
+    def getrandbits(self, k: int, /) -> int:
+        raise SimulationBug("a random draw from the stream of a feature that is off")
+
+
+UNUSED_STREAM: random.Random = _UnusedStream(0)
+"""Shared by every feature that is off; drawing from it raises :class:`~pare.errors.SimulationBug`."""
