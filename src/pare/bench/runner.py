@@ -20,7 +20,6 @@ Failures are sorted by who is to blame:
 from __future__ import annotations
 
 import asyncio
-import gc
 import heapq
 import json
 import math
@@ -28,6 +27,7 @@ import time
 import traceback
 from collections import deque
 from collections.abc import Awaitable, Callable, Iterable, Mapping, Sequence
+from contextlib import ExitStack
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol
@@ -40,6 +40,7 @@ from pare.agents.models.config import ModelConfig
 from pare.agents.models.ledger import UsageLedger
 from pare.agents.models.types import ChatMessage, Completion
 from pare.agents.policy import AssistantPolicy, UserPolicy
+from pare.bench import collector
 from pare.bench.episode import arun_episode
 from pare.bench.records import EpisodeRecord, Failure, FailureKind, summarize
 from pare.bench.runconfig import RunConfig
@@ -527,29 +528,29 @@ def run_benchmark(
 ) -> RunSummary:
     """Run (or resume) the benchmark ``config`` describes; return what this session did."""
     progress = progress or NoProgress()
-    scenarios = select_scenarios(config)
-    check_credentials(config)
-    run_dir = config.output_dir()
-    started = time.perf_counter()
-    with RunStore.open(run_dir, config, scenarios, sweep_point=sweep_point) as store:
-        plans = plan_episodes(config, scenarios, store.hashes)
-        todo = [plan for plan in plans if not store.done(plan.key)]
+    with ExitStack() as stack:
+        # Loading and planning make objects that live as long as the run: no collection while they are
+        # made, and none of them walked by the collections made while the episodes play (collector.py).
+        with collector.paused():
+            scenarios = select_scenarios(config)
+            check_credentials(config)
+            run_dir = config.output_dir()
+            started = time.perf_counter()
+            store = stack.enter_context(RunStore.open(run_dir, config, scenarios, sweep_point=sweep_point))
+            plans = plan_episodes(config, scenarios, store.hashes)
+            todo = [plan for plan in plans if not store.done(plan.key)]
         progress.started(len(plans), len(plans) - len(todo), config.label())
-        # The scenarios and plans live as long as the run: out of the cyclic collector's sight, its full
-        # collections no longer walk the whole library (they cost about a tenth of an oracle run).
-        gc.collect()
-        gc.freeze()
-        try:
-            if config.backend == "ray":
-                from pare.bench.ray_backend import run_ray
+        with collector.long_lived_frozen():
+            try:
+                if config.backend == "ray":
+                    from pare.bench.ray_backend import run_ray
 
-                written = run_ray(todo, config, store, progress)
-            else:
-                models = RunModels.create(config, run_dir)
-                written = asyncio.run(run_local(todo, config, models, store, progress))
-        finally:
-            gc.unfreeze()  # a caller's own objects frozen with them are collectable again
-            progress.stopped()
+                    written = run_ray(todo, config, store, progress)
+                else:
+                    models = RunModels.create(config, run_dir)
+                    written = asyncio.run(run_local(todo, config, models, store, progress))
+            finally:
+                progress.stopped()
     return RunSummary(
         path=run_dir,
         label=config.label(),
