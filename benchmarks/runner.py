@@ -1,6 +1,6 @@
 """Batch runner timings: how close concurrent model-backed episodes come to the ideal, and oracle throughput.
 
-    python benchmarks/runner.py [--episodes 100] [--concurrency 32] [--delay 0.5]
+    python benchmarks/runner.py [--episodes 100] [--concurrency 32] [--delay 0.5] [--calls 300] [--parts abc]
 
 (a) A local ChatServer answers every model call with ``proactive_play()`` after a fixed delay (a stand-in
 for a model's latency). ``run_benchmark`` plays about ``--episodes`` episodes (library scenarios x runs,
@@ -18,22 +18,39 @@ with the runner). The OpenAI SDK is imported before timing (a one-off cost).
 (b) The oracle (no models) over the whole library, with 1 and with 4 runs per scenario: episodes/s,
 including opening the store and writing every record and trajectory.
 
+(c) The cost of one model call besides the model, against a ChatServer that answers at once
+(``--calls`` sequential calls of a prompt the size of an observe-mode prompt, each distinct): a plain
+HTTP POST to the server (httpx: the server's own cost), ``ModelClient.complete`` without a cache,
+with a ``read_write`` cache where every call misses (the call plus storing it), and with a ``replay``
+cache where every call hits (the cache alone: keying the request, reading and decoding the answer).
+Medians per call, in ms.
+
 Prints numbers only; no assertion.
 """
 
 from __future__ import annotations
 
 import argparse
+import asyncio
 import heapq
+import statistics
 import tempfile
 import time
 from pathlib import Path
+from typing import Any
 
+import httpx
+
+from pare.agents.models.cache import ModelCallCache
+from pare.agents.models.client import ModelClient
+from pare.agents.models.config import ModelConfig
+from pare.agents.models.types import ChatMessage
 from pare.bench.runconfig import build_config
 from pare.bench.runner import run_benchmark
 from pare.bench.store import load_run
 from pare.scenarios import load_scenarios
 from pare.testing import ChatServer, proactive_play
+from pare.testing.chat_server import Reply, completion
 
 
 def plan_shape(episodes: int, available: int) -> tuple[int, int]:
@@ -135,17 +152,76 @@ def oracle_run(runs: int) -> None:
     print(f"  runs {runs}: {episodes} episodes in {wall:.2f} s = {episodes / wall:.1f} episodes/s")
 
 
+def prompt(index: int) -> list[ChatMessage]:
+    """A conversation the size of an observe-mode prompt (about 24,000 characters), distinct per index."""
+    system = "You are a proactive assistant on the user's phone. " * 480
+    return [
+        ChatMessage(role="system", content=system),
+        ChatMessage(role="user", content=f"Observation {index}: the user opened the email app."),
+    ]
+
+
+def call_costs(calls: int) -> None:
+    def answer(body: dict[str, Any]) -> Reply:
+        return completion('Thought: nothing to do.\n\nAction:\n{"action": "wait", "action_input": {}}')
+
+    def report(label: str, seconds: list[float]) -> None:
+        print(f"  {label:56s} {statistics.median(seconds) * 1000:6.2f} ms")
+
+    with ChatServer(answer) as server, tempfile.TemporaryDirectory() as folder:
+        with httpx.Client(base_url=server.base_url) as http:
+            body = {"model": "m", "messages": [m.to_openai() for m in prompt(0)]}
+            http.post("/chat/completions", json=body)  # the connection is opened outside the timing
+            times = []
+            for _ in range(calls):
+                began = time.perf_counter()
+                http.post("/chat/completions", json=body).raise_for_status()
+                times.append(time.perf_counter() - began)
+        report("HTTP POST to the server (httpx)", times)
+        config = ModelConfig(model="m", api_base=server.base_url, api_key_env=None)
+
+        async def timed(client: ModelClient, first: int) -> list[float]:
+            await client.complete(prompt(-1 - first))  # the SDK and the connection are set up untimed
+            times = []
+            for index in range(first, first + calls):
+                began = time.perf_counter()
+                await client.complete(prompt(index))
+                times.append(time.perf_counter() - began)
+            await client.aclose()
+            return times
+
+        report("ModelClient, no cache", asyncio.run(timed(ModelClient(config, "observe"), 0)))
+        path = Path(folder) / "calls.sqlite"
+        writing = ModelCallCache(path, "read_write")
+        report(
+            "ModelClient, read_write cache, every call a miss",
+            asyncio.run(timed(ModelClient(config, "observe", writing), calls)),
+        )
+        writing.close()
+        replaying = ModelCallCache(path, "replay")
+        hits = asyncio.run(timed(ModelClient(config, "observe", replaying), calls))
+        replaying.close()
+        report("ModelClient, replay cache, every call a hit (the cache)", hits)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--episodes", type=int, default=100)
     parser.add_argument("--concurrency", type=int, default=32)
     parser.add_argument("--delay", type=float, default=0.5, help="seconds the server takes per answer")
+    parser.add_argument("--calls", type=int, default=300, help="sequential calls timed in (c)")
+    parser.add_argument("--parts", default="abc", help="which parts to run, e.g. 'c' or 'bc' (default all)")
     options = parser.parse_args()
 
-    model_run(options.episodes, options.concurrency, options.delay)
-    print("(b) oracle run of the whole library (no models):")
-    for runs in (1, 4):
-        oracle_run(runs)
+    if "a" in options.parts:
+        model_run(options.episodes, options.concurrency, options.delay)
+    if "b" in options.parts:
+        print("(b) oracle run of the whole library (no models):")
+        for runs in (1, 4):
+            oracle_run(runs)
+    if "c" in options.parts:
+        print(f"(c) one model call besides the model, answered at once ({options.calls} calls, median):")
+        call_costs(options.calls)
 
 
 if __name__ == "__main__":

@@ -27,7 +27,8 @@ def _restore_collector() -> Iterator[None]:
 
 
 def _config(output: Path, **extra: object) -> object:
-    return build_config({"scenarios": {"ids": ["dentist_moves_checkup"]}, "runs": 1, "output": str(output), **extra})
+    scenarios = {"ids": ["dentist_moves_checkup"]}
+    return build_config({"scenarios": scenarios, "runs": 1, "output": str(output), **extra})
 
 
 def test_a_run_leaves_the_collector_as_it_found_it(tmp_path: Path) -> None:

@@ -30,10 +30,8 @@ from collections.abc import Awaitable, Callable, Iterable, Mapping, Sequence
 from contextlib import ExitStack
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
-from pare.agents.judge import ModelJudge
-from pare.agents.llm import LLMAssistant, LLMUser
 from pare.agents.models.cache import ModelCallCache
 from pare.agents.models.client import ModelClient
 from pare.agents.models.config import ModelConfig
@@ -49,6 +47,9 @@ from pare.errors import CacheMiss, RunFailure, UserInputError, first_error
 from pare.scenarios.library import library, load_scenarios, select
 from pare.scenarios.model import Scenario
 from pare.scenarios.oracle import OracleAssistant, OracleUser
+
+if TYPE_CHECKING:  # imported where a run has models: an oracle run never loads the actors or the prompts
+    from pare.agents.judge import ModelJudge
 
 RETRY_PAUSE_S = 2.0
 """Pause before an episode that failed for infrastructure reasons runs again (doubling each time)."""
@@ -191,6 +192,9 @@ class RunModels:
         retries = config.protocol.max_format_retries
         user: UserPolicy
         assistant: AssistantPolicy
+        if self.clients or config.models.judge is not None:
+            from pare.agents.judge import ModelJudge
+            from pare.agents.llm import LLMAssistant, LLMUser
         if "user" in self.clients:
             user = LLMUser(
                 EpisodeModel(self.clients["user"], plan.namespace, ledger),
