@@ -53,6 +53,17 @@ def long_lived_frozen() -> Iterator[None]:
             gc.disable()
 
 
+def settle() -> None:
+    """Collect what the work just done left behind, then freeze what survives: for a process that does
+    many pieces of work one after another (the gate self-tests scenario after scenario, each leaving
+    caches and blueprints behind). Each collection then walks only what was made since the last piece
+    instead of everything the process holds: on the gate in one process, full collections had taken a
+    quarter of its time. Inside :func:`long_lived_frozen`, its end makes all of it collectable again.
+    """
+    gc.collect()
+    gc.freeze()
+
+
 def skip_final_collection() -> None:
     """Leave every object alive now out of the interpreter's last collection, for a process about to end.
 

@@ -167,11 +167,13 @@ def check(
     from rich.console import Console
     from rich.table import Table
 
+    from pare.bench import collector
     from pare.bench.processes import map_in_processes, resolve_jobs
 
     workers = resolve_jobs(jobs)
     began = time.perf_counter()
-    scenarios = _chosen(paths, split, app_name, tag, difficulty)
+    with collector.paused():  # the library: long-lived objects only (see pare.bench.collector)
+        scenarios = _chosen(paths, split, app_name, tag, difficulty)
     if jobs == 0 and len(scenarios) < PARALLEL_FROM:
         workers = 1  # starting worker processes would cost more than it saves
     console = Console()
@@ -185,27 +187,28 @@ def check(
     breaches: list[str] = []
     warnings: list[str] = []
     total = 0.0
-    for scenario, (verdict, outcomes) in zip(
-        scenarios, map_in_processes(self_test, scenarios, workers), strict=True
-    ):
-        total += verdict.seconds
-        failing = [run for run in verdict.runs if run.run in _failing_runs()]
-        variants = [run for run in verdict.runs if run.run.startswith("variant:")]
-        table.add_row(
-            scenario.id,
-            _cell(verdict.run("oracle")),
-            _cell(verdict.run("slow_user")),
-            _mark(all(run.ok for run in failing), f"{sum(run.ok for run in failing)}/{len(failing)}"),
-            _mark(
-                all(run.ok for run in variants) and not verdict.problems,
-                f"{sum(run.ok for run in variants)}/{len(variants)}",
-            ),
-            f"{verdict.seconds * 1000:.0f}",
-        )
-        breaches.extend(verdict.breaches())
-        warnings.extend(f"{scenario.id}: {line}" for line in verdict.warnings)
-        if verbose:
-            _print_details(console, scenario, verdict, outcomes)
+    with collector.long_lived_frozen():
+        for scenario, (verdict, outcomes) in zip(
+            scenarios, map_in_processes(self_test, scenarios, workers), strict=True
+        ):
+            total += verdict.seconds
+            failing = [run for run in verdict.runs if run.run in _failing_runs()]
+            variants = [run for run in verdict.runs if run.run.startswith("variant:")]
+            table.add_row(
+                scenario.id,
+                _cell(verdict.run("oracle")),
+                _cell(verdict.run("slow_user")),
+                _mark(all(run.ok for run in failing), f"{sum(run.ok for run in failing)}/{len(failing)}"),
+                _mark(
+                    all(run.ok for run in variants) and not verdict.problems,
+                    f"{sum(run.ok for run in variants)}/{len(variants)}",
+                ),
+                f"{verdict.seconds * 1000:.0f}",
+            )
+            breaches.extend(verdict.breaches())
+            warnings.extend(f"{scenario.id}: {line}" for line in verdict.warnings)
+            if verbose:
+                _print_details(console, scenario, verdict, outcomes)
     console.print(table)
     for line in warnings:
         console.print(f"[yellow]warning[/yellow] {line}", highlight=False)
@@ -227,11 +230,15 @@ def self_test(scenario: Scenario) -> tuple[ScenarioVerdict, dict[str, Outcome]]:
     """
     from dataclasses import replace
 
+    from pare.bench.collector import settle
     from pare.bench.selftest import check_scenario
 
     verdict = check_scenario(scenario)
     outcomes = {name: result.outcome for name, result in verdict.details.items()}
-    return replace(verdict, details={}), outcomes
+    result = replace(verdict, details={}), outcomes
+    del verdict
+    settle()  # the next scenario's collections walk only what it makes
+    return result
 
 
 def _outcome(run: RunVerdict) -> str:
