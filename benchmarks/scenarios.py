@@ -2,7 +2,9 @@
 
     python benchmarks/scenarios.py [--repeat 5] [PATHS ...]
 
-Prints numbers only; no assertion. Times are the median of ``--repeat`` repetitions.
+The oracle runs and the gate use the cyclic collector as ``pare run`` and ``pare scenarios check`` do
+(:mod:`pare.bench.collector`). Prints numbers only; no assertion. Times are the median of ``--repeat``
+repetitions.
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ import statistics
 import time
 
 from pare.bench import run_episode
+from pare.bench.collector import long_lived_frozen, settle
 from pare.bench.selftest import check_scenario
 from pare.scenarios import OracleAssistant, OracleUser, load_scenarios
 
@@ -45,7 +48,8 @@ def main() -> None:
             result = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
             assert result.success, scenario.id
 
-    oracle_time = median_seconds(oracle_runs, options.repeat)
+    with long_lived_frozen():  # as `pare run` does (pare.bench.collector)
+        oracle_time = median_seconds(oracle_runs, options.repeat)
     each = oracle_time / count * 1000
     print(f"oracle run of every scenario: {oracle_time * 1000:.1f} ms ({each:.2f} ms per scenario)")
 
@@ -60,8 +64,11 @@ def main() -> None:
             assert verdict.ok, verdict.breaches()
             per_scenario.append((verdict.seconds, scenario.id))
             episodes.append(len(verdict.runs))
+            del verdict
+            settle()  # as `pare scenarios check` does after each scenario
 
-    gate_time = median_seconds(gate, options.repeat)
+    with long_lived_frozen():
+        gate_time = median_seconds(gate, options.repeat)
     each = gate_time / count * 1000
     played = sum(episodes)
     print(
