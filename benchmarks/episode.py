@@ -20,6 +20,11 @@ Plays every library scenario with the model-backed actors (:class:`~pare.agents.
    (:mod:`pare.bench.collector`); figures printed before that change counted the collector walking the
    recordings too, about a quarter more.
 
+The figure is the timed pass's time over its turns, so it includes what an episode does once whatever
+its length (building the environment, the system prompts, evaluating the goals, the state diff); the
+library's oracle episodes are short (about five turns), so a second line splits that work from the
+turns' own.
+
 **The figure's definition changed** (issue 13). Before, the timed passes ran the model doubles live: at
 every call the oracle policy decided, ``format_action`` wrote the answer and parsed it back to check it,
 which is the model's work, not PARE's (about a fifth of the old figure, 0.70-0.86 ms per turn). Now only
@@ -43,6 +48,7 @@ from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any, cast
 
+import pare.bench.episode as episode_module
 from pare.agents.actions import format_action
 from pare.agents.llm import LLMAssistant, LLMUser
 from pare.agents.models.types import ChatMessage, Completion, Usage
@@ -257,6 +263,40 @@ def print_tokens(recordings: list[Recording]) -> None:
         )
 
 
+class EpisodeWork:
+    """Times the work each episode does once, whatever its length, during the timed passes: building
+    the environment, the actors' system prompts at the start, evaluating the goals and the state diff
+    at the end. The rest of an episode's time is its turns.
+    """
+
+    PLACES: tuple[tuple[Any, str], ...] = (
+        (episode_module, "build_environment"),
+        (LLMUser, "start"),
+        (LLMAssistant, "start"),
+        (episode_module, "evaluate"),
+        (episode_module, "state_changes"),
+    )
+
+    def __init__(self) -> None:
+        self.seconds = 0.0
+        self.counting = False
+        for owner, name in self.PLACES:
+            setattr(owner, name, self._timed(getattr(owner, name)))
+
+    def _timed(self, function: Callable[..., Any]) -> Callable[..., Any]:
+        @functools.wraps(function)
+        def timed(*args: Any, **kwargs: Any) -> Any:
+            if not self.counting:
+                return function(*args, **kwargs)
+            began = time.perf_counter()
+            try:
+                return function(*args, **kwargs)
+            finally:
+                self.seconds += time.perf_counter() - began
+
+        return timed
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5, help="Timed replay passes (the median is shown).")
@@ -273,15 +313,20 @@ def main() -> None:
         return [await replay(recording) for recording in recordings]
 
     recordings = asyncio.run(record_all())
+    once = EpisodeWork()
     samples = []
+    fixed = []
     differing: set[str] = set()
     # As in `pare run`: the library and everything alive before the episodes (here the recordings too)
     # are out of the cyclic collector's sight while the episodes play (pare.bench.collector).
     with long_lived_frozen():
         for _ in range(options.repeat):
+            once.seconds, once.counting = 0.0, True
             began = time.perf_counter()
             results = asyncio.run(replay_all(recordings))
             samples.append(time.perf_counter() - began)
+            once.counting = False
+            fixed.append(once.seconds)
             # compared after the clock stops: the check is not PARE's per-turn work
             differing.update(differences(recordings, results))
             del results
@@ -299,6 +344,14 @@ def main() -> None:
     print(
         f"  ({turns} turns, {steps} steps, {elapsed * 1000:.0f} ms in all, median of {options.repeat};"
         f" fastest pass {fastest:.2f} ms per turn)"
+    )
+    # the pass whose total is the median, split into what an episode does once and what its turns do
+    middle = sorted(range(len(samples)), key=samples.__getitem__)[len(samples) // 2]
+    once_ms = fixed[middle] / len(recordings) * 1000
+    turn_ms = (samples[middle] - fixed[middle]) / turns * 1000
+    print(
+        f"  of which once per episode (environment, system prompts, goals, state diff): {once_ms:.2f} ms;"
+        f" the turns alone: {turn_ms:.2f} ms per turn"
     )
     if not options.quiet:
         print_tokens(recordings)
