@@ -321,7 +321,7 @@ def _word_texts(value: Any) -> list[str]:
 
 def _has_word(texts: list[str], piece: str) -> bool:
     finder = meaning.word_finder(piece)
-    return any(finder.search(text) for text in texts)
+    return any(finder.found(text) for text in texts)
 
 
 def _reads(reading: tuple[Callable[[str, Any, datetime], bool], Any], value: Any, start: datetime) -> bool:
