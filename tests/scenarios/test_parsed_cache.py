@@ -126,3 +126,16 @@ def test_folders_of_old_code_versions_are_pruned(cache_dir: Path, scenario_file:
     assert parsed_cache.code_fingerprint() in kept
     assert len(kept) == parsed_cache.KEPT_VERSIONS + 1
     assert "old-0" not in kept and f"old-{parsed_cache.KEPT_VERSIONS + 2}" in kept
+
+
+def test_variants_a_damaged_entry_cannot_give_are_read_from_the_file(
+    cache_dir: Path, scenario_file: Path
+) -> None:
+    text = scenario_file.read_text(encoding="utf-8")
+    fresh = parse_scenario(text)
+    parsed_cache.remember(text, fresh)
+    for entry in cache_dir.rglob("*.json"):
+        head, _, _ = entry.read_text(encoding="utf-8").partition("\n")
+        entry.write_text(head + "\n[{not json", encoding="utf-8")
+    again = parsed_cache.cached(text)
+    assert again is not None and again.variants == fresh.variants and again == fresh

@@ -638,10 +638,11 @@ class Scenario(_Strict):
     # reads ``__dict__`` itself (dumping, comparing, ``repr``) completes the scenario first.
     @classmethod
     def with_deferred_variants(
-        cls, data: dict[str, Any], variants: Callable[[], Any] | None, content_hash: str
+        cls, data: dict[str, Any], variants: Callable[[], list[Variant]] | None, content_hash: str
     ) -> Scenario:
         """The scenario of ``data`` (a valid scenario's fields but its variants) with the variants that
-        ``variants()`` gives (``None``: none written) and its :meth:`content_hash`, both as stored for it.
+        ``variants()`` gives, validated (``None``: none written), and its :meth:`content_hash`, both as
+        stored for it.
         """
         scenario = cls.model_validate(data)
         scenario.__dict__[_KNOWN_HASH] = content_hash
@@ -654,7 +655,7 @@ class Scenario(_Strict):
     def _complete(self) -> None:
         read = self.__dict__.get(_PENDING_VARIANTS)
         if read is not None:
-            self.__dict__["variants"] = _variant_list().validate_python(read())
+            self.__dict__["variants"] = read()
             self.__dict__.pop(_PENDING_VARIANTS, None)
 
     if not TYPE_CHECKING:  # as pydantic does: a visible ``__getattr__`` would let mypy pass any attribute
@@ -698,6 +699,11 @@ _KNOWN_HASH = "_content_hash"
 """Key in a scenario's ``__dict__`` (not a field) of its :meth:`Scenario.content_hash` read from the cache."""
 _PENDING_VARIANTS = "_pending_variants"
 """Key in a scenario's ``__dict__`` (not a field) of what gives its variants, before they are validated."""
+
+
+def validate_variants(raw: Any) -> list[Variant]:
+    """``raw`` validated as a scenario's ``variants``."""
+    return _variant_list().validate_python(raw)
 
 
 @functools.cache

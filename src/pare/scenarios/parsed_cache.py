@@ -28,7 +28,7 @@ from typing import Any
 
 from pydantic import ValidationError
 
-from pare.scenarios.model import Scenario
+from pare.scenarios.model import Scenario, Variant, validate_variants
 
 _PACKAGE = Path(__file__).resolve().parents[1]
 
@@ -71,7 +71,7 @@ def cached(text: str) -> Scenario | None:
     try:
         head, _, variants = _entry(folder, text).read_text(encoding="utf-8").partition("\n")
         entry = json.loads(head, object_hook=_untag)
-        later = _Variants(variants) if entry["variants"] else None
+        later = _Variants(variants, text) if entry["variants"] else None
         return Scenario.with_deferred_variants(entry["scenario"], later, entry["hash"])
     except (OSError, ValidationError, ValueError, TypeError, KeyError):
         return None
@@ -79,12 +79,20 @@ def cached(text: str) -> Scenario | None:
 
 @dataclass(frozen=True, slots=True)
 class _Variants:
-    """A cache entry's variants as stored, read when asked for (picklable, as a scenario must be)."""
+    """A cache entry's variants as stored, read when asked for (picklable, as a scenario must be); if the
+    entry cannot give them, they are read from the file's text (the cache never stands in the way).
+    """
 
-    text: str
+    stored: str
+    source: str
 
-    def __call__(self) -> Any:
-        return json.loads(self.text, object_hook=_untag)
+    def __call__(self) -> list[Variant]:
+        try:
+            return validate_variants(json.loads(self.stored, object_hook=_untag))
+        except (ValidationError, ValueError, TypeError):
+            from pare.scenarios.loader import parse_scenario  # the loader uses this module
+
+            return parse_scenario(self.source).variants
 
 
 def remember(text: str, scenario: Scenario) -> None:
