@@ -1,11 +1,15 @@
 from __future__ import annotations
 
-from datetime import UTC, datetime
+from collections.abc import Mapping
+from datetime import UTC, date, datetime, time
+from types import MappingProxyType
 from typing import Any
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
-from pare.scenarios.matchers import MatcherError, compile_matcher
+from pare.scenarios.matchers import MatcherError, _frozen, compile_matcher
 
 START = datetime(2025, 3, 3, 9, 0, tzinfo=UTC)
 
@@ -119,3 +123,52 @@ def test_a_matcher_compiles_to_the_same_verdicts_as_written() -> None:
     assert holds({"one_of": ["day+1 10:00", 3]}, "3") and holds(
         {"one_of": ["day+1 10:00"]}, "2025-03-04 10:00"
     )
+
+
+def _frozen_by_isinstance(raw: Any) -> Any:
+    """The matcher cache's key as first written (isinstance only), to hold the faster one to."""
+    if isinstance(raw, Mapping):
+        items = tuple((str(key), _frozen_by_isinstance(value)) for key, value in raw.items())
+        return None if any(value is None for _, value in items) else ("map", items)
+    if isinstance(raw, list | tuple):
+        parts = tuple(_frozen_by_isinstance(item) for item in raw)
+        return None if any(part is None for part in parts) else ("list", parts)
+    if raw is None or isinstance(raw, str | int | float | bool | datetime | date | time):
+        return (type(raw).__name__, raw)
+    return None
+
+
+class _Text(str):
+    pass
+
+
+_LEAVES = st.one_of(
+    st.none(),
+    st.booleans(),
+    st.integers(),
+    st.floats(allow_nan=False),
+    st.text(max_size=4),
+    st.dates(),
+    st.datetimes(),
+    st.times(),
+    st.builds(_Text, st.text(max_size=3)),
+    st.builds(object),
+    st.builds(bytes),
+)
+_VALUES = st.recursive(
+    _LEAVES,
+    lambda inner: st.one_of(
+        st.lists(inner, max_size=3),
+        st.lists(inner, max_size=3).map(tuple),
+        st.dictionaries(st.one_of(st.text(max_size=3), st.integers()), inner, max_size=3),
+        st.dictionaries(st.text(max_size=3), inner, max_size=3).map(MappingProxyType),
+    ),
+    max_leaves=12,
+)
+
+
+@settings(max_examples=400, deadline=None)
+@given(_VALUES)
+def test_the_cache_key_of_a_matcher_is_the_one_isinstance_gives(raw: Any) -> None:
+    assert _frozen(raw) == _frozen_by_isinstance(raw)
+    assert type(_frozen(raw)) is type(_frozen_by_isinstance(raw))

@@ -5,6 +5,8 @@ from __future__ import annotations
 from datetime import UTC, date, datetime, time, timedelta
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from pare.scenarios.matchers import compile_matcher
 from pare.scenarios.meaning import (
@@ -15,6 +17,9 @@ from pare.scenarios.meaning import (
     mentions_clock,
     mentions_day,
     mentions_moment,
+    normalise_quotes,
+    word_finder,
+    word_pattern,
 )
 
 START = datetime(2025, 3, 18, 9, 10, tzinfo=UTC)  # a Tuesday
@@ -261,3 +266,45 @@ def test_the_days_a_text_names_are_read_against_each_start() -> None:
         assert meaning.mentions_day("See you tomorrow", (START + timedelta(days=1)).date(), START)
         assert not meaning.mentions_day("See you tomorrow", (START + timedelta(days=1)).date(), later)
         assert meaning.mentions_day("See you tomorrow", (later + timedelta(days=1)).date(), later)
+
+
+# Letters and digits of both kinds, separators (runs of them too), apostrophes (straight and curly), '*' and
+# characters whose case-insensitive matching is not ASCII's (Kelvin sign, long s, dotted and dotless i, sharp
+# s, superscript two)
+_BITS = [*"aAbBkKsSiI09_ -'*.,\t\n\x1c", " - ", "--", "  ", "a-b", "a b"]
+_BITS += ["\u2019", "\u2018", "é", "ß", "\u212a", "\u017f", "\u0130", "\u0131", "²"]
+_PIECES = (
+    st.lists(st.sampled_from(_BITS), min_size=1, max_size=4)
+    .map("".join)
+    .filter(lambda piece: bool(" ".join(normalise_quotes(piece).split()).strip("*")))
+)
+
+
+@st.composite
+def _piece_and_text(draw: st.DrawFn) -> tuple[str, str]:
+    piece = draw(_PIECES)
+    noise = st.lists(st.sampled_from(_BITS), max_size=3).map("".join)
+    written = draw(st.sampled_from([piece, piece.upper(), piece.lower(), piece.strip("*"), piece.swapcase()]))
+    inside = draw(st.booleans())
+    text = draw(noise) + (written if inside else "") + draw(noise) + draw(st.sampled_from(["", written]))
+    return piece, text
+
+
+@settings(max_examples=3000, deadline=None)
+@given(_piece_and_text())
+def test_a_word_is_found_where_its_pattern_finds_it(case: tuple[str, str]) -> None:
+    piece, text = case
+    expected = word_pattern(normalise_quotes(piece)).search(normalise_quotes(text)) is not None
+    assert word_finder(piece).found(normalise_quotes(text)) is expected
+    assert has_word(text, piece) is expected
+
+
+@settings(max_examples=500, deadline=None)
+@given(st.text(max_size=6), st.text(max_size=12))
+def test_a_word_is_found_where_its_pattern_finds_it_in_any_text(piece: str, text: str) -> None:
+    if not " ".join(normalise_quotes(piece).split()).strip("*"):
+        with pytest.raises(ValueError, match="no text"):
+            word_finder(piece)
+        return
+    expected = word_pattern(normalise_quotes(piece)).search(normalise_quotes(text)) is not None
+    assert has_word(text, piece) is expected

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import copy
+import pickle
 from pathlib import Path
 
 import pytest
@@ -9,6 +11,7 @@ import pytest
 from pare.scenarios import parsed_cache
 from pare.scenarios.library import scenario_files
 from pare.scenarios.loader import load_scenario, parse_scenario
+from pare.scenarios.model import Scenario
 
 
 @pytest.fixture
@@ -41,7 +44,39 @@ def test_every_library_scenario_comes_back_from_the_cache_unchanged(cache_dir: P
         text = file.read_text(encoding="utf-8")
         fresh = parse_scenario(text, source=str(file))
         parsed_cache.remember(text, fresh)
-        assert parsed_cache.cached(text) == fresh, file.name
+        again = parsed_cache.cached(text)
+        assert again is not None
+        # the hash stored with the entry is the one the scenario has (the store tells changes by it)
+        assert again.content_hash() == fresh.content_hash(), file.name
+        assert again == fresh, file.name
+        assert again.model_copy(update={"title": again.title}).content_hash() == fresh.content_hash()
+
+
+def test_variants_are_validated_when_first_read_and_the_scenario_behaves_as_a_fresh_one(
+    cache_dir: Path, scenario_file: Path
+) -> None:
+    text = scenario_file.read_text(encoding="utf-8")
+    fresh = parse_scenario(text)
+    assert fresh.variants
+    parsed_cache.remember(text, fresh)
+
+    def lazy() -> Scenario:
+        scenario = parsed_cache.cached(text)
+        assert scenario is not None and "variants" not in scenario.__dict__
+        return scenario
+
+    assert lazy().variants == fresh.variants
+    assert lazy().solution(fresh.variants[0].id) == fresh.solution(fresh.variants[0].id)
+    assert lazy().model_dump(mode="json") == fresh.model_dump(mode="json")
+    assert lazy().model_dump_json(exclude_unset=True) == fresh.model_dump_json(exclude_unset=True)
+    assert lazy().model_fields_set == fresh.model_fields_set
+    assert pickle.loads(pickle.dumps(lazy())) == fresh
+    assert copy.deepcopy(lazy()) == fresh
+    assert lazy().model_copy() == fresh
+    assert "variants=[Variant(" in repr(lazy())
+    changed = lazy().model_copy(update={"variants": []})
+    assert changed.variants == [] and changed.content_hash() != fresh.content_hash()
+    assert changed.content_hash() == fresh.model_copy(update={"variants": []}).content_hash()
 
 
 def test_an_edited_file_is_read_again(cache_dir: Path, scenario_file: Path) -> None:
@@ -91,3 +126,16 @@ def test_folders_of_old_code_versions_are_pruned(cache_dir: Path, scenario_file:
     assert parsed_cache.code_fingerprint() in kept
     assert len(kept) == parsed_cache.KEPT_VERSIONS + 1
     assert "old-0" not in kept and f"old-{parsed_cache.KEPT_VERSIONS + 2}" in kept
+
+
+def test_variants_a_damaged_entry_cannot_give_are_read_from_the_file(
+    cache_dir: Path, scenario_file: Path
+) -> None:
+    text = scenario_file.read_text(encoding="utf-8")
+    fresh = parse_scenario(text)
+    parsed_cache.remember(text, fresh)
+    for entry in cache_dir.rglob("*.json"):
+        head, _, _ = entry.read_text(encoding="utf-8").partition("\n")
+        entry.write_text(head + "\n[{not json", encoding="utf-8")
+    again = parsed_cache.cached(text)
+    assert again is not None and again.variants == fresh.variants and again == fresh

@@ -3,8 +3,12 @@ from __future__ import annotations
 from datetime import UTC, datetime, timedelta
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from pare.scenarios.times import (
+    _DAY,
+    _OFFSET,
     TimeFormatError,
     is_relative_time,
     parse_duration,
@@ -105,3 +109,26 @@ def test_dates_and_times_yaml_read_as_such_become_iso_text() -> None:
         "at": ["2026-04-23T09:00:00+00:00"],
     }
     json.dumps(resolved)
+
+
+def _relative_by_patterns(text: str) -> bool:
+    """is_relative_time as first written (the two patterns alone), to hold the quicker one to."""
+    stripped = text.strip()
+    return bool(_OFFSET.match(stripped.replace(" ", "")) or _DAY.match(stripped))
+
+
+@settings(max_examples=600, deadline=None)
+@given(
+    st.one_of(
+        st.text(alphabet=st.sampled_from(list("+-dayDA 0123456789:hms\t\n\u2003\u00a0x")), max_size=14),
+        st.text(max_size=8),
+        st.builds(
+            "{}{}{}".format,
+            st.sampled_from(["", " ", "\t", "\u2003", "x"]),
+            st.sampled_from(["+15m", "-2h", "+1d2h", "day+1 09:00", "day 14:00", "day - 2 18:30", "Day 1"]),
+            st.sampled_from(["", " ", "\n", "z"]),
+        ),
+    )
+)
+def test_is_relative_time_gives_what_the_patterns_give(text: str) -> None:
+    assert is_relative_time(text) is _relative_by_patterns(text)

@@ -75,8 +75,7 @@ EpisodeKey = tuple[str, int]
 
 def scenario_hash(scenario: Scenario) -> str:
     """A content hash of a scenario: the same data gives the same hash, whatever the file's layout."""
-    data = json.dumps(scenario.model_dump(mode="json"), sort_keys=True, separators=(",", ":"))
-    return hashlib.sha256(data.encode("utf-8")).hexdigest()[:16]
+    return scenario.content_hash()
 
 
 def scenario_set_hash(hashes: Mapping[str, str]) -> str:

@@ -161,17 +161,37 @@ def compile_matcher(raw: Any) -> Matcher:
 _COMPILED: dict[Any, Matcher] = {}
 
 
+_SCALAR_TYPES = (str, int, float, bool, datetime, date, time, type(None))
+_SCALARS = frozenset(_SCALAR_TYPES)
+"""The types of the plain values matchers are made of (the exact types are told apart cheaply)."""
+
+
 def _frozen(raw: Any) -> Any:
-    """A hashable copy of ``raw`` that tells apart what compiles differently, or ``None`` if there is none."""
-    if isinstance(raw, Mapping):
-        items = tuple((str(key), _frozen(value)) for key, value in raw.items())
-        return None if any(value is None for _, value in items) else ("map", items)
-    if isinstance(raw, list | tuple):
-        parts = tuple(_frozen(item) for item in raw)
-        return None if any(part is None for part in parts) else ("list", parts)
-    if raw is None or isinstance(raw, str | int | float | bool | datetime | date | time):
-        return (type(raw).__name__, raw)  # the type too: True, 1 and 1.0 are equal but match differently
-    return None
+    """A hashable copy of ``raw`` that tells apart what compiles differently, or ``None`` if there is none.
+
+    Computed for every matcher a scenario holds when it is loaded and when its checks are compiled: the
+    common types are told by their exact type first, and a part without a copy ends the walk.
+    """
+    kind = type(raw)
+    if kind in _SCALARS:
+        return (kind.__name__, raw)  # the type too: True, 1 and 1.0 are equal but match differently
+    if kind is dict or (kind is not list and isinstance(raw, Mapping)):
+        items = []
+        for key, value in raw.items():
+            frozen = _frozen(value)
+            if frozen is None:
+                return None
+            items.append((str(key), frozen))
+        return ("map", tuple(items))
+    if kind is list or isinstance(raw, list | tuple):
+        parts = []
+        for item in raw:
+            frozen = _frozen(item)
+            if frozen is None:
+                return None
+            parts.append(frozen)
+        return ("list", tuple(parts))
+    return (kind.__name__, raw) if isinstance(raw, _SCALAR_TYPES) else None
 
 
 def _compile(raw: Any) -> Matcher:
@@ -301,7 +321,7 @@ def _word_texts(value: Any) -> list[str]:
 
 def _has_word(texts: list[str], piece: str) -> bool:
     finder = meaning.word_finder(piece)
-    return any(finder.search(text) for text in texts)
+    return any(finder.found(text) for text in texts)
 
 
 def _reads(reading: tuple[Callable[[str, Any, datetime], bool], Any], value: Any, start: datetime) -> bool:

@@ -55,17 +55,91 @@ def word_pattern(piece: str) -> re.Pattern[str]:
     return re.compile(left + body + right, re.IGNORECASE)
 
 
-@lru_cache(maxsize=4096)
-def word_finder(piece: str) -> re.Pattern[str]:
-    """The pattern :func:`has_word` searches for ``piece``, in text passed through
+class WordFinder:
+    r"""Finds one piece at word boundaries (:func:`word_pattern`) in text passed through
     :func:`normalise_quotes`.
+
+    A process compiled a pattern for every piece its checks seek, about a thousand for the library, which
+    cost more than the searches. A piece of ASCII text is now sought in ASCII text without a pattern:
+    there, case-insensitive matching is ASCII case folding, a letter, a digit or a space is an ASCII one,
+    and the separators a space or a hyphen of the piece stand for (``[\s-]+`` and ``[\s-]?``) are a run
+    between two words of the piece, which must be all of that run since a word begins with neither. So
+    the piece is where its first word is found in the lowercased text, each later word follows a run of
+    separators as long as the piece allows, and the boundaries hold. Other pieces and texts use the
+    pattern, compiled when first needed.
     """
-    return word_pattern(normalise_quotes(piece))
+
+    __slots__ = ("_digit_after", "_digit_before", "_letter_after", "_letter_before", "_pattern", "gaps",
+                 "piece", "words")  # fmt: skip
+
+    def __init__(self, piece: str) -> None:
+        self.piece = normalise_quotes(piece)
+        text = " ".join(self.piece.split())
+        open_start, open_end = text.startswith("*"), text.endswith("*") and len(text) > 1
+        core = text.strip("*")
+        if not core:
+            raise ValueError(f"{piece!r} has no text besides '*'")
+        parts = re.split(r"([ -]+)", core.lower())
+        plain = core.isascii() and bool(parts[0]) and bool(parts[-1])
+        self.words: tuple[str, ...] | None = tuple(parts[::2]) if plain else None
+        """The piece's words, lowercased, as sought in ASCII text; ``None`` when only the pattern finds it."""
+        self.gaps = tuple((run.count(" "), None if " " in run else len(run)) for run in parts[1::2])
+        """The fewest and most separators between two words (``None``: no most): a space in the piece
+        stands for one or more, a hyphen for one or none."""
+        first, last = core[0], core[-1]
+        self._letter_before = not open_start and first.isalpha()
+        self._digit_before = not open_start and first.isdigit()
+        self._letter_after = not open_end and last.isalpha()
+        self._digit_after = not open_end and last.isdigit()
+        self._pattern: re.Pattern[str] | None = None
+
+    def found(self, text: str) -> bool:
+        """Whether ``text`` (with straight apostrophes) holds the piece at word boundaries."""
+        words = self.words
+        if words is None or not text.isascii():
+            if self._pattern is None:
+                self._pattern = word_pattern(self.piece)
+            return self._pattern.search(text) is not None
+        lowered = text.lower()
+        at = lowered.find(words[0])
+        while at >= 0:
+            if not (at and self._glued(text[at - 1], before=True)):
+                end = self._end(lowered, words, at + len(words[0]))
+                if end >= 0 and not (end < len(text) and self._glued(text[end], before=False)):
+                    return True
+            at = lowered.find(words[0], at + 1)
+        return False
+
+    def _end(self, lowered: str, words: tuple[str, ...], at: int) -> int:
+        """Where the piece ends in ``lowered`` if its first word ends at ``at``; -1 if it is not there."""
+        for word, (fewest, most) in zip(words[1:], self.gaps, strict=True):
+            run = at
+            while run < len(lowered) and (lowered[run] == "-" or lowered[run].isspace()):
+                run += 1
+            separators = run - at
+            if separators < fewest or (most is not None and separators > most):
+                return -1
+            if not lowered.startswith(word, run):
+                return -1
+            at = run + len(word)
+        return at
+
+    def _glued(self, char: str, *, before: bool) -> bool:
+        """Whether ``char``, just before or after the piece, continues its first or last word."""
+        if before:
+            return (self._letter_before and char.isalpha()) or (self._digit_before and char.isdigit())
+        return (self._letter_after and char.isalpha()) or (self._digit_after and char.isdigit())
+
+
+@lru_cache(maxsize=4096)
+def word_finder(piece: str) -> WordFinder:
+    """What :func:`has_word` seeks ``piece`` with, in text passed through :func:`normalise_quotes`."""
+    return WordFinder(piece)
 
 
 def has_word(text: str, piece: str) -> bool:
     """Whether ``text`` contains ``piece`` at word boundaries (curly and straight apostrophes alike)."""
-    return word_finder(piece).search(normalise_quotes(text)) is not None
+    return word_finder(piece).found(normalise_quotes(text))
 
 
 # -- clauses and negation -------------------------------------------------------------------------------

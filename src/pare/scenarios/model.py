@@ -8,12 +8,24 @@ against the apps; nothing in a scenario file runs code.
 
 from __future__ import annotations
 
+import functools
+import hashlib
+import json
 import re
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from datetime import UTC, datetime
-from typing import Annotated, Any, Literal
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, WithJsonSchema, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    TypeAdapter,
+    WithJsonSchema,
+    field_validator,
+    model_validator,
+)
 
 from pare.apps.registry import phone_apps
 from pare.errors import did_you_mean
@@ -607,3 +619,93 @@ class Scenario(_Strict):
     def all_apps(self) -> list[str]:
         """The scenario's apps plus Files when it is seeded (the core apps are always present)."""
         return [*self.apps, *(["files"] if "files" in self.seed and "files" not in self.apps else [])]
+
+    def content_hash(self) -> str:
+        """A hash of the scenario's content: the same data gives the same hash, whatever the file's layout
+        (a run folder tells by it that a scenario changed). A scenario read from the parsed-scenario cache
+        carries the hash computed when it was stored.
+        """
+        known = self.__dict__.get(_KNOWN_HASH)
+        if isinstance(known, str):
+            return known
+        data = json.dumps(self.model_dump(mode="json"), sort_keys=True, separators=(",", ":"))
+        return hashlib.sha256(data.encode("utf-8")).hexdigest()[:16]
+
+    # -- variants read when first asked for ---------------------------------------------------------------
+    # Only the gate and the review read a scenario's variants, and validating them is most of validating a
+    # cached scenario: a scenario from the parsed-scenario cache validates them when ``variants`` is first
+    # read. Until then the field is missing from ``__dict__`` (Python then calls ``__getattr__``); whatever
+    # reads ``__dict__`` itself (dumping, comparing, ``repr``) completes the scenario first.
+    @classmethod
+    def with_deferred_variants(
+        cls, data: dict[str, Any], variants: Callable[[], list[Variant]] | None, content_hash: str
+    ) -> Scenario:
+        """The scenario of ``data`` (a valid scenario's fields but its variants) with the variants that
+        ``variants()`` gives, validated (``None``: none written), and its :meth:`content_hash`, both as
+        stored for it.
+        """
+        scenario = cls.model_validate(data)
+        scenario.__dict__[_KNOWN_HASH] = content_hash
+        if variants is not None:
+            del scenario.__dict__["variants"]
+            scenario.__pydantic_fields_set__.add("variants")
+            scenario.__dict__[_PENDING_VARIANTS] = variants
+        return scenario
+
+    def _complete(self) -> None:
+        read = self.__dict__.get(_PENDING_VARIANTS)
+        if read is not None:
+            self.__dict__["variants"] = read()
+            self.__dict__.pop(_PENDING_VARIANTS, None)
+
+    if not TYPE_CHECKING:  # as pydantic does: a visible ``__getattr__`` would let mypy pass any attribute
+
+        def __getattr__(self, name: str) -> Any:
+            if name == "variants" and _PENDING_VARIANTS in self.__dict__:
+                self._complete()
+                return self.__dict__["variants"]
+            return super().__getattr__(name)
+
+    def model_dump(self, **options: Any) -> dict[str, Any]:
+        """As BaseModel's."""
+        self._complete()
+        return super().model_dump(**options)
+
+    def model_dump_json(self, **options: Any) -> str:
+        """As BaseModel's."""
+        self._complete()
+        return super().model_dump_json(**options)
+
+    def model_copy(self, *, update: Mapping[str, Any] | None = None, deep: bool = False) -> Scenario:
+        """A copy (see BaseModel's); one with fields updated computes its :meth:`content_hash` afresh."""
+        self._complete()
+        copy = super().model_copy(update=update, deep=deep)
+        if update:
+            copy.__dict__.pop(_KNOWN_HASH, None)
+        return copy
+
+    def __eq__(self, other: object) -> bool:
+        self._complete()
+        if isinstance(other, Scenario):
+            other._complete()
+        return super().__eq__(other)
+
+    def __repr_args__(self) -> Any:
+        self._complete()
+        return super().__repr_args__()
+
+
+_KNOWN_HASH = "_content_hash"
+"""Key in a scenario's ``__dict__`` (not a field) of its :meth:`Scenario.content_hash` read from the cache."""
+_PENDING_VARIANTS = "_pending_variants"
+"""Key in a scenario's ``__dict__`` (not a field) of what gives its variants, before they are validated."""
+
+
+def validate_variants(raw: Any) -> list[Variant]:
+    """``raw`` validated as a scenario's ``variants``."""
+    return _variant_list().validate_python(raw)
+
+
+@functools.cache
+def _variant_list() -> TypeAdapter[list[Variant]]:
+    return TypeAdapter(list[Variant])

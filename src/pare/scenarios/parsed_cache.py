@@ -20,6 +20,7 @@ import hashlib
 import json
 import os
 import shutil
+from dataclasses import dataclass
 from datetime import date, datetime, time
 from enum import Enum
 from pathlib import Path
@@ -27,7 +28,7 @@ from typing import Any
 
 from pydantic import ValidationError
 
-from pare.scenarios.model import Scenario
+from pare.scenarios.model import Scenario, Variant, validate_variants
 
 _PACKAGE = Path(__file__).resolve().parents[1]
 
@@ -59,15 +60,39 @@ def _entry(folder: Path, text: str) -> Path:
 
 
 def cached(text: str) -> Scenario | None:
-    """The scenario parsed from ``text`` before, if the cache holds it."""
+    """The scenario parsed from ``text`` before, if the cache holds it.
+
+    An entry is two lines of JSON: the scenario's content hash and its fields but the variants, then its
+    variants, read only when the scenario's variants are (:meth:`Scenario.with_deferred_variants`).
+    """
     folder = cache_folder()
     if folder is None:
         return None
     try:
-        raw = _entry(folder, text).read_text(encoding="utf-8")
-        return Scenario.model_validate(json.loads(raw, object_hook=_untag))
-    except (OSError, ValidationError, ValueError, TypeError):
+        head, _, variants = _entry(folder, text).read_text(encoding="utf-8").partition("\n")
+        entry = json.loads(head, object_hook=_untag)
+        later = _Variants(variants, text) if entry["variants"] else None
+        return Scenario.with_deferred_variants(entry["scenario"], later, entry["hash"])
+    except (OSError, ValidationError, ValueError, TypeError, KeyError):
         return None
+
+
+@dataclass(frozen=True, slots=True)
+class _Variants:
+    """A cache entry's variants as stored, read when asked for (picklable, as a scenario must be); if the
+    entry cannot give them, they are read from the file's text (the cache never stands in the way).
+    """
+
+    stored: str
+    source: str
+
+    def __call__(self) -> list[Variant]:
+        try:
+            return validate_variants(json.loads(self.stored, object_hook=_untag))
+        except (ValidationError, ValueError, TypeError):
+            from pare.scenarios.loader import parse_scenario  # the loader uses this module
+
+            return parse_scenario(self.source).variants
 
 
 def remember(text: str, scenario: Scenario) -> None:
@@ -82,7 +107,10 @@ def remember(text: str, scenario: Scenario) -> None:
             _prune_siblings(folder)
         temporary = entry.with_name(f"{entry.name}.{os.getpid()}.tmp")
         data = scenario.model_dump(exclude_unset=True)
-        temporary.write_text(json.dumps(data, default=_tag, ensure_ascii=False), encoding="utf-8")
+        variants = data.pop("variants", None)
+        head = {"hash": scenario.content_hash(), "variants": variants is not None, "scenario": data}
+        lines = [json.dumps(part, default=_tag, ensure_ascii=False) for part in (head, variants)]
+        temporary.write_text("\n".join(lines), encoding="utf-8")
         os.replace(temporary, entry)
     except OSError:
         return

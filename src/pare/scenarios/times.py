@@ -23,6 +23,9 @@ _OFFSET = re.compile(r"^([+-])((?:\d+[dhms])+)$")
 _DAY = re.compile(r"^day(?:\s*([+-])\s*(\d+))?\s+(\d{1,2}):(\d{2})(?::(\d{2}))?$")
 
 
+_RELATIVE_STARTS = frozenset("+-d")
+
+
 class TimeFormatError(ValueError):
     """A time or duration that cannot be read; the message says which forms are accepted."""
 
@@ -54,6 +57,10 @@ def _sum_parts(text: str) -> timedelta:
 
 def is_relative_time(text: str) -> bool:
     """Whether ``text`` is written relative to the start (``+15m``, ``day+1 09:00``)."""
+    # Both forms begin with "+", "-" or "day": most text (every string of the seed data is asked) is
+    # told apart by its first character, without stripping or matching.
+    if text[:1] not in _RELATIVE_STARTS and text.lstrip()[:1] not in _RELATIVE_STARTS:
+        return False
     stripped = text.strip()
     return bool(_OFFSET.match(stripped.replace(" ", "")) or _DAY.match(stripped))
 
@@ -99,7 +106,7 @@ def resolve_relative_times(data: Any, start: datetime) -> Any:
         return (data if data.tzinfo else data.replace(tzinfo=UTC)).isoformat()
     if isinstance(data, date):
         return data.isoformat()
-    if isinstance(data, Mapping):
+    if type(data) is dict or isinstance(data, Mapping):  # a dict without the slower check for a mapping
         return {key: resolve_relative_times(value, start) for key, value in data.items()}
     if isinstance(data, list):
         return [resolve_relative_times(value, start) for value in data]
