@@ -105,3 +105,14 @@ def test_a_value_at_the_edge_of_a_prompt_is_refused() -> None:
     with pytest.raises(SimulationBug):
         prompts._Skeleton.of("the start, then \x00hole:goal\x00\n")
     assert prompts._Skeleton.of("a \x00hole:goal\x00 b").fill({"goal": " x "}) == "a  x  b\n"
+
+
+def test_each_phone_s_prompts_list_its_own_apps() -> None:
+    # the app lines are made once per set of apps, and the skeletons are keyed by them
+    for apps in (*PHONES, ["calendar", "email"]):
+        env = _env(apps, 9)
+        shown = ["files", *apps]  # the core apps first; of those only Files is listed
+        listed = user_system_prompt(env).split("## Your phone\n")[1].split("\n- On the home screen")[0]
+        assert [line.split(":")[0] for line in listed.splitlines()] == [f"- {app}" for app in shown]
+        execute = execute_system_prompt(env, Task("Do it.", "", "proposal-1"), max_steps=10)
+        assert f"Apps on this phone: {', '.join(shown)}." in execute

@@ -29,9 +29,11 @@ from pare.sim.notifications import DetailLevel
 TEMPLATES = Path(__file__).parent / "templates"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class AppLine:
-    """An app as a prompt lists it."""
+    """An app as a prompt lists it; made once per set of app classes (:func:`_apps`), so compared, and
+    hashed in the prompts' cache keys, by identity.
+    """
 
     name: str
     description: str
@@ -100,12 +102,25 @@ def _start(env: Environment) -> str:
     return env.clock.start.strftime("%A %Y-%m-%d %H:%M")
 
 
+_APP_LINES: dict[tuple[type[App], ...], tuple[AppLine, ...]] = {}
+
+
+def _phone(env: Environment) -> tuple[type[App], ...]:
+    """The phone's app classes: what the apps and tools a prompt lists depend on (class attributes)."""
+    return tuple(type(app) for app in env.apps.values())
+
+
 def _apps(env: Environment) -> tuple[AppLine, ...]:
-    return tuple(
-        AppLine(app.name, app.description)
-        for app in env.apps.values()
-        if app.name not in CORE_APPS or app.name == "files"
-    )
+    """The apps a prompt lists, made once per set of apps."""
+    key = _phone(env)
+    lines = _APP_LINES.get(key)
+    if lines is None:
+        lines = _APP_LINES[key] = tuple(
+            AppLine(app.name, app.description)
+            for app in env.apps.values()
+            if app.name not in CORE_APPS or app.name == "files"
+        )
+    return lines
 
 
 def _first_sentence(text: str) -> str:
@@ -153,7 +168,7 @@ def _assistant_tool_lists(env: Environment) -> _AssistantToolLists:
     per set of app classes too), so every episode on the same phone lists the same tools; the lists
     are text, so episodes can share them.
     """
-    key = tuple(type(app) for app in env.apps.values())
+    key = _phone(env)
     lists = _ASSISTANT_TOOL_LISTS.get(key)
     if lists is None:
         lists = _AssistantToolLists(
