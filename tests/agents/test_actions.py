@@ -568,3 +568,20 @@ def test_arguments_given_as_a_json_string_get_no_lone_surrogate() -> None:
     parsed = parse_action(text)
     assert parsed.args == {"content": "hi \ufffd there"}
     parsed.args["content"].encode("utf-8")
+
+
+@pytest.mark.parametrize(
+    ("written", "read"),
+    [
+        ('"hi \\ud800 there"', "hi \ufffd there"),  # an escaped lone surrogate
+        ('"hi \ud800 there"', "hi \ufffd there"),  # one written as is
+        ('"\\ud83d\\ude00 and \\u00e9"', "\U0001f600 and \u00e9"),  # escapes of a pair and of a letter
+        ('"plain"', "plain"),
+    ],
+)
+def test_the_action_json_gets_no_lone_surrogate_in_values_or_keys(written: str, read: str) -> None:
+    arguments = f'{{"body": {written}, {written}: [{written}]}}'
+    text = f'Action:\n{{"action": "notes__create", "action_input": {arguments}}}'
+    parsed = parse_action(text)
+    assert parsed.args == {"body": read, read: [read]}
+    json.dumps(parsed.args, ensure_ascii=False).encode("utf-8")

@@ -44,3 +44,15 @@ def test_the_order_is_the_same_in_every_process() -> None:
         outputs.add(done.stdout)
     assert len(outputs) == 1
     assert json.loads(outputs.pop()) == state_changes(BEFORE, AFTER)
+
+
+def test_only_the_parts_that_changed_are_written_deepest_first() -> None:
+    # unchanged parts of a changed record are left out; a part that changed its type is replaced whole
+    before = {"shop": {"orders": [{"id": "o1", "items": [1, 2]}, {"id": "o2", "n": 1}], "tags": {"a": 1}}}
+    after = {"shop": {"orders": [{"id": "o1", "items": [1, 3, 4]}, {"id": "o2", "n": 1}], "tags": [1]}}
+    assert state_changes(before, after) == [
+        {"op": "replace", "path": "/shop/orders/0/items/1", "value": 3},
+        {"op": "add", "path": "/shop/orders/0/items/2", "value": 4},
+        {"op": "replace", "path": "/shop/tags", "value": [1]},
+    ]
+    assert jsonpatch.apply_patch(before, state_changes(before, after)) == after

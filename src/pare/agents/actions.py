@@ -49,7 +49,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, NoReturn
 
-from pare.agents.models.text import valid_json_value
+from pare.agents.models.text import may_hold_lone_surrogate, valid_json_value
 from pare.agents.policy import Action
 from pare.errors import ActionFormatError, did_you_mean
 
@@ -198,7 +198,8 @@ def parse_action(text: str) -> ParsedAction:
             "right after Action:.",
         )
     start = opening.start()
-    if any(marker.end() <= other.start() < start for other in actions[1:]):
+    several = len(actions) > 1  # most answers have one Action: (the one before the JSON): nothing to look at
+    if several and any(marker.end() <= other.start() < start for other in actions[1:]):
         _multiple_actions()
     if text[start] == "[":
         _fail(
@@ -210,9 +211,9 @@ def parse_action(text: str) -> ParsedAction:
     call, end = _decode_object(text, start, observations)
 
     # After the JSON: no second call, whether under another Action: or as another object.
-    cut_match = _first_at_or_after(observations, end)
+    cut_match = _first_at_or_after(observations, end) if observations else None
     cut = cut_match.start() if cut_match else len(text)
-    if any(end <= other.start() < cut for other in actions):
+    if several and any(end <= other.start() < cut for other in actions):
         _multiple_actions()
     tail_end = _END_RE.search(text, end, cut)
     brace = text.find("{", end, tail_end.start() if tail_end else cut)
@@ -283,8 +284,9 @@ def _decode_object(text: str, start: int, observations: Sequence[re.Match[str]])
         _fail("invalid_json", "Your Action JSON is nested too deeply to read.")
     except ValueError as exc:  # e.g. an integer with too many digits
         _fail("invalid_json", f"Your Action JSON could not be read: {exc}.")
-    # An escape such as "\\ud800" decodes to a lone surrogate, which no file of the run could hold.
-    return valid_json_value(value), end
+    # An escape such as "\\ud800" decodes to a lone surrogate, which no file of the run could hold; the
+    # clean-up (which rebuilds every object and array) is left out for JSON that cannot hold one.
+    return (valid_json_value(value) if may_hold_lone_surrogate(text, start, end) else value), end
 
 
 def _invalid_json(
@@ -384,7 +386,9 @@ def _thought(before: str) -> str:
     label = _THOUGHT_RE.search(before)
     if label is not None:
         before = before[label.end() :]
-    return _OPEN_FENCE_AT_END_RE.sub("", before).strip()
+    if "```" in before:  # what the fence pattern needs: most thoughts have none
+        before = _OPEN_FENCE_AT_END_RE.sub("", before)
+    return before.strip()
 
 
 def format_action(tool: str, args: Mapping[str, Any] | None = None, thought: str = "") -> str:

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import functools
 import json
+import re
+from collections.abc import Hashable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -20,15 +22,18 @@ from pare.agents.policy import ASSISTANT_WAIT, SEND_MESSAGE, Task
 from pare.apps.base import App
 from pare.apps.registry import CORE_APPS
 from pare.env import Environment, NamedTool
+from pare.errors import SimulationBug
 from pare.sim.budget import DEFAULT_BUDGET, TurnBudget
 from pare.sim.notifications import DetailLevel
 
 TEMPLATES = Path(__file__).parent / "templates"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class AppLine:
-    """An app as a prompt lists it."""
+    """An app as a prompt lists it; made once per set of app classes (:func:`_apps`), so compared, and
+    hashed in the prompts' cache keys, by identity.
+    """
 
     name: str
     description: str
@@ -66,6 +71,26 @@ def example_answer(thought: str, tool: str, args: dict[str, Any]) -> str:
     return f"Thought: {thought}\n\nAction:\n{action}<end_action>"
 
 
+_EXAMPLES = {
+    "user": example_answer(
+        "A new email notification came in; I want to read it, so I open the email app.",
+        "open_app",
+        {"app_name": "email"},
+    ),
+    "observe": example_answer(
+        "The user received an invitation for Friday; I check the calendar for that day before proposing.",
+        "calendar__get_calendar_events_from_to",
+        {"start_datetime": "2025-03-07 00:00:00", "end_datetime": "2025-03-07 23:59:00"},
+    ),
+    "execute": example_answer(
+        "I need the email's sender and id before I reply.",
+        "email__search_emails",
+        {"query": "dinner friday"},
+    ),
+}
+"""The example answer each role's prompt shows."""
+
+
 def _now(env: Environment) -> str:
     return env.clock.now.strftime("%A %Y-%m-%d %H:%M")
 
@@ -77,12 +102,25 @@ def _start(env: Environment) -> str:
     return env.clock.start.strftime("%A %Y-%m-%d %H:%M")
 
 
-def _apps(env: Environment) -> list[AppLine]:
-    return [
-        AppLine(app.name, app.description)
-        for app in env.apps.values()
-        if app.name not in CORE_APPS or app.name == "files"
-    ]
+_APP_LINES: dict[tuple[type[App], ...], tuple[AppLine, ...]] = {}
+
+
+def _phone(env: Environment) -> tuple[type[App], ...]:
+    """The phone's app classes: what the apps and tools a prompt lists depend on (class attributes)."""
+    return tuple(type(app) for app in env.apps.values())
+
+
+def _apps(env: Environment) -> tuple[AppLine, ...]:
+    """The apps a prompt lists, made once per set of apps."""
+    key = _phone(env)
+    lines = _APP_LINES.get(key)
+    if lines is None:
+        lines = _APP_LINES[key] = tuple(
+            AppLine(app.name, app.description)
+            for app in env.apps.values()
+            if app.name not in CORE_APPS or app.name == "files"
+        )
+    return lines
 
 
 def _first_sentence(text: str) -> str:
@@ -130,7 +168,7 @@ def _assistant_tool_lists(env: Environment) -> _AssistantToolLists:
     per set of app classes too), so every episode on the same phone lists the same tools; the lists
     are text, so episodes can share them.
     """
-    key = tuple(type(app) for app in env.apps.values())
+    key = _phone(env)
     lists = _ASSISTANT_TOOL_LISTS.get(key)
     if lists is None:
         lists = _AssistantToolLists(
@@ -176,21 +214,14 @@ def user_system_prompt(
     budget: TurnBudget = DEFAULT_BUDGET,
 ) -> str:
     """The user simulator's system prompt for ``env``, with the scenario's persona and hidden goal."""
-    example = example_answer(
-        "A new email notification came in; I want to read it, so I open the email app.",
-        "open_app",
-        {"app_name": "email"},
-    )
     return _render(
         "user.j2",
         native_tools,
+        {"start": _start(env), "persona": persona, "goal": goal},
         apps=_apps(env),
-        start=_start(env),
         budget=budget,
         notification_policy=_user_notifications(env),
-        persona=persona,
-        goal=goal,
-        example=example,
+        example=_EXAMPLES["user"],
     )
 
 
@@ -198,47 +229,86 @@ def observe_system_prompt(
     env: Environment, *, native_tools: bool = False, budget: TurnBudget = DEFAULT_BUDGET
 ) -> str:
     """The assistant's system prompt in observe mode."""
-    example = example_answer(
-        "The user received an invitation for Friday; I check the calendar for that day before proposing.",
-        "calendar__get_calendar_events_from_to",
-        {"start_datetime": "2025-03-07 00:00:00", "end_datetime": "2025-03-07 23:59:00"},
-    )
     return _render(
         "observe.j2",
         native_tools,
+        {"start": _start(env)},
         apps=_apps(env),
-        start=_start(env),
         budget=budget,
         notification_policy=_assistant_notifications(env),
         propose_tool=SEND_MESSAGE,
         wait_tool=ASSISTANT_WAIT,
         tools=_assistant_tool_lists(env).observe,
         execute_tools=_assistant_tool_lists(env).execute_only,
-        example=example,
+        example=_EXAMPLES["observe"],
     )
 
 
 def execute_system_prompt(env: Environment, task: Task, *, max_steps: int, native_tools: bool = False) -> str:
     """The assistant's system prompt in execute mode, holding the accepted task and the user's answer."""
-    example = example_answer(
-        "I need the email's sender and id before I reply.",
-        "email__search_emails",
-        {"query": "dinner friday"},
-    )
     return _render(
         "execute.j2",
         native_tools,
+        {"now": _now(env), "proposal": task.proposal, "answer": task.answer},
         apps=_apps(env),
-        now=_now(env),
-        proposal=task.proposal,
-        answer=task.answer,
         report_tool=SEND_MESSAGE,
         max_steps=max_steps,
         tools=_assistant_tool_lists(env).execute,
-        example=example,
+        example=_EXAMPLES["execute"],
     )
 
 
-def _render(template: str, native_tools: bool, **context: Any) -> str:
-    text = _templates().get_template(template).render(native_tools=native_tools, **context)
-    return text.strip() + "\n"
+_HOLE = "\x00hole:{}\x00"
+"""What a skeleton holds in place of a per-episode value: a text no template or tool list contains."""
+_HOLE_RE = re.compile("\x00hole:(\\w+)\x00")
+
+
+@dataclass(frozen=True, slots=True)
+class _Skeleton:
+    """A prompt rendered with a hole for each per-episode value: the text around the holes (one more
+    piece than holes) and the name of each hole, in order.
+    """
+
+    pieces: tuple[str, ...]
+    holes: tuple[str, ...]
+
+    @classmethod
+    def of(cls, text: str) -> _Skeleton:
+        split = _HOLE_RE.split(text.strip() + "\n")
+        pieces, holes = tuple(split[0::2]), tuple(split[1::2])
+        # at the edge of the prompt, a value's own surrounding whitespace would be stripped by _render
+        if holes and not (pieces[0] and pieces[-1].strip()):
+            raise SimulationBug(f"a prompt template starts or ends with a per-episode value: {holes}")
+        return cls(pieces, holes)
+
+    def fill(self, values: Mapping[str, str]) -> str:
+        parts = [self.pieces[0]]
+        for hole, piece in zip(self.holes, self.pieces[1:], strict=True):
+            parts.append(values[hole])
+            parts.append(piece)
+        return "".join(parts)
+
+
+_SKELETONS: dict[tuple[Any, ...], _Skeleton] = {}
+
+
+def _render(template: str, native_tools: bool, values: Mapping[str, str | None], **context: Hashable) -> str:
+    """``template`` rendered with ``context`` and ``values``.
+
+    Rendering a template is most of what starting an episode's conversations costs, and most of a
+    prompt is the same for every episode on the same phone with the same settings (``context``): it is
+    rendered once for those as a skeleton, with a hole for each per-episode value (``values``: the start
+    time, the persona and goal, the task), which each episode fills in. A template only tests whether
+    a value is given (``{% if goal %}``), so a value left out renders as itself, and which values are
+    given is part of the skeleton's key.
+    """
+    given: dict[str, str] = {name: value for name, value in values.items() if value}
+    # a value left out is part of the key as itself (None or ""), one given only as given
+    shape = tuple((name, True if value else value) for name, value in values.items())
+    key = (template, native_tools, tuple(context.items()), shape)
+    skeleton = _SKELETONS.get(key)
+    if skeleton is None:
+        holes = {name: (_HOLE.format(name) if value else value) for name, value in values.items()}
+        text = _templates().get_template(template).render(native_tools=native_tools, **context, **holes)
+        skeleton = _SKELETONS[key] = _Skeleton.of(text)
+    return skeleton.fill(given)

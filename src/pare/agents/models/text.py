@@ -20,6 +20,15 @@ def valid_text(text: str) -> str:
     return _LONE_SURROGATE.sub(REPLACEMENT, text) if _LONE_SURROGATE.search(text) else text
 
 
+def may_hold_lone_surrogate(json_text: str, start: int, end: int) -> bool:
+    """Whether the JSON in ``json_text[start:end]`` may decode to a lone surrogate: only a surrogate
+    written as is, or a backslash-u escape (of one, or of a pair), can put one in a decoded value.
+    """
+    return (
+        json_text.find("\\u", start, end) != -1 or _LONE_SURROGATE.search(json_text, start, end) is not None
+    )
+
+
 def valid_json_value(value: Any) -> Any:
     """Return a decoded JSON value with :func:`valid_text` applied to every string in it, keys included."""
     if isinstance(value, str):
