@@ -1,6 +1,9 @@
 from __future__ import annotations
 
+from collections import UserDict
+from collections.abc import Mapping
 from datetime import UTC, datetime, timedelta
+from datetime import date as Date
 
 import pytest
 from hypothesis import given, settings
@@ -90,7 +93,6 @@ def test_dates_and_times_yaml_read_as_such_become_iso_text() -> None:
     """An unquoted timestamp in a tool's arguments must not reach the log as a datetime (the trajectory
     would not be JSON)."""
     import json
-    from datetime import date as Date
 
     from pare.scenarios.times import resolve_relative_times
 
@@ -132,3 +134,56 @@ def _relative_by_patterns(text: str) -> bool:
 )
 def test_is_relative_time_gives_what_the_patterns_give(text: str) -> None:
     assert is_relative_time(text) is _relative_by_patterns(text)
+
+
+def _resolved_by_the_type_chain(data: object, start: datetime) -> object:
+    """resolve_relative_times as first written (every value through the chain of isinstance checks)."""
+    if isinstance(data, str):
+        return parse_time(data, start).isoformat() if _relative_by_patterns(data) else data
+    if isinstance(data, datetime):
+        return (data if data.tzinfo else data.replace(tzinfo=UTC)).isoformat()
+    if isinstance(data, Date):
+        return data.isoformat()
+    if isinstance(data, Mapping):
+        return {key: _resolved_by_the_type_chain(value, start) for key, value in data.items()}
+    if isinstance(data, list):
+        return [_resolved_by_the_type_chain(value, start) for value in data]
+    return data
+
+
+class _Text(str):
+    pass
+
+
+class _Table(UserDict[str, object]):
+    pass
+
+
+_SEED_LEAVES = st.one_of(
+    st.none(),
+    st.booleans(),
+    st.integers(),
+    st.floats(allow_nan=False),
+    st.sampled_from(["+15m", " -2h", "day+1 09:30", "\tday 14:00", "dinner", "", " ", "d", "+", "x-1"]),
+    st.text(max_size=6),
+    st.builds(_Text, st.sampled_from(["+1h", "lunch"])),
+    st.datetimes(timezones=st.sampled_from([UTC, None])),
+    st.dates(),
+    st.tuples(st.integers()),
+)
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    st.recursive(
+        _SEED_LEAVES,
+        lambda children: st.one_of(
+            st.lists(children, max_size=4),
+            st.dictionaries(st.text(max_size=3), children, max_size=4),
+            st.builds(_Table, st.dictionaries(st.text(max_size=3), children, max_size=3)),
+        ),
+        max_leaves=20,
+    )
+)
+def test_resolving_seed_data_gives_what_the_type_chain_gives(data: object) -> None:
+    assert resolve_relative_times(data, START) == _resolved_by_the_type_chain(data, START)

@@ -24,6 +24,8 @@ _DAY = re.compile(r"^day(?:\s*([+-])\s*(\d+))?\s+(\d{1,2}):(\d{2})(?::(\d{2}))?$
 
 
 _RELATIVE_STARTS = frozenset("+-d")
+_PLAIN_LEAVES = frozenset({int, float, bool, type(None)})
+"""Types of seed values that are never times: left as they are."""
 
 
 class TimeFormatError(ValueError):
@@ -59,7 +61,8 @@ def is_relative_time(text: str) -> bool:
     """Whether ``text`` is written relative to the start (``+15m``, ``day+1 09:00``)."""
     # Both forms begin with "+", "-" or "day": most text (every string of the seed data is asked) is
     # told apart by its first character, without stripping or matching.
-    if text[:1] not in _RELATIVE_STARTS and text.lstrip()[:1] not in _RELATIVE_STARTS:
+    first = text[:1]
+    if first not in _RELATIVE_STARTS and not (first.isspace() and text.lstrip()[:1] in _RELATIVE_STARTS):
         return False
     stripped = text.strip()
     return bool(_OFFSET.match(stripped.replace(" ", "")) or _DAY.match(stripped))
@@ -100,13 +103,24 @@ def resolve_relative_times(data: Any, start: datetime) -> Any:
     times YAML read as such (an unquoted ``2026-04-23T09:00:00Z``) become ISO text too (UTC when written
     without a zone), so the arguments recorded in the log and the trajectory are JSON.
     """
+    # Seed data is a tree of plain dicts, lists, strings and numbers, walked whole for the first episode of
+    # every scenario: those are told by their exact type, the rest by the checks below.
+    kind = type(data)
+    if kind is str:
+        return parse_time(data, start).isoformat() if is_relative_time(data) else data
+    if kind is dict:
+        return {key: resolve_relative_times(value, start) for key, value in data.items()}
+    if kind is list:
+        return [resolve_relative_times(value, start) for value in data]
+    if kind in _PLAIN_LEAVES:
+        return data
     if isinstance(data, str):
         return parse_time(data, start).isoformat() if is_relative_time(data) else data
     if isinstance(data, datetime):  # YAML reads an unquoted timestamp as one: arguments stay JSON text
         return (data if data.tzinfo else data.replace(tzinfo=UTC)).isoformat()
     if isinstance(data, date):
         return data.isoformat()
-    if type(data) is dict or isinstance(data, Mapping):  # a dict without the slower check for a mapping
+    if isinstance(data, Mapping):
         return {key: resolve_relative_times(value, start) for key, value in data.items()}
     if isinstance(data, list):
         return [resolve_relative_times(value, start) for value in data]
