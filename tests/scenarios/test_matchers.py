@@ -1,5 +1,6 @@
 from __future__ import annotations
 
+import pickle
 from collections.abc import Mapping
 from datetime import UTC, date, datetime, time
 from types import MappingProxyType
@@ -9,7 +10,20 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pare.scenarios.matchers import MatcherError, _frozen, compile_matcher
+from pare.scenarios.matchers import (
+    Matcher,
+    MatcherError,
+    _contains,
+    _contains_any,
+    _frozen,
+    _leaves,
+    _operator_check,
+    _text,
+    _time,
+    compile_matcher,
+)
+from pare.scenarios.meaning import has_word, normalise_quotes
+from pare.scenarios.times import TimeFormatError, parse_time
 
 START = datetime(2025, 3, 3, 9, 0, tzinfo=UTC)
 
@@ -172,3 +186,119 @@ _VALUES = st.recursive(
 def test_the_cache_key_of_a_matcher_is_the_one_isinstance_gives(raw: Any) -> None:
     assert _frozen(raw) == _frozen_by_isinstance(raw)
     assert type(_frozen(raw)) is type(_frozen_by_isinstance(raw))
+
+
+def _test_as_written(matcher: Matcher, value: Any, start: datetime) -> bool:
+    """A matcher's test as first written (one loop over its operators' checks), to hold the test made
+    for each matcher's shape to."""
+    if matcher.fields:
+        if isinstance(value, list):
+            return any(_test_as_written(matcher, item, start) for item in value)
+        if not isinstance(value, Mapping):
+            return False
+        return all(_test_as_written(field, value.get(key), start) for key, field in matcher.fields)
+    for name, expected in matcher.operators:
+        check, prepared, needs_value = _operator_check(name, expected)
+        if (needs_value and value is None) or not check(prepared, value, start):
+            return False
+    return True
+
+
+def _time_as_written(value: Any, start: datetime) -> datetime | None:
+    if isinstance(value, datetime):
+        return value if value.tzinfo else value.replace(tzinfo=UTC)
+    if not isinstance(value, str):
+        return None
+    try:
+        return parse_time(value, start)
+    except TimeFormatError:
+        return None
+
+
+_RAW_MATCHERS = [
+    "email-1",
+    3,
+    True,
+    None,
+    "day+1 10:00",
+    datetime(2025, 3, 4, 10, 0),
+    ["a", "b"],
+    {"equals": "a"},
+    {"contains": "thursday"},
+    {"contains": ["thu*", "8"]},
+    {"contains": "it's"},
+    {"contains_any": ["2pm", "14:00", "a b"]},
+    {"affirms": "thursday"},
+    {"declines": True},
+    {"mentions_day": "day+3"},
+    {"mentions_clock": "18:15"},
+    {"mentions_time": "day+3 18:15"},
+    {"regex": "^a"},
+    {"one_of": ["a", 3, "day+1 10:00"]},
+    {"same_set": ["A", "b"]},
+    {"min": 2},
+    {"max": 5.5},
+    {"after": "day+1 00:00"},
+    {"before": "day+1 23:59"},
+    {"after": "day+1 00:00", "before": "day+1 23:59"},
+    {"present": True},
+    {"present": False},
+    {"not": {"contains": "x"}},
+    {"not": "a"},
+    {"any_of": [{"contains": "a"}, {"min": 3}]},
+    {"contains": "a", "not": {"contains": "b"}},
+    {"title": {"contains": "a"}},
+    {"title": "a", "n": {"min": 2}},
+    {"item": {"title": "a"}},
+]
+_WORDS = st.sampled_from(
+    ["a", "b", "A b", "thursday", "Thu 8", "it\u2019s", "2pm", "14:00", "x", "can't make it", "", "3", " b "]
+)
+_JSON = st.recursive(
+    st.one_of(
+        st.none(),
+        st.booleans(),
+        st.integers(-3, 8),
+        st.floats(allow_nan=False),
+        _WORDS,
+        st.text(max_size=6),
+        st.sampled_from(["2025-03-04T10:00:00Z", "2025-03-04 10:00", "day+1 10:00", "2025-03-04T12:00:00"]),
+        st.datetimes(min_value=datetime(2025, 3, 1), max_value=datetime(2025, 3, 9)),
+        st.builds(_Text, _WORDS),
+    ),
+    lambda inner: st.one_of(
+        st.lists(inner, max_size=3),
+        st.dictionaries(st.sampled_from(["title", "n", "item", "x"]), inner, max_size=3),
+        st.dictionaries(st.sampled_from(["title", "n"]), inner, max_size=2).map(MappingProxyType),
+    ),
+    max_leaves=8,
+)
+
+
+@settings(max_examples=1500, deadline=None)
+@given(st.sampled_from(_RAW_MATCHERS), _JSON)
+def test_a_matchers_test_gives_the_verdict_of_its_operators_checks(raw: Any, value: Any) -> None:
+    """The test made for a matcher's shape (fields, one operator, several) is the loop it replaces."""
+    matcher = compile_matcher(raw)
+    assert matcher.test(value, START) is _test_as_written(matcher, value, START)
+
+
+@settings(max_examples=500, deadline=None)
+@given(_JSON)
+def test_times_and_texts_are_read_as_before(value: Any) -> None:
+    """The exact-type shortcuts read what the isinstance chains read."""
+    assert _time(value, START) == _time_as_written(value, START)
+    if isinstance(value, str):
+        assert normalise_quotes(value) == value.replace("\u2019", "'").replace("\u2018", "'")
+    pieces = ("a", "thu*", "it's", "a b", "14:00")
+    texts = [_text(item) for item in _leaves(value)]
+    assert _contains(pieces[:2], value, START) is all(any(has_word(t, p) for t in texts) for p in pieces[:2])
+    assert _contains_any(pieces, value, START) is any(has_word(t, p) for p in pieces for t in texts)
+
+
+def test_a_compiled_matcher_survives_pickling() -> None:
+    """Its test is a closure, made again when the matcher is unpickled."""
+    matcher = compile_matcher({"title": {"contains": "a"}, "n": {"min": 2}})
+    again = pickle.loads(pickle.dumps(matcher))
+    assert again == matcher and again.test({"title": "a b", "n": 2}, START)
+    assert not again.test({"title": "a b", "n": 1}, START)

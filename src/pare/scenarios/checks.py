@@ -11,6 +11,7 @@ from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, fields
 from datetime import datetime
+from types import MappingProxyType
 from typing import Any
 
 from pare.env.attribution import Attribution, StatePath, item_key, place_of
@@ -128,11 +129,10 @@ def evaluate(
     for goal, rules in compiled_goals(scenario).goals:
         results = []
         for index, rule in enumerate(rules):
-            check = rule.check
             passed, detail = rule.verdict(context)
             user_made = not passed and rule.on_the_assistant and rule.verdict(credited)[0]
             results.append(
-                CheckResult(goal.id, index, check.form, passed, detail, check.description, user_made)
+                CheckResult(goal.id, index, rule.form, passed, detail, rule.description, user_made)
             )
         goals.append(GoalResult(goal.id, goal.description, all(r.passed for r in results), tuple(results)))
     success = all(goal.passed for goal in goals)
@@ -156,15 +156,28 @@ def goals_met(
     return all(rule.verdict(context)[0] for rule in compiled_goals(scenario).cheapest_first)
 
 
-@dataclass(frozen=True, slots=True)
 class _Context:
-    start: datetime
-    log: Sequence[LogEntry]
-    state: _StateView
-    attribution: Attribution
-    judge: Judge | None
-    credit_user: bool = False
-    """Count the user's own work as the assistant's (to tell whether the user did the task by hand)."""
+    """What the checks of one evaluation read (a plain class: two are made for every evaluation)."""
+
+    __slots__ = ("attribution", "credit_user", "judge", "log", "start", "state")
+
+    def __init__(
+        self,
+        start: datetime,
+        log: Sequence[LogEntry],
+        state: _StateView,
+        attribution: Attribution,
+        judge: Judge | None,
+        *,
+        credit_user: bool = False,
+    ) -> None:
+        self.start = start
+        self.log = log
+        self.state = state
+        self.attribution = attribution
+        self.judge = judge
+        self.credit_user = credit_user
+        """Count the user's own work as the assistant's (to tell whether the user did the task by hand)."""
 
     def makers(self, actor: Actor) -> frozenset[Actor]:
         if self.credit_user and actor == "assistant":
@@ -186,7 +199,7 @@ class _StateView:
         self._source = state
         self._state: Mapping[str, Any] | None = None
         self._values: dict[str, Any] = {}
-        self._items: dict[str, list[tuple[str, Any]] | None] = {}
+        self._items: dict[str, list[tuple[str, Any, Mapping[str, Any]]] | None] = {}
         self._places: dict[str, StatePath | None] = {}
 
     @property
@@ -203,8 +216,10 @@ class _StateView:
             self._values[path] = lookup(self.state, path)
         return self._values[path]
 
-    def items(self, path: str) -> list[tuple[str, Any]] | None:
-        """The collection at ``path`` as (key, item) pairs, or ``None`` when it is not a collection."""
+    def items(self, path: str) -> list[tuple[str, Any, Mapping[str, Any]]] | None:
+        """The collection at ``path`` as (key, item, record) triples, or ``None`` when it is not a
+        collection. The record is the item if it is a mapping, else empty: what ``where`` fields read.
+        """
         if path not in self._items:
             value = self.value(path)
             items: list[tuple[str, Any]] | None = None
@@ -212,7 +227,7 @@ class _StateView:
                 items = [(str(key), item) for key, item in value.items()]
             elif isinstance(value, list):
                 items = [(item_key(item), item) for item in value]
-            self._items[path] = items
+            self._items[path] = None if items is None else [(key, item, _record(item)) for key, item in items]
         return self._items[path]
 
     def place(self, path: str) -> StatePath | None:
@@ -253,6 +268,8 @@ class _Rule(ABC):
     def __init__(self, check: Check) -> None:
         self.check = check
         self.on_the_assistant = _on_the_assistant(check)
+        self.form = check.form
+        self.description = check.description
 
     @abstractmethod
     def verdict(self, context: _Context) -> tuple[bool, str]:
@@ -330,8 +347,8 @@ class _StateRule(_Rule):
                 False,
                 f"{check.path} is not a collection (it is {type(value).__name__}); use 'value' to match it",
             )
-        where = self.where
-        matching = [(key, item) for key, item in items if where.test(item, start, key)]
+        test = self.where.test
+        matching = [(key, item) for key, item, record in items if test(record, key, start)]
         detail = f"{check.path}: {len(matching)} of {len(items)} items match {self.condition}"
         if makers is not None:
             place = view.place(check.path) or ()
@@ -447,21 +464,33 @@ class _Missing:
 MISSING = _Missing()
 
 
+_NO_FIELDS: Mapping[str, Any] = MappingProxyType({})
+
+
+def _record(item: Any) -> Mapping[str, Any]:
+    """What an item's fields are read from: the item if it is a mapping, else nothing."""
+    return item if type(item) is dict or isinstance(item, Mapping) else _NO_FIELDS
+
+
 class _ItemCondition:
     """A state check's ``where``: every field's matcher holds, and of an ``any_of`` list one mapping does."""
 
     def __init__(self, where: Mapping[str, Any]) -> None:
         self.fields = tuple((name, compile_matcher(raw)) for name, raw in where.items() if name != WHERE_ANY)
         self.alternatives = tuple(_ItemCondition(item) for item in where.get(WHERE_ANY, ()))
-        self.cheapest_first = tuple(sorted(self.fields, key=lambda field: field[1].cost))
-        """The fields in the order they are tested: most items fail a cheap comparison of one field."""
+        cheapest_first = sorted(self.fields, key=lambda field: field[1].cost)
+        self.tests = tuple(
+            (None if name == WHERE_KEY else name, matcher.test) for name, matcher in cheapest_first
+        )
+        """Each field's test (its name, ``None`` for the item's key), in the order they are run: most
+        items fail a cheap comparison of one field."""
 
-    def test(self, item: Any, start: datetime, key: str) -> bool:
-        record = item if isinstance(item, Mapping) else {}
-        for name, matcher in self.cheapest_first:  # a loop, not all(): it runs for every item of every check
-            if not matcher.test(key if name == WHERE_KEY else record.get(name), start):
+    def test(self, record: Mapping[str, Any], key: str, start: datetime) -> bool:
+        """Whether the item of this ``record`` (:func:`_record`) and ``key`` meets the condition."""
+        for name, test in self.tests:  # a loop, not all(): it runs for every item of every check
+            if not test(key if name is None else record.get(name), start):
                 return False
-        return not self.alternatives or any(option.test(item, start, key) for option in self.alternatives)
+        return not self.alternatives or any(option.test(record, key, start) for option in self.alternatives)
 
     def describe(self) -> str:
         parts = [f"{name}: {matcher.describe()}" for name, matcher in self.fields]

@@ -20,7 +20,7 @@ import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from datetime import UTC, date, datetime, time
-from functools import lru_cache
+from functools import lru_cache, partial
 from typing import Any
 
 from pare.scenarios import meaning
@@ -82,33 +82,28 @@ Check = Callable[[Any, Any, datetime], bool]
 """One operator's test, chosen when the matcher is compiled: ``check(prepared, value, start)``."""
 
 
+Test = Callable[[Any, datetime], bool]
+"""A compiled matcher's test: ``test(value, start)``."""
+
+
 @dataclass(frozen=True, slots=True)
 class Matcher:
     """A compiled matcher: ``test(value, start)`` says whether ``value`` is accepted."""
 
     operators: tuple[tuple[str, Any], ...] = ()
     fields: tuple[tuple[str, Matcher], ...] = ()
-    _checks: tuple[tuple[Check, Any, bool], ...] = field(init=False, repr=False, compare=False)
-    """Each operator's test with what it compares against, prepared once (whether an expected text is a
-    time, a set to compare with), and whether it refuses a missing value: testing a value only runs them.
+    test: Test = field(init=False, repr=False, compare=False)
+    """Whether a value is accepted; relative times are resolved against the start. A function made for
+    the matcher's shape when it is compiled (see :func:`_tester`): checks run it for every log entry and
+    every item of the state, so it does only what this matcher needs.
     """
 
     def __post_init__(self) -> None:
-        checks = tuple(_operator_check(name, expected) for name, expected in self.operators)
-        object.__setattr__(self, "_checks", checks)
+        object.__setattr__(self, "test", _tester(self.operators, self.fields))
 
-    def test(self, value: Any, start: datetime) -> bool:
-        """Whether ``value`` is accepted; relative times are resolved against ``start``."""
-        if self.fields:
-            if isinstance(value, list):  # a list holds such an item
-                return any(self.test(item, start) for item in value)
-            if not isinstance(value, Mapping):
-                return False
-            return all(matcher.test(value.get(key), start) for key, matcher in self.fields)
-        for check, prepared, needs_value in self._checks:
-            if (needs_value and value is None) or not check(prepared, value, start):
-                return False
-        return True
+    def __reduce__(self) -> tuple[type[Matcher], tuple[Any, ...]]:
+        # compiled again when unpickled: its test is a closure, which pickle cannot carry
+        return Matcher, (self.operators, self.fields)
 
     @property
     def cost(self) -> int:
@@ -290,6 +285,45 @@ def _operator_check(name: str, expected: Any) -> tuple[Check, Any, bool]:
     return _GIVEN_VALUE_CHECKS[name], expected, True
 
 
+def _tester(operators: tuple[tuple[str, Any], ...], fields: tuple[tuple[str, Matcher], ...]) -> Test:
+    """The test of a matcher of these operators or fields.
+
+    A mapping of fields matches a mapping whose fields match, or a list holding such an item. Operators
+    must all hold, and each but ``equals``, ``not``, ``any_of`` and ``present`` refuses ``None``: one
+    operator's test is called directly, without a loop over one.
+    """
+    if fields:
+        tests = tuple((key, matcher.test) for key, matcher in fields)
+
+        def test_fields(value: Any, start: datetime) -> bool:
+            if type(value) is not dict:  # the usual JSON mapping, told apart without asking Mapping
+                if isinstance(value, list):  # a list holds such an item
+                    return any(test_fields(item, start) for item in value)
+                if not isinstance(value, Mapping):
+                    return False
+            return all(test(value.get(key), start) for key, test in tests)
+
+        return test_fields
+    checks = tuple(_operator_check(name, expected) for name, expected in operators)
+    if len(checks) == 1:
+        check, prepared, needs_value = checks[0]
+        if not needs_value:
+            return partial(check, prepared)
+
+        def test_one(value: Any, start: datetime) -> bool:
+            return value is not None and check(prepared, value, start)
+
+        return test_one
+
+    def test_all(value: Any, start: datetime) -> bool:
+        for check, prepared, needs_value in checks:
+            if (needs_value and value is None) or not check(prepared, value, start):
+                return False
+        return True
+
+    return test_all
+
+
 def _not(matcher: Matcher, value: Any, start: datetime) -> bool:
     return not matcher.test(value, start)
 
@@ -304,24 +338,33 @@ def _present(wanted: bool, value: Any, start: datetime) -> bool:
 
 def _contains(pieces: tuple[str, ...], value: Any, start: datetime) -> bool:
     texts = _word_texts(value)
-    return all(_has_word(texts, piece) for piece in pieces)
+    for piece in pieces:  # loops, not all() and any(): they run for every text of every item checked
+        found = meaning.word_finder(piece).found
+        for text in texts:
+            if found(text):
+                break
+        else:
+            return False
+    return True
 
 
 def _contains_any(pieces: tuple[str, ...], value: Any, start: datetime) -> bool:
     texts = _word_texts(value)
-    return any(_has_word(texts, piece) for piece in pieces)
+    for piece in pieces:
+        found = meaning.word_finder(piece).found
+        for text in texts:
+            if found(text):
+                return True
+    return False
 
 
 def _word_texts(value: Any) -> list[str]:
     """The texts a value's words are sought in, read once for all the pieces sought: a list's items
     (nested lists too), each alone.
     """
+    if type(value) is str:  # the usual case, without the walk
+        return [meaning.normalise_quotes(value)]
     return [meaning.normalise_quotes(_text(item)) for item in _leaves(value)]
-
-
-def _has_word(texts: list[str], piece: str) -> bool:
-    finder = meaning.word_finder(piece)
-    return any(finder.found(text) for text in texts)
 
 
 def _reads(reading: tuple[Callable[[str, Any, datetime], bool], Any], value: Any, start: datetime) -> bool:
@@ -463,10 +506,11 @@ compared in every evaluation (a time that cannot be read is not remembered: it r
 
 
 def _time(value: Any, start: datetime) -> datetime | None:
-    if isinstance(value, datetime):
-        return value if value.tzinfo else value.replace(tzinfo=UTC)
-    if not isinstance(value, str):
-        return None
+    if type(value) is not str:  # a time in the state is text: told apart without two isinstance calls
+        if isinstance(value, datetime):
+            return value if value.tzinfo else value.replace(tzinfo=UTC)
+        if not isinstance(value, str):
+            return None
     try:
         return _parse_time(value, start)
     except TimeFormatError:
@@ -510,7 +554,7 @@ def _same_moment(expected: tuple[datetime, datetime], value: Any, start: datetim
 
 
 def _same_time(expected: str, value: Any, start: datetime) -> bool:
-    if isinstance(value, str | datetime):
+    if type(value) is str or isinstance(value, str | datetime):
         left, right = _time(expected, start), _time(value, start)
         if left is not None and right is not None:
             return left == right

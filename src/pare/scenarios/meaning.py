@@ -298,6 +298,8 @@ sought."""
 
 def normalise_quotes(text: str) -> str:
     """``text`` with curly apostrophes made straight, as the words sought are written."""
+    if text.isascii():  # most text: no curly apostrophe, known without a search (isascii reads a flag)
+        return text
     return text.replace("\u2019", "'").replace("\u2018", "'")
 
 
