@@ -65,8 +65,9 @@ def test_the_episodes_play_with_the_collector_on_and_the_run_frozen() -> None:
     assert gc.get_freeze_count() == 0
 
 
-def test_the_command_exits_with_its_code_after_skipping_the_last_collection(tmp_path: Path) -> None:
-    """``pare`` as a process: the final collection is skipped, the exit code and the output are kept."""
+def test_the_process_keeps_its_exit_code_and_output_when_it_skips_the_last_collection(tmp_path: Path) -> None:
+    """``pare`` as a process freezes everything before it exits (skip_final_collection): what it wrote
+    and the exit code it gives, 0 for a run and 2 for a mistake, are unchanged by that."""
     done = subprocess.run(
         [
             sys.executable,
