@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Set up a development checkout: Chromium (Debian's package) for the viewer's browser tests when it is
-# missing, then PARE with its test tools. apt-get needs root (sudo is used when not root).
+# missing, then PARE with its test tools at the exact versions the suite was last tested with
+# (requirements/dev.txt, refreshed by scripts/lock.sh). apt-get needs root (sudo is used when not root).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ ! -x /usr/bin/chromium ]; then
@@ -9,4 +10,6 @@ if [ ! -x /usr/bin/chromium ]; then
   $sudo apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq chromium
 fi
-pip install -e ".[dev]"
+# The lock constrains every package, so a machine that installed other versions earlier is brought back
+# to the tested set instead of keeping (or newly resolving) whatever it had.
+python -m pip install --quiet --constraint requirements/dev.txt -e ".[dev]"

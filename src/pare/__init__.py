@@ -12,7 +12,7 @@ def __getattr__(name: str) -> str:
         from importlib.metadata import PackageNotFoundError, version
 
         try:
-            found = version("pare")
+            found = version("pare-bench")
         except PackageNotFoundError:  # running from a source tree that is not installed
             found = "0.0.0+unknown"
         globals()["__version__"] = found

@@ -92,7 +92,7 @@ def test_missing_matplotlib(
     tmp_path: Path, sweep: list[ConfigurationMetrics], monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.setitem(sys.modules, "matplotlib", None)
-    with pytest.raises(UserInputError, match=r"pip install 'pare\[plots\]'"):
+    with pytest.raises(UserInputError, match=r"pip install .*\[plots\]"):
         plot_sweep(sweep, x=NOISE, group_by="assistant", out_dir=tmp_path)
 
 

@@ -1,6 +1,6 @@
 """The paper's robustness figures: proposal, acceptance and success rate against a swept setting.
 
-matplotlib is an optional extra (``pip install 'pare[plots]'``); it is imported only when a figure is
+matplotlib is an optional extra (``pip install "pare-bench[plots]"``); it is imported only when a figure is
 drawn, so the rest of PARE works without it.
 """
 
@@ -13,6 +13,7 @@ from typing import Any
 
 from pare.bench.metrics import ConfigurationMetrics, Estimate
 from pare.errors import UserInputError
+from pare.install import install_command
 
 __all__ = ["PANELS", "axis_label", "plot_sweep"]
 
@@ -85,7 +86,7 @@ def plot_sweep(
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
     except ImportError as error:
-        raise UserInputError("plotting needs matplotlib: pip install 'pare[plots]'") from error
+        raise UserInputError(f"plotting needs matplotlib: {install_command('plots')}") from error
 
     out_dir.mkdir(parents=True, exist_ok=True)
     png, svg = out_dir / f"{stem}.png", out_dir / f"{stem}.svg"

@@ -3,7 +3,7 @@
 Each episode is one Ray task that plays it (with its own model clients, retrying infrastructure failures
 like the local backend) and returns its record and trajectory to the driver; the driver stores each as it
 arrives, so resume and reports work exactly as for a local run. At most ``concurrency`` tasks are in
-flight. Ray is an optional extra (``pip install 'pare[ray]'``).
+flight. Ray is an optional extra (``pip install "pare-bench[ray]"``).
 
 On a cluster, every node needs PARE installed, and a model-call cache shared between nodes needs
 ``cache_path`` on a shared file system (or ``cache: off``); on one machine the default cache works.
@@ -28,6 +28,7 @@ from pare.bench.runner import (
 )
 from pare.bench.store import RunStore
 from pare.errors import UserInputError
+from pare.install import install_command
 
 TASK_CPUS = 0.25
 """CPUs Ray reserves per episode task: episodes mostly wait on model calls, so several share a core."""
@@ -38,7 +39,7 @@ def _import_ray() -> Any:
     try:
         import ray
     except ImportError:
-        raise UserInputError("--backend ray needs Ray: pip install 'pare[ray]'") from None
+        raise UserInputError(f"--backend ray needs Ray: {install_command('ray')}") from None
     return ray
 
 

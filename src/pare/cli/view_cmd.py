@@ -8,6 +8,7 @@ from typing import Annotated
 import typer
 
 from pare.errors import UserInputError
+from pare.install import install_command
 
 
 def view(
@@ -35,7 +36,7 @@ def view(
         from pare.viewer._server import bind, serve, url_of
     except ImportError as error:
         raise UserInputError(
-            f"pare view needs the viewer extra ({error.name} is missing): pip install 'pare[viewer]'"
+            f"pare view needs the viewer extra ({error.name} is missing): {install_command('viewer')}"
         ) from None
     site = Site(Catalog.open(runs))
     if export is not None:

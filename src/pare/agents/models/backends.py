@@ -22,6 +22,7 @@ from pare.agents.models.config import ModelConfig
 from pare.agents.models.text import valid_text
 from pare.agents.models.types import ToolCall, Usage
 from pare.errors import UserInputError
+from pare.install import install_command
 
 NO_KEY = "EMPTY"
 """Sent as the API key to servers that need none (vLLM, Ollama): the OpenAI SDK insists on one."""
@@ -209,7 +210,7 @@ def import_litellm() -> ModuleType:
     """
     if not litellm_available():
         raise UserInputError(
-            'the litellm backend needs the optional litellm package: pip install "pare[litellm]" '
+            f"the litellm backend needs the optional litellm package: {install_command('litellm')} "
             "(or use backend 'openai' for OpenAI and OpenAI-compatible endpoints)"
         )
     os.environ.setdefault("LITELLM_LOCAL_MODEL_COST_MAP", "True")
