@@ -1,7 +1,8 @@
 """How to install PARE and its extras: the distribution's name and the command a message should suggest.
 
 The import name is ``pare``, but the distribution is ``pare-bench``: the name ``pare`` on the package
-registry belongs to an unrelated project, so ``pip install "pare[viewer]"`` would install that project.
+registry belongs to an unrelated project, so installing ``pare`` by name (with any extra) would install that
+project.
 """
 
 from __future__ import annotations
