@@ -28,11 +28,14 @@ Tolerated:
 * an ``Observation:`` the model wrote itself: it and everything after it are ignored (an error says so if
   that leaves no action);
 * raw line breaks and tabs inside JSON strings (kept as written);
+* a thinking model's think blocks (``<think> ... </think>``, also a leading one whose ``<think>`` was in
+  the prompt): taken out before the answer is read, whatever they hold (an ``Action:`` drafted while
+  thinking is not one), and kept as :attr:`ParsedAction.reasoning`;
 * ``action_input`` absent (no arguments), or a JSON string that holds an object (decoded).
 
 Errors, each with its own message and :attr:`~pare.errors.ActionFormatError.kind`:
 
-* an empty answer; no ``Action:``; no JSON object after it; a JSON array;
+* an empty answer; no ``Action:`` (also: nothing but reasoning); no JSON object after it; a JSON array;
 * JSON that does not parse, with dedicated messages for single quotes, trailing commas, Python's
   ``True``/``False``/``None``, comments, ``NaN``/``Infinity`` and an object cut off before its end;
 * more than one ``Action:`` or more than one JSON object: exactly one tool call per answer;
@@ -49,6 +52,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, NoReturn
 
+from pare.agents.models.reasoning import join_reasoning, split_reasoning
 from pare.agents.models.text import may_hold_lone_surrogate, valid_json_value
 from pare.agents.policy import Action
 from pare.errors import ActionFormatError, did_you_mean
@@ -102,6 +106,8 @@ class ParsedAction:
     """The arguments, from ``"action_input"``."""
     raw: str = ""
     """The whole answer as the model wrote it."""
+    reasoning: str | None = None
+    """A thinking model's reasoning: its think blocks and the reasoning given beside the answer."""
 
 
 class _NonFiniteNumberError(ValueError):
@@ -157,14 +163,27 @@ def _labels(label: re.Pattern[str], word: re.Pattern[str], text: str) -> list[re
     return found
 
 
-def parse_action(text: str) -> ParsedAction:
+def parse_action(text: str, *, reasoning: str | None = None) -> ParsedAction:
     """Read a model's answer in the Thought/Action format.
+
+    A thinking model's think blocks are taken out of ``text`` first
+    (:func:`~pare.agents.models.reasoning.split_reasoning`) and never read as the answer, whatever they
+    hold; ``reasoning`` is what the server returned beside the answer. Both are kept in the result.
 
     Raises:
         ActionFormatError: the answer is not exactly one tool call in the format; the message is
             written for the model and ends with :data:`FORMAT_HINT`.
     """
+    raw = text
+    text, inline_reasoning = split_reasoning(text)
+    reasoning = join_reasoning(reasoning, inline_reasoning)
     if not text.strip():
+        if reasoning is not None:
+            _fail(
+                "no_action",
+                "Your answer held only your reasoning, with no Action: section after it, so no tool was "
+                "called. Reasoning is never read as the answer: after thinking, write your answer.",
+            )
         _fail("empty", "Your answer was empty, so no tool was called.")
     actions = _labels(_ACTION_RE, _ACTION_WORD_RE, text)
     observations = _labels(_OBSERVATION_RE, _OBSERVATION_WORD_RE, text)
@@ -230,7 +249,9 @@ def parse_action(text: str) -> ParsedAction:
             )
 
     tool, args = _read_call(call)
-    return ParsedAction(thought=_thought(text[: marker.start()]), tool=tool, args=args, raw=text)
+    return ParsedAction(
+        thought=_thought(text[: marker.start()]), tool=tool, args=args, raw=raw, reasoning=reasoning
+    )
 
 
 def parse_tool_arguments(tool: str, arguments: str) -> dict[str, Any]:

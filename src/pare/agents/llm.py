@@ -4,7 +4,8 @@ Each keeps its conversation with its model: the system prompt of its role, then 
 observation and one per answer. An answer is parsed into one tool call (the paper's Thought / Action
 format, or native tool calling when configured); a malformed answer is sent back to the model with what
 was wrong and how to answer, at most ``max_format_retries`` times per step, after which the step fails and
-the loop records it. Execute mode starts a fresh conversation for each accepted task.
+the loop records it. Execute mode starts a fresh conversation for each accepted task. A thinking model's
+reasoning is recorded with the action it led to, and left out of the conversation.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 from pare.agents.actions import parse_action, parse_tool_arguments
+from pare.agents.models.reasoning import join_reasoning, split_reasoning
 from pare.agents.models.types import ChatMessage, Completion
 from pare.agents.policy import Action, AssistantPolicy, Task, UserPolicy
 from pare.agents.prompts import execute_system_prompt, observe_system_prompt, user_system_prompt
@@ -67,6 +69,7 @@ class Conversation:
         costs: list[float | None] = []
         errors: list[str] = []
         raw = ""
+        reasoning: str | None = None
         for _ in range(self.max_format_retries + 1):
             completion = await self.model.complete(self.messages, schemas)
             usage["calls"] += 1
@@ -74,33 +77,41 @@ class Conversation:
             usage["completion_tokens"] += completion.usage.completion_tokens
             usage["cached_tokens"] += completion.usage.cached_tokens
             costs.append(completion.cost_usd)
-            raw = completion.text or ""
+            # The backends take reasoning out of the text already; answers replayed from a cache recorded
+            # before they did still hold their think blocks.
+            raw, inline_reasoning = split_reasoning(completion.text or "")
+            reasoning = join_reasoning(completion.reasoning, inline_reasoning)
             try:
-                tool, args = self._read(completion)
+                tool, args = self._read(completion, raw, reasoning)
             except ActionFormatError as error:
                 errors.append(str(error))
-                self._reject(completion, str(error))
+                self._reject(raw, str(error))
                 continue
             summary = _usage_summary(usage, costs, errors)
-            return Action(tool, args, raw=raw, usage=summary)
+            return Action(tool, args, raw=raw, usage=summary, reasoning=reasoning)
         message = f"No valid action after {len(errors)} answers; last problem: {errors[-1]}"
-        return Action("", {}, raw=raw, error=message, usage=_usage_summary(usage, costs, errors))
+        return Action(
+            "", {}, raw=raw, error=message, usage=_usage_summary(usage, costs, errors), reasoning=reasoning
+        )
 
-    def _read(self, completion: Completion) -> tuple[str, dict[str, Any]]:
+    # The conversation keeps each answer without its reasoning: providers expect only the answer in earlier
+    # turns (chat templates such as Qwen3's drop past reasoning, and some APIs refuse a reasoning field in
+    # the messages sent), and resending it would cost prompt tokens on every later call.
+    def _read(self, completion: Completion, answer: str, reasoning: str | None) -> tuple[str, dict[str, Any]]:
         if self.native_tools and completion.tool_calls:
             if len(completion.tool_calls) > 1:
                 raise ActionFormatError("Call exactly one tool per answer; you called several.")
             call = completion.tool_calls[0]
             args = parse_tool_arguments(call.name, call.arguments)
-            self.messages.append(ChatMessage(role="assistant", content=completion.text, tool_calls=(call,)))
+            self.messages.append(ChatMessage(role="assistant", content=answer, tool_calls=(call,)))
             self._pending_call_id = call.id
             return call.name, args
-        parsed = parse_action(completion.text or "")
-        self.messages.append(ChatMessage(role="assistant", content=completion.text or ""))
+        parsed = parse_action(answer, reasoning=reasoning)
+        self.messages.append(ChatMessage(role="assistant", content=answer))
         return parsed.tool, parsed.args
 
-    def _reject(self, completion: Completion, error: str) -> None:
-        self.messages.append(ChatMessage(role="assistant", content=completion.text or ""))
+    def _reject(self, answer: str, error: str) -> None:
+        self.messages.append(ChatMessage(role="assistant", content=answer))
         self.messages.append(ChatMessage(role="user", content=f"Error: {error}"))
 
 

@@ -39,16 +39,21 @@ class Action:
     usage: dict[str, Any] | None = None
     """For model-backed actors: calls, prompt / completion / cached tokens, cost and format errors of the
     model calls behind this action."""
+    reasoning: str | None = None
+    """A thinking model's reasoning behind ``raw`` (which holds its answer only), when it gave any."""
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready form."""
-        return {
+        """JSON-ready form (``reasoning`` only when there is some: other trajectories stay as they were)."""
+        data: dict[str, Any] = {
             "tool": self.tool,
             "args": self.args,
             "raw": self.raw,
             "error": self.error,
             "usage": self.usage,
         }
+        if self.reasoning is not None:
+            data["reasoning"] = self.reasoning
+        return data
 
 
 @dataclass(frozen=True, slots=True)

@@ -3,7 +3,9 @@
 * :class:`ChatServer` — a small OpenAI-compatible chat-completions server on 127.0.0.1 that answers
   through a *responder* and records what it was sent;
 * :func:`proactive_play` — a ready responder that plays the user and the assistant (observe and execute)
-  plausibly and deterministically, so ``pare run`` can go end to end without a real model:
+  plausibly and deterministically, so ``pare run`` can go end to end without a real model;
+* :func:`thinking` — wraps a responder so that it answers like a thinking model (reasoning inline as a
+  think block or in a separate field).
 
 .. code-block:: python
 
@@ -23,6 +25,7 @@ from pare.testing.chat_server import (
     conversation_role,
     failure,
     proactive_play,
+    thinking,
 )
 
 __all__ = [
@@ -35,4 +38,5 @@ __all__ = [
     "conversation_role",
     "failure",
     "proactive_play",
+    "thinking",
 ]

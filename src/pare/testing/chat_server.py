@@ -20,10 +20,14 @@ paper's text action format (written with :func:`pare.agents.actions.format_actio
 
 It decides from the request alone (the role from the system prompt, the rest from the conversation), keeps
 no state between requests, and so serves any number of concurrent episodes, deterministically.
+
+:func:`thinking` makes any responder a thinking model's: each answer comes with reasoning that drafts an
+``Action:`` of its own, inline as a think block or in the message's ``reasoning_content`` field.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import json
 import re
@@ -49,6 +53,7 @@ __all__ = [
     "conversation_role",
     "failure",
     "proactive_play",
+    "thinking",
 ]
 
 ChatRole = Literal["user", "observe", "execute"]
@@ -90,8 +95,15 @@ def completion(
     completion_tokens: int = 20,
     *,
     model: str = "pare-test-model",
+    reasoning: str | None = None,
 ) -> Reply:
-    """A successful chat completion whose message is ``text``, reporting the given token usage."""
+    """A successful chat completion whose message is ``text``, reporting the given token usage;
+    ``reasoning``, when given, is the message's ``reasoning_content`` (a thinking model's, as vLLM returns
+    it with a reasoning parser).
+    """
+    message: dict[str, Any] = {"role": "assistant", "content": text}
+    if reasoning is not None:
+        message["reasoning_content"] = reasoning
     return Reply(
         200,
         {
@@ -99,9 +111,7 @@ def completion(
             "object": "chat.completion",
             "created": 1_700_000_000,
             "model": model,
-            "choices": [
-                {"index": 0, "message": {"role": "assistant", "content": text}, "finish_reason": "stop"}
-            ],
+            "choices": [{"index": 0, "message": message, "finish_reason": "stop"}],
             "usage": {
                 "prompt_tokens": prompt_tokens,
                 "completion_tokens": completion_tokens,
@@ -408,5 +418,57 @@ def proactive_play(*, proposal: str = PROPOSAL, report: str = REPORT) -> Respond
             max(1, len(text) // 4),
             model=model if isinstance(model, str) and model else "pare-test-model",
         )
+
+    return respond
+
+
+# -- thinking models ----------------------------------------------------------------------------------------
+ThinkingStyle = Literal["inline", "unopened", "field"]
+"""How :func:`thinking` returns the reasoning: ``inline``, a ``<think> ... </think>`` block before the
+answer; ``unopened``, the same without its opening tag (the chat template put ``<think>`` in the prompt,
+so the text starts mid-thought); ``field``, the message's ``reasoning_content``."""
+
+THINKING = (
+    "Let me work out what to do. A first draft of my answer:\n"
+    "Action:\n"
+    '{"action": "draft_from_thinking", "action_input": {"note": "only a draft"}}\n'
+    "No, let me look at the conversation again before I answer."
+)
+"""The reasoning :func:`thinking` adds: it drafts an ``Action:`` with a JSON object, which must never be
+read as the answer (``draft_from_thinking`` is no tool of PARE's, so a step that took it would fail)."""
+
+
+def thinking(responder: Responder, *, style: ThinkingStyle = "inline", thought: str = THINKING) -> Responder:
+    """``responder`` as a thinking model: every successful answer comes with ``thought`` as its reasoning,
+    returned in ``style`` (see :data:`ThinkingStyle`); its tokens (a quarter of its characters) are added
+    to the reported completion tokens, as servers count them. Other replies pass unchanged.
+    """
+    if style not in ("inline", "unopened", "field"):
+        raise ValueError(f"unknown thinking style {style!r}: use 'inline', 'unopened' or 'field'")
+
+    def respond(body: dict[str, Any]) -> Reply:
+        reply = responder(body)
+        choices = reply.body.get("choices")
+        if reply.status != 200 or reply.raw is not None or not isinstance(choices, list):
+            return reply
+        answer = json.loads(json.dumps(reply.body))  # a deep copy: the responder may reuse its bodies
+        for choice in answer["choices"]:
+            message = choice.get("message") if isinstance(choice, dict) else None
+            if not isinstance(message, dict):
+                continue
+            content = message.get("content") or ""
+            if style == "field":
+                message["reasoning_content"] = thought
+            elif style == "inline":
+                message["content"] = f"<think>\n{thought}\n</think>\n\n{content}"
+            else:
+                message["content"] = f"{thought}\n</think>\n\n{content}"
+        usage = answer.get("usage")
+        if isinstance(usage, dict):
+            extra = max(1, len(thought) // 4)
+            for name in ("completion_tokens", "total_tokens"):
+                if isinstance(usage.get(name), int):
+                    usage[name] += extra
+        return dataclasses.replace(reply, body=answer)
 
     return respond

@@ -101,6 +101,8 @@ class StepView:
     """The proposal this step made (assistant) or answered (user)."""
     answer: str | None = None
     """``accept`` or ``reject`` when this user step answered a proposal."""
+    reasoning: str | None = None
+    """A thinking model's reasoning behind the answer (kept apart from ``raw``)."""
 
     @property
     def is_report(self) -> bool:
@@ -303,6 +305,7 @@ def _steps(
             log_index=index if entry is not None else None,
             usage=Usage.of(action.get("usage")),
             proposal=proposals.get(proposal_id) if isinstance(proposal_id, str) else None,
+            reasoning=reasoning if isinstance(reasoning := action.get("reasoning"), str) else None,
         )
         if view.actor == "user":
             view.phone = screen.before(step, entry)

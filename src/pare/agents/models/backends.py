@@ -19,6 +19,7 @@ from types import ModuleType
 from typing import Any, Literal, Protocol
 
 from pare.agents.models.config import ModelConfig
+from pare.agents.models.reasoning import join_reasoning, split_reasoning
 from pare.agents.models.text import valid_text
 from pare.agents.models.types import ToolCall, Usage
 from pare.errors import UserInputError
@@ -41,6 +42,8 @@ class BackendResponse:
     usage_reported: bool
     model: str
     finish_reason: str | None
+    reasoning: str | None = None
+    """A thinking model's reasoning, from the message's reasoning field and its text's think blocks."""
 
 
 class MalformedResponse(Exception):
@@ -227,7 +230,9 @@ def import_litellm() -> ModuleType:
 def parse_response(response: Any, requested_model: str) -> BackendResponse:
     """Extract the first choice, the usage and the model's name from an OpenAI-format response.
 
-    Works on the OpenAI SDK's ``ChatCompletion`` and on litellm's ``ModelResponse`` alike.
+    Works on the OpenAI SDK's ``ChatCompletion`` and on litellm's ``ModelResponse`` alike. A thinking
+    model's reasoning, whether in a field of the message or in think blocks of its text, is taken apart
+    from the answer (:mod:`pare.agents.models.reasoning`): ``text`` holds the answer only.
     """
     choices = getattr(response, "choices", None)
     if not choices:
@@ -259,16 +264,38 @@ def parse_response(response: Any, requested_model: str) -> BackendResponse:
             cached_tokens=_token_count(details, "cached_tokens") if details is not None else 0,
         )
     content = getattr(message, "content", None)
+    text, inline_reasoning = split_reasoning(valid_text(content) if isinstance(content, str) else "")
+    field_reasoning = _reasoning_field(message)
+    if any(isinstance(getattr(message, name, None), str) for name in _REASONING_FIELDS):
+        # The answer stripped, as split_reasoning leaves it: litellm takes think blocks out itself (into
+        # reasoning_content, empty for an empty block) and leaves the blank lines that followed them.
+        text = text.strip()
     model = getattr(response, "model", None)
     finish = getattr(choice, "finish_reason", None)
     return BackendResponse(
-        text=valid_text(content) if isinstance(content, str) else "",
+        text=text,
         tool_calls=tuple(calls),
         usage=usage,
         usage_reported=usage_object is not None,
         model=valid_text(model) if isinstance(model, str) and model else requested_model,
         finish_reason=valid_text(finish) if isinstance(finish, str) else None,
+        reasoning=join_reasoning(field_reasoning, inline_reasoning),
     )
+
+
+_REASONING_FIELDS = ("reasoning_content", "reasoning")
+
+
+def _reasoning_field(message: Any) -> str | None:
+    """The reasoning a server returned beside the answer: ``reasoning_content`` (vLLM's reasoning parsers,
+    DeepSeek, and litellm for every provider it maps) or ``reasoning`` (newer vLLM, OpenRouter). The
+    OpenAI SDK keeps such unknown fields as attributes of the message.
+    """
+    for name in _REASONING_FIELDS:
+        value = getattr(message, name, None)
+        if isinstance(value, str) and value.strip():
+            return valid_text(value)
+    return None
 
 
 def _token_count(usage: Any, name: str) -> int:

@@ -314,6 +314,7 @@ class ModelClient:
             latency_s=latency,
             model=response.model,
             finish_reason=response.finish_reason,
+            reasoning=response.reasoning,
         )
 
     def _scrubbed(self, failure: Failure) -> Failure:

@@ -109,8 +109,18 @@ class Completion(BaseModel):
     latency_s: float = Field(ge=0.0, description="Seconds the successful request took (retries excluded).")
     model: str = Field(description="The model that answered, as the provider named it.")
     finish_reason: str | None = None
+    reasoning: str | None = Field(
+        default=None,
+        description="A thinking model's reasoning, kept apart from ``text`` (which holds the answer only); "
+        "its tokens count in ``usage.completion_tokens``.",
+    )
     from_cache: bool = Field(default=False, description="Replayed from the record/replay cache, not called.")
 
     def message(self) -> ChatMessage:
-        """Return the assistant message to append to the conversation."""
+        """Return the assistant message to append to the conversation.
+
+        It holds the answer without the reasoning: providers expect only the answer in earlier turns
+        (chat templates drop past reasoning, some APIs refuse it), and sending it back would cost prompt
+        tokens on every later call.
+        """
         return ChatMessage.assistant(self.text, self.tool_calls or None)
