@@ -65,7 +65,7 @@ def test_nesting_just_past_the_limit_is_refused(tmp_path: Path, capsys: pytest.C
     assert f"{path}:2" in err and f"nested more than {MAX_DEPTH} levels" in err
 
 
-def test_very_deep_nesting_is_refused_with_its_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_very_deep_nesting_is_refused_at_its_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     # Whether PARE's own depth check or the YAML parser's refuses first depends on the parser's version;
     # what a user relies on is the refusal (exit 2) naming the file and the line, not whose words say it.
     path = tmp_path / "deep.yaml"
