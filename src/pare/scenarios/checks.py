@@ -372,23 +372,21 @@ class _JudgeRule(_Rule):
     def verdict(self, context: _Context) -> tuple[bool, str]:
         check = self.judge
         pattern, described = self.pattern.of(context)
-        texts = [entry.args.get(check.field) for entry in pattern.find(context.log)]
-        candidates = [text for text in texts if isinstance(text, str)]
-        if not candidates:
+        read = [entry for entry in pattern.find(context.log) if isinstance(entry.args.get(check.field), str)]
+        if not read:
             return False, f"no {described} with a text in '{check.field}' to judge"
+        candidates = [entry.args[check.field] for entry in read]
         if check.together and len(candidates) > 1:
             candidates = ["\n\n".join(candidates)]  # one answer sent in parts is judged as the whole
+        texts = f"{len(candidates)} text(s) ({', '.join(f'#{entry.index}' for entry in read)})"
         judge = context.judge
         if judge is not None:
             passed = any(judge(check.criterion, text) for text in candidates)
             verdict = "accepted" if passed else "rejected"
-            return passed, f"judge {verdict} {len(candidates)} text(s) for: {check.criterion}"
+            return passed, f"judge {verdict} {texts} for: {check.criterion}"
         passed = any(self.fallback.test(text, context.start) for text in candidates)
         verdict = "holds" if passed else "fails"
-        return (
-            passed,
-            f"no judge model; fallback {self.fallback_text} {verdict} on {len(candidates)} text(s)",
-        )
+        return passed, f"no judge model; fallback {self.fallback_text} {verdict} on {texts}"
 
 
 def _rule(check: Check, start: datetime) -> _Rule:

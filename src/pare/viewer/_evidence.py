@@ -33,8 +33,9 @@ def library_scenario(scenario_id: str, wanted_hash: str) -> Scenario | None:
 
 
 def matched_entries(scenario: Scenario, log: list[dict[str, Any]]) -> dict[CheckKey, list[int]]:
-    """For each action, forbidden-action and judge check: the entries its pattern matches (for an
-    action check that found none, the calls of the tool it wanted). State checks are left out.
+    """For each action, forbidden-action and judge check: the entries its pattern matches (for a judge
+    check, those with a text to read; for an action check that found none, the calls of the tool it
+    wanted). State checks are left out.
     """
     try:
         entries = [_entry(item) for item in log]
@@ -50,6 +51,9 @@ def matched_entries(scenario: Scenario, log: list[dict[str, Any]]) -> dict[Check
                 continue
             compiled = CompiledPattern.of(pattern, scenario.start)
             hits = compiled.find(entries)
+            if check.judge is not None:  # the judge reads only the calls that carry a text
+                field = check.judge.field
+                hits = [entry for entry in hits if isinstance(entry.args.get(field), str)]
             if not hits and check.action is not None:
                 hits = [entry for entry in entries if compiled.matches_call(entry)]
             found[(goal.id, index)] = [entry.index for entry in hits]
