@@ -22,6 +22,7 @@ from pare.scenarios.oracle import OracleAssistant, OracleUser
 from pare.viewer import Catalog, Site, build_episode
 from pare.viewer._credit import Credit, Credits
 from pare.viewer._episode import Change, EpisodeView
+from pare.viewer._evidence import library_scenario, state_entries
 from tests.viewer.runs import WORLD_SCENARIO
 
 _ROW = re.compile(r"<tr class=\"op-\w+\">(.*?)</tr>", re.S)
@@ -196,3 +197,24 @@ def test_a_list_shortened_by_a_removal_is_credited_to_the_write_not_to_a_later_r
     ops = state_changes({"calendar": before}, {"calendar": after})
     assert [op["op"] for op in ops] == ["replace", "remove"]
     assert [credits.of(op) for op in ops] == [[Credit("assistant", 0)]] * 2
+
+
+def test_a_state_check_links_the_calls_that_made_the_items_it_found(world_run: Path) -> None:
+    configuration = Catalog.open([world_run]).configurations[0]
+    record = configuration.records[(WORLD_SCENARIO, 1)]
+    data = _trajectory(world_run)
+    scenario = library_scenario(record.scenario_id, record.scenario_hash)
+    assert scenario is not None
+    found = state_entries(scenario, data)
+    added = _entry(data, actor="assistant", tool="add_calendar_event")
+    assert found[("session_in_calendar", 0)] == [added]  # the session the assistant added
+    # the physio appointment it found was in the calendar from the start: the assistant's new event
+    # beside it in the same calendar did not make it
+    assert found[("wednesday_plans_kept", 0)] == []
+    page = Site(Catalog.open([world_run])).page(f"c/oracle/e/{WORLD_SCENARIO}/run-1.html")
+    assert page is not None
+    goal = page.body.decode().split("<b>wednesday_plans_kept</b>", 1)[1].split('<div class="goal', 1)[0]
+    first = goal.split('<li class="check', 2)[1]
+    assert "physio" in first and "log-ref" not in first
+    data["state_diff"].insert(0, {"op": "remove", "path": "/calendar/events/no-such-event"})
+    assert state_entries(scenario, data) == {}  # not this scenario's start: the page falls back

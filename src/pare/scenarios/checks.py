@@ -156,6 +156,22 @@ def goals_met(
     return all(rule.verdict(context)[0] for rule in compiled_goals(scenario).cheapest_first)
 
 
+def state_check_places(
+    scenario: Scenario, state: Mapping[str, Any]
+) -> dict[tuple[str, int], list[StatePath]]:
+    """For each state check of ``scenario`` (by goal id and position): the places of the final ``state``
+    where it found what it counted (:meth:`_StateRule.places`), for pages that link a verdict to the
+    calls that made them.
+    """
+    view = _StateView(state)
+    return {
+        (goal.id, index): rule.places(view, scenario.start)
+        for goal, rules in compiled_goals(scenario).goals
+        for index, rule in enumerate(rules)
+        if isinstance(rule, _StateRule)
+    }
+
+
 class _Context:
     """What the checks of one evaluation read (a plain class: two are made for every evaluation)."""
 
@@ -357,6 +373,20 @@ class _StateRule(_Rule):
             detail += f", {len(matching)} of them made by the {check.by}"
         passed = self.count.allows(len(matching))
         return passed, f"{detail}; wanted {self.counted}"
+
+    def places(self, view: _StateView, start: datetime) -> list[StatePath]:
+        """Where the check found what it counted: the items its ``where`` matches (before ``by``), or
+        the value it read.
+        """
+        place = view.place(self.state.path)
+        if place is None:
+            return []
+        if self.value is not None:
+            return [place]
+        test = self.where.test
+        return [
+            (*place, key) for key, _, record in view.items(self.state.path) or [] if test(record, key, start)
+        ]
 
 
 class _JudgeRule(_Rule):

@@ -27,7 +27,7 @@ updated) stays credited to the user or the assistant: the log does not say which
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -89,6 +89,24 @@ class Credits:
         if not found and parts[0] not in CONTROL_APPS:  # the world never writes the turn protocol's apps
             return [Credit(WORLD, None)]
         return found
+
+    def made(self, place: Sequence[str]) -> list[int]:
+        """The calls that made ``place`` (an attribution place) and what it holds: the marks at and
+        under it and, when no mark says who created it, the world's first call that names it.
+        """
+        dotted = ".".join(place)
+        found: set[int] = set()
+        for key, mark in self._marks.items():
+            if key == dotted or key.startswith(dotted + "."):
+                found.update(
+                    i for i in (_index(mark, "created_at"), _index(mark, "changed_at")) if i is not None
+                )
+        own = self._marks.get(dotted)
+        if len(place) > 1 and _index(own, "created_at") is None:
+            world = self._first(place[-1], ("world",))
+            if world is not None:
+                found.add(world)
+        return sorted(found)
 
     def _appeared(
         self, parts: list[str], own: str, positional: bool, mark: dict[str, Any] | None
