@@ -441,8 +441,10 @@ def _evidence_of(
 
 def evidence(check: dict[str, Any], log: dict[int, dict[str, Any]], attribution: dict[str, Any]) -> list[int]:
     """The log entries behind a check's verdict: those its detail names (``#12``: an action check's
-    calls, the texts a judge check read); for a state check, the calls that made the places it looked
-    at; otherwise the calls of the tools its detail names. ``log`` is the log by entry index.
+    calls, the texts a judge check read); for a state check, the calls that made anything at the path
+    it looked at (without the scenario, which items it found is not known: see
+    :func:`pare.viewer._evidence.state_entries`); otherwise the calls of the tools its detail names.
+    ``log`` is the log by entry index.
     """
     detail = str(check.get("detail", ""))
     found = {int(number) for number in _LOG_REFERENCE.findall(detail)}
