@@ -12,7 +12,7 @@ import pytest
 
 from pare.cli import main
 from tests.agents.conftest import no_network
-from tests.viewer.runs import KEY_VARIABLE, Runs, make_runs
+from tests.viewer.runs import KEY_VARIABLE, Runs, make_runs, make_world_run
 
 __all__ = ["no_network"]  # an autouse fixture: imported here, it guards every test in this folder
 
@@ -37,3 +37,9 @@ def sweep(tmp_path_factory: pytest.TempPathFactory) -> Path:
     )
     assert main(["sweep", "-c", str(spec), "--no-progress"]) == 0
     return folder
+
+
+@pytest.fixture(scope="session")
+def world_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The oracle on a scenario whose events make messages in the chat the assistant writes in."""
+    return make_world_run(tmp_path_factory.mktemp("world") / "oracle")

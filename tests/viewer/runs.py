@@ -7,6 +7,8 @@ accepts it, and the assistant reports without doing anything, so checks fail wit
 
 from __future__ import annotations
 
+import subprocess
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -15,6 +17,8 @@ from pare.testing import ChatServer, proactive_play
 
 SCENARIOS = ("dentist_moves_checkup", "five_a_side_kickoff_moved")
 KEY_VARIABLE = "PARE_VIEWER_TEST_KEY"
+WORLD_SCENARIO = "climbing_session_clash_find_tuesday"
+"""Three friends' messages arrive, the assistant writes in the same group chat, and a friend replies."""
 
 
 @dataclass(frozen=True)
@@ -45,3 +49,14 @@ def make_runs(folder: Path, runs: int = 2) -> Runs:
         argv += ["--cache", "off"]
         assert main(argv) == 0
     return Runs(oracle, models)
+
+
+def make_world_run(folder: Path) -> Path:
+    """The oracle on :data:`WORLD_SCENARIO`, one run: items made by the world beside the assistant's.
+
+    Run in its own process, as a user runs it: the browser tests may ask for it while Playwright's
+    event loop is running, where ``pare run`` could not start its own.
+    """
+    command = [sys.executable, "-m", "pare", "run", "--no-progress", "--runs", "1", "-s", WORLD_SCENARIO]
+    subprocess.run([*command, "--output", str(folder)], check=True, capture_output=True)
+    return folder

@@ -15,7 +15,7 @@ import pytest
 from playwright.sync_api import Browser, Page, Route, expect, sync_playwright
 
 from pare.cli import main
-from tests.viewer.runs import Runs
+from tests.viewer.runs import WORLD_SCENARIO, Runs
 
 CHROMIUM = "/usr/bin/chromium"
 ARGS = [
@@ -155,3 +155,19 @@ def test_the_exported_site_opens_from_disk(runs: Runs, page: Page, tmp_path: Pat
     site = tmp_path / "site"
     assert main(["view", str(runs.oracle), str(runs.models), "--export", str(site)]) == 0
     _read_a_failed_episode(page, (site / "index.html").as_uri(), tmp_path / "exported.png")
+
+
+def test_the_state_diff_links_a_friends_reply_to_its_event(
+    world_run: Path, page: Page, tmp_path: Path
+) -> None:
+    site = tmp_path / "site"
+    assert main(["view", str(world_run), "--export", str(site)]) == 0
+    page.goto((site / "c" / "oracle" / "e" / WORLD_SCENARIO / "run-1.html").as_uri())
+    reply = page.locator("#changes tr", has_text="msg-ana-tue")
+    expect(reply.locator("td.credits")).to_have_text(re.compile(r"^event ana_tuesday #\d+$"))
+    mine = page.locator("#changes tr", has_text='"msg-1"')
+    expect(mine.locator("td.credits")).to_have_text(re.compile(r"^assistant #\d+$"))
+    reply.locator("td.credits a").click()
+    target = page.url.rsplit("#", 1)[1]
+    expect(page.locator(f"#{target} td").nth(3)).to_have_text("env")
+    expect(page.locator(f"#{target}")).to_contain_text("ana_tuesday")

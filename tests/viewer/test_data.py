@@ -129,10 +129,30 @@ def test_state_diff_and_check_evidence_link_to_the_log(runs: Runs) -> None:
     episode = build_episode(data, list(record.proposals))
     assert episode.changes is not None
     moved = [c for c in episode.changes if c.app == "calendar"]
-    assert moved and all(c.log_index is not None for c in moved)
-    assert episode.log[moved[0].log_index or 0]["actor"] == "assistant"
+    assert moved and all(c.credits and c.credits[-1].who == "assistant" for c in moved)
+    made_by = moved[0].credits[-1].log_index
+    assert made_by is not None and episode.log[made_by]["actor"] == "assistant"
     first_check = episode.goals[0].checks[0]
-    assert first_check.passed and moved[0].log_index in first_check.evidence
+    assert first_check.passed and made_by in first_check.evidence
+
+
+def test_steps_and_checks_find_their_entries_by_index_when_one_is_malformed(runs: Runs) -> None:
+    configuration = Catalog.open([runs.oracle]).configurations[0]
+    record = configuration.records[("dentist_moves_checkup", 1)]
+    data = configuration.trajectory(record)
+    assert data is not None
+    first = next(s["log_index"] for s in data["steps"] if s["actor"] == "assistant")
+    data["log"][first - 1] = "not an entry"  # every later entry moves up one place in the list
+    episode = build_episode(data, list(record.proposals))
+    steps = [s for t in episode.turns for s in [*t.user, *t.assistant] if not isinstance(s, ExecuteGroup)]
+    for step in steps:
+        if step.log_index is not None:
+            entry = next(e for e in episode.log if e["index"] == step.log_index)
+            assert entry["tool"] in step.tool and entry["actor"] == step.actor
+    assert any(s.log_index == first for s in steps)
+    indexes = {e["index"] for e in episode.log}
+    assert all(i in indexes for g in episode.goals for c in g.checks for i in c.evidence)
+    assert any(c.evidence for g in episode.goals for c in g.checks)
 
 
 def test_checks_link_the_entries_their_patterns_match(runs: Runs) -> None:

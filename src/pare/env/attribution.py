@@ -24,6 +24,9 @@ StatePath = tuple[str, ...]
 ATTRIBUTED_ACTORS: frozenset[Actor] = frozenset({"user", "assistant", "oracle"})
 """Actors whose writes are attributed (the oracle's too, for tests that drive it directly)."""
 
+CONTROL_APPS: frozenset[str] = frozenset({"system", "agent_ui"})
+"""Apps whose tools are the turn protocol, not app data: their writes are not attributed."""
+
 
 @dataclass(frozen=True, slots=True)
 class Mark:

@@ -18,7 +18,7 @@ from pare.apps.registry import CORE_APPS, get_app_class
 from pare.apps.screens import BACK, STAY, Screen, Transition, stay
 from pare.apps.system import SystemApp
 from pare.apps.tools import ToolSpec
-from pare.env.attribution import ATTRIBUTED_ACTORS, Attribution
+from pare.env.attribution import ATTRIBUTED_ACTORS, CONTROL_APPS, Attribution
 from pare.env.config import EnvConfig
 from pare.env.views import AssistantObservation, NamedTool, ToolResult, UserView
 from pare.errors import SimulationBug, ToolError, UserInputError, did_you_mean
@@ -32,8 +32,8 @@ from pare.sim.rng import UNUSED_STREAM, EpisodeRandom
 
 MODES: tuple[AssistantMode, ...] = ("observe", "execute")
 ACTORS: tuple[Actor, ...] = ("user", "assistant", "env", "oracle")
-_CONTROL_APPS = ("system", "agent_ui")
-"""Apps whose tools are the turn protocol, not app data: never failed on purpose."""
+_CONTROL_APPS = CONTROL_APPS
+"""Apps whose tools are the turn protocol, not app data: never failed on purpose, never attributed."""
 
 
 @dataclass(slots=True)

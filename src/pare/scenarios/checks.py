@@ -156,6 +156,22 @@ def goals_met(
     return all(rule.verdict(context)[0] for rule in compiled_goals(scenario).cheapest_first)
 
 
+def state_check_places(
+    scenario: Scenario, state: Mapping[str, Any]
+) -> dict[tuple[str, int], list[StatePath]]:
+    """For each state check of ``scenario`` (by goal id and position): the places of the final ``state``
+    where it found what it counted (:meth:`_StateRule.places`), for pages that link a verdict to the
+    calls that made them.
+    """
+    view = _StateView(state)
+    return {
+        (goal.id, index): rule.places(view, scenario.start)
+        for goal, rules in compiled_goals(scenario).goals
+        for index, rule in enumerate(rules)
+        if isinstance(rule, _StateRule)
+    }
+
+
 class _Context:
     """What the checks of one evaluation read (a plain class: two are made for every evaluation)."""
 
@@ -358,6 +374,20 @@ class _StateRule(_Rule):
         passed = self.count.allows(len(matching))
         return passed, f"{detail}; wanted {self.counted}"
 
+    def places(self, view: _StateView, start: datetime) -> list[StatePath]:
+        """Where the check found what it counted: the items its ``where`` matches (before ``by``), or
+        the value it read.
+        """
+        place = view.place(self.state.path)
+        if place is None:
+            return []
+        if self.value is not None:
+            return [place]
+        test = self.where.test
+        return [
+            (*place, key) for key, _, record in view.items(self.state.path) or [] if test(record, key, start)
+        ]
+
 
 class _JudgeRule(_Rule):
     cost = 2
@@ -372,23 +402,21 @@ class _JudgeRule(_Rule):
     def verdict(self, context: _Context) -> tuple[bool, str]:
         check = self.judge
         pattern, described = self.pattern.of(context)
-        texts = [entry.args.get(check.field) for entry in pattern.find(context.log)]
-        candidates = [text for text in texts if isinstance(text, str)]
-        if not candidates:
+        read = [entry for entry in pattern.find(context.log) if isinstance(entry.args.get(check.field), str)]
+        if not read:
             return False, f"no {described} with a text in '{check.field}' to judge"
+        candidates = [entry.args[check.field] for entry in read]
         if check.together and len(candidates) > 1:
             candidates = ["\n\n".join(candidates)]  # one answer sent in parts is judged as the whole
+        texts = f"{len(candidates)} text(s) ({', '.join(f'#{entry.index}' for entry in read)})"
         judge = context.judge
         if judge is not None:
             passed = any(judge(check.criterion, text) for text in candidates)
             verdict = "accepted" if passed else "rejected"
-            return passed, f"judge {verdict} {len(candidates)} text(s) for: {check.criterion}"
+            return passed, f"judge {verdict} {texts} for: {check.criterion}"
         passed = any(self.fallback.test(text, context.start) for text in candidates)
         verdict = "holds" if passed else "fails"
-        return (
-            passed,
-            f"no judge model; fallback {self.fallback_text} {verdict} on {len(candidates)} text(s)",
-        )
+        return passed, f"no judge model; fallback {self.fallback_text} {verdict} on {texts}"
 
 
 def _rule(check: Check, start: datetime) -> _Rule:

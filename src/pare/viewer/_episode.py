@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from pare.bench.records import ProposalRecord
+from pare.viewer._credit import Credit, Credits, pointer_parts
 
 SEND_MESSAGE = "agent_ui__send_message_to_user"
 ANSWERS = {"accept_proposal": "accept", "reject_proposal": "reject"}
@@ -165,8 +166,8 @@ class Change:
     op: str
     path: str
     value: str | None
-    log_index: int | None
-    """The attributed call that last made this place, when the attribution names one."""
+    credits: list[Credit]
+    """Who made it, in the order they did (:mod:`pare.viewer._credit`); empty when unknown."""
 
 
 @dataclass
@@ -214,7 +215,18 @@ def split_observation(text: str) -> tuple[str, Any]:
 
 def episode_log(data: dict[str, Any]) -> list[dict[str, Any]]:
     """The trajectory's action log (its well-formed entries)."""
-    return [entry for entry in data.get("log", []) if isinstance(entry, dict)]
+    return [
+        entry
+        for entry in data.get("log", [])
+        if isinstance(entry, dict) and isinstance(entry.get("index"), int)
+    ]
+
+
+def by_index(log: list[dict[str, Any]]) -> dict[int, dict[str, Any]]:
+    """The log's entries by their own index, which the steps, checks and attribution name (an entry's
+    position in the list is not its index once a malformed entry was left out).
+    """
+    return {int(entry["index"]): entry for entry in log}
 
 
 def build_episode(
@@ -227,11 +239,12 @@ def build_episode(
     (:func:`pare.viewer._evidence.matched_entries`).
     """
     log = episode_log(data)
+    entries = by_index(log)
     by_id = {proposal.proposal_id: proposal for proposal in proposals}
-    steps = _steps(data, log, by_id)
+    steps = _steps(data, entries, by_id)
     outcome = data.get("outcome") or {}
     attribution = data.get("attribution") or {}
-    goals = [_goal(goal, log, attribution, matched or {}) for goal in outcome.get("goals", [])]
+    goals = [_goal(goal, entries, attribution, matched or {}) for goal in outcome.get("goals", [])]
     diff = data.get("state_diff")
     usage: dict[str, Usage] = {}
     for step in steps:
@@ -259,7 +272,7 @@ def build_episode(
         seed=data.get("seed") if isinstance(data.get("seed"), int) else None,
         goals=goals,
         turns=_turns(steps, log, proposals),
-        changes=None if not isinstance(diff, list) else _changes(diff, attribution),
+        changes=None if not isinstance(diff, list) else _changes(diff, Credits(log, attribution)),
         log=log,
         proposals=proposals,
         usage=ordered,
@@ -279,14 +292,14 @@ def _add(total: Usage | None, usage: Usage) -> Usage:
 
 
 def _steps(
-    data: dict[str, Any], log: list[dict[str, Any]], proposals: dict[str, ProposalRecord]
+    data: dict[str, Any], log: dict[int, dict[str, Any]], proposals: dict[str, ProposalRecord]
 ) -> list[StepView]:
     views: list[StepView] = []
     screen = _Screen()
     for number, step in enumerate(data.get("steps", [])):
         action = step.get("action") or {}
         index = step.get("log_index")
-        entry = log[index] if isinstance(index, int) and 0 <= index < len(log) else None
+        entry = log.get(index) if isinstance(index, int) else None
         result = entry.get("result") if entry else None
         args = action.get("args")
         proposal_id = result.get("proposal_id") if isinstance(result, dict) else None
@@ -398,7 +411,7 @@ def _turns(steps: list[StepView], log: list[dict[str, Any]], proposals: list[Pro
 
 def _goal(
     goal: dict[str, Any],
-    log: list[dict[str, Any]],
+    log: dict[int, dict[str, Any]],
     attribution: dict[str, Any],
     matched: dict[tuple[str, int], list[int]],
 ) -> GoalView:
@@ -421,7 +434,7 @@ def _goal(
 def _evidence_of(
     goal_id: str,
     check: dict[str, Any],
-    log: list[dict[str, Any]],
+    log: dict[int, dict[str, Any]],
     attribution: dict[str, Any],
     matched: dict[tuple[str, int], list[int]],
 ) -> list[int]:
@@ -429,13 +442,15 @@ def _evidence_of(
     return matched[key] if key in matched else evidence(check, log, attribution)
 
 
-def evidence(check: dict[str, Any], log: list[dict[str, Any]], attribution: dict[str, Any]) -> list[int]:
-    """The log entries behind a check's verdict: those its detail names (``#12``); for a state check,
-    the calls that made the places it looked at; for an action or judge check, the calls of the tools
-    its detail names.
+def evidence(check: dict[str, Any], log: dict[int, dict[str, Any]], attribution: dict[str, Any]) -> list[int]:
+    """The log entries behind a check's verdict: those its detail names (``#12``: an action check's
+    calls, the texts a judge check read); for a state check, the calls that made anything at the path
+    it looked at (without the scenario, which items it found is not known: see
+    :func:`pare.viewer._evidence.state_entries`); otherwise the calls of the tools its detail names.
+    ``log`` is the log by entry index.
     """
     detail = str(check.get("detail", ""))
-    found = {int(number) for number in _LOG_REFERENCE.findall(detail) if int(number) < len(log)}
+    found = {int(number) for number in _LOG_REFERENCE.findall(detail)}
     if check.get("form") == "state":
         path = re.split(r"[:\s]", detail, maxsplit=1)[0]
         for place, mark in attribution.items():
@@ -445,22 +460,16 @@ def evidence(check: dict[str, Any], log: list[dict[str, Any]], attribution: dict
                 )
     elif not found:
         for app, tool in _TOOL_REFERENCE.findall(detail):
-            found.update(int(e["index"]) for e in log if e.get("app") == app and e.get("tool") == tool)
-    return sorted(index for index in found if 0 <= index < len(log))
+            found.update(i for i, e in log.items() if e.get("app") == app and e.get("tool") == tool)
+    return sorted(index for index in found if index in log)
 
 
-def _changes(diff: list[Any], attribution: dict[str, Any]) -> list[Change]:
+def _changes(diff: list[Any], credits: Credits) -> list[Change]:
     changes = []
     for op in diff:
         if not isinstance(op, dict):
             continue
-        path = str(op.get("path", ""))
-        parts = [part.replace("~1", "/").replace("~0", "~") for part in path.strip("/").split("/")]
-        mark = None
-        for end in range(len(parts), 0, -1):  # the nearest attributed place at or above this one
-            mark = attribution.get(".".join(parts[:end]))
-            if isinstance(mark, dict):
-                break
+        parts = pointer_parts(str(op.get("path", "")))
         value = op.get("value")
         changes.append(
             Change(
@@ -468,7 +477,7 @@ def _changes(diff: list[Any], attribution: dict[str, Any]) -> list[Change]:
                 op=str(op.get("op", "")),
                 path="/".join(parts[1:]),
                 value=None if "value" not in op else json.dumps(value, indent=1, ensure_ascii=False),
-                log_index=mark.get("changed_at") if isinstance(mark, dict) else None,
+                credits=credits.of(op),
             )
         )
     return changes

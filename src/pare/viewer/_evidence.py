@@ -1,10 +1,12 @@
 """Which log entries decided each check, matched again with the scenario's own patterns.
 
-A check's sentence names the entries it found only when it failed on them; to link every verdict to its
-entries the viewer matches the check's action pattern against the trajectory's log once more. That needs
-the very scenario the episode ran: the library's copy is used only when its content hash is the one the
-episode recorded. Otherwise (a scenario file given by path, or changed since) the page falls back to what
-the sentence and the attribution tell.
+A check's sentence names the entries it found only when it failed on them (a judge check names the texts
+it read); to link every verdict to its entries the viewer matches the check's action pattern against the
+trajectory's log once more, and evaluates each state check's ``where`` once more to link the calls that
+made the very items it found (the final state is the scenario's start with the episode's state diff
+applied). That needs the very scenario the episode ran: the library's copy is used only when its content
+hash is the one the episode recorded. Otherwise (a scenario file given by path, or changed since) the
+page falls back to what the sentence and the attribution tell.
 """
 
 from __future__ import annotations
@@ -12,12 +14,18 @@ from __future__ import annotations
 from datetime import datetime
 from typing import Any
 
+import jsonpatch
+
 from pare.bench.store import scenario_hash
 from pare.errors import UserInputError
+from pare.scenarios.build import build_environment
+from pare.scenarios.checks import state_check_places
 from pare.scenarios.library import get_scenario
 from pare.scenarios.model import ActionPattern, Scenario
 from pare.scenarios.patterns import CompiledPattern
 from pare.sim.log import LogEntry
+from pare.viewer._credit import Credits
+from pare.viewer._episode import episode_log
 
 CheckKey = tuple[str, int]
 """A check by goal id and position."""
@@ -33,8 +41,9 @@ def library_scenario(scenario_id: str, wanted_hash: str) -> Scenario | None:
 
 
 def matched_entries(scenario: Scenario, log: list[dict[str, Any]]) -> dict[CheckKey, list[int]]:
-    """For each action, forbidden-action and judge check: the entries its pattern matches (for an
-    action check that found none, the calls of the tool it wanted). State checks are left out.
+    """For each action, forbidden-action and judge check: the entries its pattern matches (for a judge
+    check, those with a text to read; for an action check that found none, the calls of the tool it
+    wanted). State checks are left out.
     """
     try:
         entries = [_entry(item) for item in log]
@@ -50,10 +59,33 @@ def matched_entries(scenario: Scenario, log: list[dict[str, Any]]) -> dict[Check
                 continue
             compiled = CompiledPattern.of(pattern, scenario.start)
             hits = compiled.find(entries)
+            if check.judge is not None:  # the judge reads only the calls that carry a text
+                field = check.judge.field
+                hits = [entry for entry in hits if isinstance(entry.args.get(field), str)]
             if not hits and check.action is not None:
                 hits = [entry for entry in entries if compiled.matches_call(entry)]
             found[(goal.id, index)] = [entry.index for entry in hits]
     return found
+
+
+def state_entries(scenario: Scenario, data: dict[str, Any]) -> dict[CheckKey, list[int]]:
+    """For each state check: the calls that made the items it found (or the value it read) in the
+    episode's final state, which is the scenario's start with the trajectory's state diff applied.
+    Empty when the trajectory has no diff or the diff does not apply to the start.
+    """
+    diff = data.get("state_diff")
+    if not isinstance(diff, list):
+        return {}
+    start = build_environment(scenario).snapshot(shared=True)
+    try:  # applied to a copy: the start snapshot is shared with every episode of the scenario
+        final = jsonpatch.apply_patch(start, diff)
+    except (jsonpatch.JsonPatchException, jsonpatch.JsonPointerException, TypeError, KeyError):
+        return {}
+    credits = Credits(episode_log(data), data.get("attribution") or {})
+    return {
+        key: sorted({index for place in places for index in credits.made(place)})
+        for key, places in state_check_places(scenario, final).items()
+    }
 
 
 def _entry(item: dict[str, Any]) -> LogEntry:
