@@ -126,7 +126,9 @@ def test_unknown_prices_are_unknown_not_zero(
     assert plan["estimate"]["cost_usd"] is None
     assert main([*argv, "--dry-run"]) == 0
     out = capsys.readouterr().out
-    assert "No price for user, judge" in out and "priced" in out
+    total = next(line for line in out.splitlines() if line.strip().startswith("total"))
+    assert total.rstrip().endswith("+ unknown") and "$" in total
+    assert "No price for user, judge" in out
 
 
 def test_the_dry_run_counts_what_the_folder_already_holds(

@@ -129,7 +129,7 @@ def _print_estimate(estimate: Estimate, plan: RunPlan, console: Console) -> None
     if total_cost is not None:
         cost_text = _span(total_cost, _dollars)
     elif known is not None:
-        cost_text = f"unknown; {_span(known, _dollars)} priced"
+        cost_text = f"{_span(known, _dollars)} + unknown"
     else:
         cost_text = "unknown"
     table.add_row("total", "", _span(estimate.calls, _count), "", "", cost_text)
