@@ -233,14 +233,16 @@ def test_format_belongs_to_the_dry_run(tmp_path: Path, capsys: pytest.CaptureFix
     assert not (tmp_path / "run").exists()
 
 
-def test_credentials_in_an_endpoint_are_never_printed(
+def test_credentials_in_an_endpoint_or_extra_are_never_printed(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     endpoint = "https://me:hunter2@models.example.test/v1?api-key=abc123"
     argv = ["run", "-s", SCENARIOS[0], "--runs", "1", "-o", str(tmp_path / "run"), "--user-model", "u"]
     argv += ["--user-endpoint", endpoint, "--set", "models.user.prices={input: 1, output: 1}"]
+    argv += ["--set", "models.user.extra={top_p: 0.9, extra_headers: {x-auth-token: tok-s3cr3t}}"]
     for output_format in ("text", "json"):
         capsys.readouterr()
         assert main([*argv, "--dry-run", "--format", output_format]) == 0
         out = capsys.readouterr().out
         assert "hunter2" not in out and "abc123" not in out and "models.example.test" in out
+        assert "tok-s3cr3t" not in out and "top_p" in out  # what is sent is shown, secrets masked

@@ -30,13 +30,14 @@ import math
 import os
 from collections.abc import Callable, Coroutine, Iterable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
-from typing import Any, Literal
+from typing import Any
 
 from pare.agents.actions import format_action
 from pare.agents.judge import JUDGE_PROMPT
 from pare.agents.llm import LLMAssistant, LLMUser
 from pare.agents.models.config import ModelConfig
-from pare.agents.models.pricing import call_cost
+from pare.agents.models.pricing import call_cost, price_source
+from pare.agents.models.secrets import redact_secrets
 from pare.agents.models.types import ChatMessage, Completion, Usage
 from pare.agents.policy import DEFAULT_BUDGET, Action, Task, TurnBudget
 from pare.bench.episode import arun_episode
@@ -70,9 +71,6 @@ JUDGED_TEXT_CHARS = 1_000
 JUDGE_ANSWER_TOKENS = 2
 """The judge answers YES or NO."""
 
-EstimateRole = Literal["user", "observe", "execute", "judge"]
-ACTOR_ROLES: tuple[EstimateRole, ...] = ("user", "observe", "execute")
-
 
 # -- roles and keys ----------------------------------------------------------------------------------------
 @dataclass(frozen=True)
@@ -86,7 +84,8 @@ class RoleLine:
     endpoint: str | None = None
     """Without credentials."""
     sampling: dict[str, Any] = field(default_factory=dict)
-    """The parameters sent with every request (empty: none, the server's defaults apply)."""
+    """The parameters sent with every request (empty: none, the server's defaults apply); secret-looking
+    values masked, as in the manifest."""
     native_tools: bool = False
     inherited_from: str | None = None
     """The role whose model this one uses because it was not set itself."""
@@ -122,19 +121,13 @@ def role_lines(config: RunConfig) -> list[RoleLine]:
                 model=model.model,
                 backend=model.backend,
                 endpoint=model.endpoint(),
-                sampling=dict(model.request_params()),
+                sampling=redact_secrets(dict(model.request_params())),
                 native_tools=model.native_tools,
                 inherited_from=models.inherited_from(role),
-                prices=_price_source(model),
+                prices=price_source(model),
             )
         )
     return lines
-
-
-def _price_source(model: ModelConfig) -> str | None:
-    from pare.agents.models.pricing import price_source
-
-    return price_source(model)
 
 
 def key_statuses(config: RunConfig, environ: Mapping[str, str] | None = None) -> list[KeyStatus]:
