@@ -1,12 +1,14 @@
-"""The example configurations in examples/ stay valid."""
+"""The examples in examples/ stay valid: the configurations load, the scripts run."""
 
 from __future__ import annotations
 
+import importlib
 from pathlib import Path
 
 import pytest
 
 from pare.bench.runconfig import build_config, read_config_file
+from pare.bench.store import load_run
 from pare.bench.sweep import load_sweep, point_configs
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
@@ -24,3 +26,22 @@ def test_sweep_examples_are_valid(path: Path) -> None:
     configs = point_configs(spec, base)
     assert len(configs) > 1
     assert len({config.identity_hash() for _, config in configs}) == len(configs)
+
+
+def test_the_offline_rehearsal_runs_the_model_path_with_no_key(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    for variable in ("OPENAI_API_KEY", "ANTHROPIC_API_KEY"):
+        monkeypatch.delenv(variable, raising=False)
+    monkeypatch.setenv("COLUMNS", "200")
+    monkeypatch.syspath_prepend(str(EXAMPLES))
+    rehearsal = importlib.import_module("offline_rehearsal")
+
+    assert rehearsal.main(["--output", str(tmp_path / "run")]) == 0
+    out = capsys.readouterr().out
+    assert "dry run" in out and "Estimate for the 5 episodes to run" in out
+    loaded = load_run(tmp_path / "run")
+    assert len(loaded.records) == 5 and all(record.complete for record in loaded.records)
+    calls = sum(usage.calls for record in loaded.records for usage in record.usage.values())
+    assert calls > 0 and f"the local server answered {calls} model calls" in out
+    assert loaded.manifest["judge"]["model"] == "rehearsal-judge"

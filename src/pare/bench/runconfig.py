@@ -22,7 +22,16 @@ from datetime import timedelta
 from pathlib import Path
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ModelWrapValidatorHandler,
+    PrivateAttr,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 
 from pare.agents.models.cache import CacheMode
 from pare.agents.models.config import ModelConfig
@@ -87,25 +96,39 @@ class Models(BaseModel):
         description="Judge free-text checks by their deterministic fallback even when models are set.",
     )
 
-    @model_validator(mode="before")
+    _inherited: dict[str, str] = PrivateAttr(default_factory=dict)
+    """Roles that were not set and took another role's model: role -> the role it came from."""
+
+    @model_validator(mode="wrap")
     @classmethod
-    def _assistant_fills_modes(cls, data: Any) -> Any:
+    def _fill_roles(cls, data: Any, handler: ModelWrapValidatorHandler[Models]) -> Models:
         if not isinstance(data, dict):
-            return data
+            return handler(data)
         data = dict(data)
+        inherited: dict[str, str] = {}
         for mode in ("observe", "execute"):
-            if data.get(mode) is None:
-                data[mode] = data.get("assistant")
-        if data.get("execute") is None:
-            data["execute"] = data.get("observe")  # one observe model does both, as with 'assistant'
+            if data.get(mode) is None and data.get("assistant") is not None:
+                data[mode] = data["assistant"]
+                inherited[mode] = "assistant"
+        if data.get("execute") is None and data.get("observe") is not None:
+            data["execute"] = data["observe"]  # one observe model does both, as with 'assistant'
+            inherited["execute"] = "observe"
         if data.get("observe") is None and data.get("execute") is not None:
             raise ValueError("an execute model needs an observe model (or set 'assistant' for both)")
         if data.get("deterministic_judge"):
             if data.get("judge") is not None:
                 raise ValueError("give a judge model or deterministic_judge, not both")
-        elif data.get("judge") is None:
-            data["judge"] = data.get("user")  # free text is judged by a model whenever models play
-        return data
+        elif data.get("judge") is None and data.get("user") is not None:
+            # free text is judged by a model whenever models play: the paper's user simulator judges
+            data["judge"] = data["user"]
+            inherited["judge"] = "user"
+        models = handler(data)
+        models._inherited = inherited
+        return models
+
+    def inherited_from(self, role: str) -> str | None:
+        """The role whose model ``role`` took because it was not set itself (``None``: set, or unset)."""
+        return self._inherited.get(role)
 
     def roles(self) -> dict[str, ModelConfig]:
         """The configured roles, by name (``assistant`` folded into observe and execute)."""
@@ -239,6 +262,21 @@ class RunConfig(BaseModel):
         if user is None:
             return assistant if assistant != "oracle" else "oracle"
         return f"{assistant} (user {user.model})"
+
+    def judge_provenance(self) -> dict[str, Any]:
+        """Who judges the scenarios' free-text checks: a model (and whether it was set or taken from the
+        user's role), or the checks' deterministic fallbacks. For the manifest and what ``pare run`` prints.
+        """
+        judge = self.models.judge
+        if judge is None:
+            return {"model": None, "inherited_from": None, "deterministic_fallback": True}
+        return {
+            "model": judge.model,
+            "backend": judge.backend,
+            "endpoint": judge.endpoint(),
+            "inherited_from": self.models.inherited_from("judge"),
+            "deterministic_fallback": False,
+        }
 
     def output_dir(self) -> Path:
         """The run folder: ``output`` when given, else ``runs/<slug of label>-<identity hash>``."""

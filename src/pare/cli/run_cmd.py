@@ -7,6 +7,8 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
+from pare.errors import UserInputError
+
 if TYPE_CHECKING:  # the harness is imported by the commands that run: `pare --help` stays fast
     from rich.console import Console
 
@@ -133,7 +135,11 @@ def run(
     execute_model: Annotated[str | None, _model_flag("execute", "model", "Execute mode's model.")] = None,
     execute_provider: Annotated[str | None, _model_flag("execute", "provider", "openai or litellm.")] = None,
     execute_endpoint: Annotated[str | None, _model_flag("execute", "endpoint", "Base URL.")] = None,
-    judge_model: Annotated[str | None, _model_flag("judge", "model", "Judge of free-text checks.")] = None,
+    judge_model: Annotated[
+        str | None, _model_flag("judge", "model", "Judge of free-text checks (default: the user's model).")
+    ] = None,
+    judge_provider: Annotated[str | None, _model_flag("judge", "provider", "openai or litellm.")] = None,
+    judge_endpoint: Annotated[str | None, _model_flag("judge", "endpoint", "Base URL.")] = None,
     max_turns: Annotated[
         int | None, typer.Option("--max-turns", help="Turns per episode (default 10).")
     ] = None,
@@ -167,6 +173,17 @@ def run(
     ray_address: Annotated[str | None, typer.Option("--ray-address", help="Ray cluster to join.")] = None,
     sets: Sets = None,
     progress: Annotated[bool, typer.Option("--progress/--no-progress", help="Show a progress bar.")] = True,
+    dry_run: Annotated[
+        bool,
+        typer.Option(
+            "--dry-run",
+            help="Show the roles, API keys, episodes and an estimate of calls, tokens and cost; call no "
+            "provider and make no folder.",
+        ),
+    ] = False,
+    output_format: Annotated[
+        str, typer.Option("--format", help="With --dry-run: text (default) or json.")
+    ] = "text",
 ) -> None:
     """Run the benchmark (or resume it: finished episodes are kept, the rest are run).
 
@@ -175,6 +192,11 @@ def run(
     from rich.console import Console
 
     from pare.bench.runner import run_benchmark
+
+    if output_format not in ("text", "json"):
+        raise UserInputError(f"--format is text or json, not '{output_format}'")
+    if output_format != "text" and not dry_run:
+        raise UserInputError("--format applies to --dry-run only")
 
     flags = {
         "scenarios.ids": scenario,
@@ -207,10 +229,17 @@ def run(
         },
         "observe": {"model": observe_model, "backend": observe_provider, "api_base": observe_endpoint},
         "execute": {"model": execute_model, "backend": execute_provider, "api_base": execute_endpoint},
-        "judge": {"model": judge_model},
+        "judge": {"model": judge_model, "backend": judge_provider, "api_base": judge_endpoint},
     }
     config = load_config(config_file, collect_overrides(sets=sets, flags=flags, models=models))
     console = Console()
+    if dry_run:
+        from pare.cli.dry_run import print_plan
+
+        print_plan(config, console, as_json=output_format == "json")
+        return
+    if not config.oracle_only:
+        print_roles(config, console)
     if config.scenarios.paths:
         warn_about_broken_oracles(config, console)
     try:
@@ -222,8 +251,35 @@ def run(
         )
         raise typer.Exit(130) from None
     print_summary(summary, console)
+    if not config.oracle_only:
+        print_judge_note(config, console)
     if summary.failed:
         raise typer.Exit(1)
+
+
+def print_roles(config: RunConfig, console: Console) -> None:
+    """Which model plays each role, said before anything runs (and costs)."""
+    roles = config.models.roles()
+    parts = []
+    for role in ("user", "observe", "execute"):
+        model = roles.get(role)
+        parts.append(f"{role} {model.model if model is not None else 'oracle'}")
+    judge = config.judge_provenance()
+    parts.append(f"judge {judge['model'] or 'deterministic fallbacks'}")
+    console.print("models: " + ", ".join(parts), highlight=False, markup=False)
+    print_judge_note(config, console)
+
+
+def print_judge_note(config: RunConfig, console: Console) -> None:
+    """Say when the judge of free-text checks was not chosen but taken from the user's role."""
+    judge = config.judge_provenance()
+    if judge["inherited_from"] == "user":
+        console.print(
+            f"[yellow]note[/yellow]: free-text checks are judged by the user's model ({judge['model']}), "
+            "since no judge was set; choose one with --judge-model (and --judge-provider, --judge-endpoint) "
+            "or --set models.deterministic_judge=true.",
+            highlight=False,
+        )
 
 
 def warn_about_broken_oracles(config: RunConfig, console: Console) -> None:
