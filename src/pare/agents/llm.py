@@ -24,6 +24,9 @@ from pare.errors import ActionFormatError
 from pare.sim.budget import DEFAULT_BUDGET, TurnBudget
 from pare.sim.log import AssistantMode
 
+EXECUTE_OPENING = "The user accepted your proposal. Carry out the task now."
+"""What execute mode is told first, in the fresh conversation that carries out an accepted task."""
+
 
 class ChatModel(Protocol):
     """What an actor needs from a model: one completion for a conversation (``ModelClient`` has it)."""
@@ -214,7 +217,7 @@ class LLMAssistant(AssistantPolicy):
                 env, task, max_steps=self.execute_steps, native_tools=self.executor.native_tools
             )
             self.executor.reset(prompt)
-            self.executor.tell("The user accepted your proposal. Carry out the task now.")
+            self.executor.tell(EXECUTE_OPENING)
         else:
             self.executor.tell(_observation_text(previous))
         return await self.executor.decide(self._tools(self.executor, "execute"))

@@ -34,7 +34,7 @@ from typing import Any
 
 from pare.agents.actions import format_action
 from pare.agents.judge import JUDGE_PROMPT
-from pare.agents.llm import LLMAssistant, LLMUser
+from pare.agents.llm import EXECUTE_OPENING, LLMAssistant, LLMUser
 from pare.agents.models.config import ModelConfig
 from pare.agents.models.pricing import call_cost, price_source
 from pare.agents.models.secrets import redact_secrets
@@ -61,9 +61,6 @@ THOUGHT = (
 THOUGHT_CHARS = len(THOUGHT)
 """About twice the prompts' own example thoughts: one or two sentences. Reasoning models think far more
 (billed as output tokens): set ``max_tokens`` to bound it."""
-
-EXECUTE_OPENING = "The user accepted your proposal. Carry out the task now."
-"""What execute mode is first told (as the assistant says it): part of its first prompt."""
 
 JUDGED_TEXT_CHARS = 1_000
 """Length assumed for a text the judge reads (an email or message the assistant wrote)."""
