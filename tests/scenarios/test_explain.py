@@ -48,7 +48,7 @@ def test_any_of_explains_every_alternative() -> None:
     why = _why({"any_of": [{"affirms": "thursday"}, {"mentions_day": "day+4"}]}, "Thursday does not work")
     assert why.startswith("any of: none holds (")
     assert "negated by 'not'" in why
-    assert "mentions_day day+4 (Fri 7 Mar): the text names no day or time" in why
+    assert "mentions_day day+4 (Fri 7 Mar): the text names days or times only in negated clauses" in why
     assert "Thu 6 Mar in \"Thursday does not work\" negated by 'not'" in why
 
 
@@ -83,6 +83,10 @@ def test_values_that_are_not_text() -> None:
         "start_datetime: equals 'day+3 08:00': got"
     )
     assert "none of its 2 items matches" in _why({"title": {"contains": "x"}}, [{"title": "y"}, {}])
+
+
+def test_a_text_without_days_says_so() -> None:
+    assert _why({"mentions_clock": "08:00"}, "see you soon") == "mentions_clock 08:00: the text names none"
 
 
 def test_nothing_to_explain_when_the_matcher_holds() -> None:

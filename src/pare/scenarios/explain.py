@@ -221,7 +221,10 @@ def _mentions(text: str, expected: Any, start: datetime) -> str:
                 named.append(f"{readings} (sentence {number})")
             else:
                 negated.append(f"{readings} in \"{excerpt(clause, (cue,))}\" negated by '{cue}'")
-    said = f"the text names {', '.join(named)}" if named else "the text names no day or time"
+    if named:
+        said = f"the text names {', '.join(named)}"
+    else:
+        said = "the text names days or times only in negated clauses" if negated else "the text names none"
     return said + ("; " + "; ".join(negated) if negated else "")
 
 
