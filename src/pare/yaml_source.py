@@ -215,8 +215,8 @@ def _children(node: yaml.Node) -> list[yaml.Node]:
 
 
 _BLOCK_HEADER = re.compile(r"(?:[&!]\S*\s+)*[|>][1-9]?([+-]?)")
-"""The start of a block scalar, from its node's start: an anchor or a tag, its style, then a chomping indicator (``-``, ``+``) before or
-after an indentation digit (``|2-``, ``|-2``)."""
+"""The start of a block scalar, from its node's start: an anchor or a tag, its style, then a chomping
+indicator (``-``, ``+``) before or after an indentation digit (``|2-``, ``|-2``)."""
 _STR_TAG = "tag:yaml.org,2002:str"
 
 

@@ -398,10 +398,10 @@ class _JudgeRule(_Rule):
         if explain and not passed:
             shown = [
                 f"{explaining.quote(text)}: {explaining.explain(self.fallback, text, context.start)}"
-                for text in candidates
+                for text in candidates[:_EXPLAINED]
             ]
-            more = f" and {len(shown) - _EXPLAINED} more" if len(shown) > _EXPLAINED else ""
-            detail += ": " + " / ".join(shown[:_EXPLAINED]) + more
+            more = f" and {len(candidates) - _EXPLAINED} more" if len(candidates) > _EXPLAINED else ""
+            detail += ": " + " / ".join(shown) + more
         return passed, detail
 
 

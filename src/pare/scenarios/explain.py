@@ -13,7 +13,7 @@ while checks run: a verdict's cost does not change when everything holds.
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from datetime import date, datetime, time
 from typing import Any
 
@@ -94,9 +94,12 @@ def _explain_fields(matcher: Matcher, value: Any, start: datetime) -> str:
     if isinstance(value, list):
         if not value:
             return "the list is empty"
-        shown = [f"item {index}: {_explain_fields(matcher, item, start)}" for index, item in enumerate(value)]
+        shown = [
+            f"item {index}: {_explain_fields(matcher, item, start)}"
+            for index, item in enumerate(value[:_MOST_ITEMS])
+        ]
         more = f"; and {len(value) - _MOST_ITEMS} more" if len(value) > _MOST_ITEMS else ""
-        return f"none of its {len(value)} items matches ({'; '.join(shown[:_MOST_ITEMS])}{more})"
+        return f"none of its {len(value)} items matches ({'; '.join(shown)}{more})"
     if not isinstance(value, Mapping):
         return f"not a record (got {_shown(value)})"
     reasons = []
@@ -234,7 +237,7 @@ def _reading(mention: meaning.Mention) -> str:
     return " ".join(part for part in (days, times) if part)
 
 
-_TEXT_EXPLAINERS = {
+_TEXT_EXPLAINERS: dict[str, Callable[[str, Any, datetime], str]] = {
     "affirms": _affirms,
     "contains": _contains,
     "contains_any": _contains_any,
