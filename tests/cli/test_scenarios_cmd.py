@@ -1,5 +1,6 @@
 from __future__ import annotations
 
+import io
 import json
 from pathlib import Path
 
@@ -177,6 +178,15 @@ def test_match_fails_with_the_reason(capsys: pytest.CaptureFixture[str]) -> None
     assert "FAIL: any of: none holds (" in out
     assert "found 'move' in clause \"not Fri - could we move it\" but it is negated by 'not'" in out
     assert "mentions_day day+3 (Thu 6 Mar)" in out
+
+
+def test_match_reads_the_text_from_standard_input(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr("sys.stdin", io.StringIO("Thursday is out.\nFriday works\n"))
+    assert main(["scenarios", "match", "{affirms: thursday}", "-"]) == 1
+    out = capsys.readouterr().out
+    assert "1. \"Thursday is out\"  negated by 'is out'" in out and '2. "Friday works"' in out
 
 
 @pytest.mark.parametrize(

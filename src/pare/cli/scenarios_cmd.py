@@ -486,7 +486,9 @@ def match(
     except ValueError:
         raise UserInputError(f"--start: '{start}' is not an ISO time such as {TRIAL_START}") from None
     anchor = anchor if anchor.tzinfo else anchor.replace(tzinfo=UTC)
-    trial = try_matcher(matcher, sys.stdin.read() if text == "-" else text, anchor)
+    if text == "-":
+        text = sys.stdin.read().removesuffix("\n")  # the line break that ends what was piped in
+    trial = try_matcher(matcher, text, anchor)
     for line in trial.lines:
         typer.echo(line)
     if not trial.passed:
