@@ -17,6 +17,7 @@ the safe loader: no tag in a file can run code.
 from __future__ import annotations
 
 import os
+import re
 import stat
 from dataclasses import dataclass, field
 from pathlib import Path as FilePath
@@ -105,8 +106,13 @@ def read_text_file(path: str | FilePath, *, max_bytes: int = MAX_FILE_BYTES) -> 
         raise UnreadableFile(f"line {line}: it is not UTF-8 text ({error.reason})") from None
 
 
-def parse_yaml(text: str) -> YamlDocument:
-    """Parse ``text`` (one YAML document) within the bounds, and record the line of every value."""
+def parse_yaml(text: str, *, clip_block_scalars: bool = False) -> YamlDocument:
+    """Parse ``text`` (one YAML document) within the bounds, and record the line of every value.
+
+    With ``clip_block_scalars``, a folded or literal block (``>`` or ``|``) written without a chomping
+    indicator loses the one line break YAML ends it with: ``content: >`` followed by a paragraph is that
+    paragraph, as the author meant it, not the paragraph and a newline (``>+`` and ``|+`` keep theirs).
+    """
     if len(text) > MAX_FILE_BYTES:
         raise YamlSyntaxError(
             f"the text is longer than {MAX_FILE_BYTES} characters, more than PARE reads", None
@@ -120,6 +126,8 @@ def parse_yaml(text: str) -> YamlDocument:
         if node is not None:
             _check_expansion(node)
             _walk(node, document)  # before constructing: that expands merge keys (<<) in place
+            if clip_block_scalars:
+                _clip_block_scalars(node, text)
             document.data = loader.construct_document(node)
     except yaml.YAMLError as error:
         mark = getattr(error, "problem_mark", None)
@@ -204,6 +212,33 @@ def _children(node: yaml.Node) -> list[yaml.Node]:
     if isinstance(node, yaml.SequenceNode):
         return list(node.value)
     return []
+
+
+_BLOCK_HEADER = re.compile(r"(?:[&!]\S*\s+)*[|>][1-9]?([+-]?)")
+"""The start of a block scalar, from its node's start: an anchor or a tag, its style, then a chomping
+indicator (``-``, ``+``) before or after an indentation digit (``|2-``, ``|-2``)."""
+_STR_TAG = "tag:yaml.org,2002:str"
+
+
+def _clip_block_scalars(root: yaml.Node, text: str) -> None:
+    """Drop the final line break of every block scalar whose header has no chomping indicator (YAML's
+    "clip", which keeps exactly one); each node once, since an alias shares its anchor's node.
+    """
+    seen: set[int] = set()
+    stack = [root]
+    while stack:
+        node = stack.pop()
+        if id(node) in seen:
+            continue
+        seen.add(id(node))
+        if not isinstance(node, yaml.ScalarNode):
+            stack.extend(_children(node))
+            continue
+        if node.style not in ("|", ">") or node.tag != _STR_TAG or not node.value.endswith("\n"):
+            continue
+        header = _BLOCK_HEADER.match(text, node.start_mark.index)
+        if header is not None and not header.group(1):
+            node.value = node.value[:-1]
 
 
 def _walk(root: yaml.Node, document: YamlDocument) -> None:

@@ -1,5 +1,6 @@
 from __future__ import annotations
 
+import io
 import json
 from pathlib import Path
 
@@ -157,3 +158,83 @@ def test_the_similar_help_states_the_library_threshold(capsys: pytest.CaptureFix
 
     assert main(["scenarios", "similar", "--help"]) == 0
     assert f"threshold, {THRESHOLD:.2f})" in " ".join(capsys.readouterr().out.split())
+
+
+def test_match_passes_and_shows_how_the_text_was_read(capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(["scenarios", "match", "{affirms: [move*]}", "not Fri 🙈 Any chance we could move it?"])
+    out = capsys.readouterr().out
+    assert code == 0
+    assert "1. \"not Fri\"  negated by 'not'" in out
+    assert '2. "Any chance we could move it"' in out
+    assert "negations: 'not' in clause 1" in out
+    assert out.rstrip().endswith("PASS")
+
+
+def test_match_fails_with_the_reason(capsys: pytest.CaptureFixture[str]) -> None:
+    rule = '{"any_of": [{"affirms": ["move*"]}, {"mentions_day": "day+3"}]}'  # JSON is YAML too
+    code = main(["scenarios", "match", rule, "not Fri - could we move it", "--start", "2025-03-03T09:00"])
+    out = capsys.readouterr().out
+    assert code == 1
+    assert "FAIL: any of: none holds (" in out
+    assert "found 'move' in clause \"not Fri - could we move it\" but it is negated by 'not'" in out
+    assert "mentions_day day+3 (Thu 6 Mar)" in out
+
+
+def test_match_reads_the_text_from_standard_input(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr("sys.stdin", io.StringIO("Thursday is out.\nFriday works\n"))
+    assert main(["scenarios", "match", "{affirms: thursday}", "-"]) == 1
+    out = capsys.readouterr().out
+    assert "1. \"Thursday is out\"  negated by 'is out'" in out and '2. "Friday works"' in out
+
+
+@pytest.mark.parametrize(
+    ("rule", "said"),
+    [
+        (
+            "{contain_any: [thu]}",
+            "RULE: contain_any: 'contain_any' is not an operator. Did you mean 'contains_any'",
+        ),
+        ("{affirms: []}", "RULE: (rule): 'affirms' needs a string or a list of non-empty strings"),
+        ("{affirms: [", "RULE: (rule): not valid YAML"),
+    ],
+)
+def test_match_reports_a_broken_rule_as_the_loader_does(
+    rule: str, said: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(["scenarios", "match", rule, "Thursday works"]) == 2
+    err = capsys.readouterr().err
+    assert "RULE: 1 problem:" in err and said in err
+
+
+def test_the_gate_says_why_a_passing_variant_failed(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
+) -> None:
+    data = fair()
+    data["goals"].append(
+        {
+            "id": "moved",
+            "description": "The assistant asked to move it.",
+            "checks": [
+                {
+                    "judge": {
+                        "criterion": "asks to move the meeting",
+                        "action": {"tool": ["email__reply_to_email", "email__send_email"]},
+                        "fallback": {"affirms": "thursday"},
+                    }
+                }
+            ],
+        }
+    )
+    passing = next(variant for variant in data["variants"] if variant["expect"] == "pass")
+    for action in passing["interventions"][0]["actions"]:
+        if "content" in action["args"]:
+            action["args"]["content"] = "Friday is out - Thursday works"
+    _write(tmp_path, data)
+    assert main(["scenarios", "check", str(tmp_path)]) == 1
+    out = " ".join(capsys.readouterr().out.split())  # the console wraps long lines
+    assert f"[variant:{passing['id']}]: check failed: moved[0] no judge model; fallback affirms" in out
+    assert (
+        "found 'Thursday' in clause \"Friday is out - Thursday works\" but it is negated by 'is out'" in out
+    )

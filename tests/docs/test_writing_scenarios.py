@@ -4,13 +4,19 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import Any
 
 import pytest
+import yaml
 
 from pare.bench.selftest import check_scenario
 from pare.cli import main
 from pare.scenarios import parse_scenario
+from pare.scenarios.kinds import matcher_problems
+from pare.scenarios.matchers import OPERATORS, compile_matcher
+from pare.scenarios.model import ActionPattern
 from pare.scenarios.schema import SCHEMA_FILE
+from pare.yaml_source import load_yaml
 
 GUIDE = Path(__file__).parents[2] / "docs" / "writing-scenarios.md"
 
@@ -42,3 +48,64 @@ def test_the_guides_relative_links_resolve() -> None:
 def test_schema_path_is_the_installed_schema(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["scenarios", "schema", "--path"]) == 0
     assert Path(capsys.readouterr().out.strip()) == SCHEMA_FILE.resolve()
+
+
+def _inline_examples() -> list[tuple[str, dict[str, Any]]]:
+    """The guide's inline examples of patterns, matchers and `where` conditions (``{...}`` in backquotes),
+    but those with a placeholder (``...``, ``<Bob's email>``) or without values (``{min, max}``).
+    """
+    text = GUIDE.read_text(encoding="utf-8")
+    found = []
+    for written in re.findall(r"`([^`\n]*\{[^`\n]*)`", text):
+        if "..." in written or "<" in written or "${" in written:
+            continue
+        data = yaml.safe_load(written)
+        if isinstance(data, dict) and None not in data.values():
+            found.append((written, data))
+    return found
+
+
+def _loads_as_a_check(check: dict[str, Any]) -> None:
+    """Load the worked example with ``check`` added to its goal 'confirmed': through the whole loader."""
+    data = load_yaml(_complete_example())
+    data["goals"][1]["checks"].append(check)
+    parse_scenario(yaml.safe_dump(data, sort_keys=False), source="docs/writing-scenarios.md")
+
+
+PATTERN_FIELDS = set(ActionPattern.model_fields)
+
+
+def test_every_inline_example_is_accepted_by_the_loader() -> None:
+    examples = _inline_examples()
+    assert len(examples) >= 10
+    for written, data in examples:
+        try:
+            if set(data) <= PATTERN_FIELDS:  # a pattern: as an action check of the worked example
+                _loads_as_a_check({"action": data})
+            elif list(data) == ["where"]:  # a condition on items: on the example's calendar events
+                _loads_as_a_check({"state": {"path": "calendar.events", **data}})
+            elif list(data) == ["any_of"] and not any(set(item) & set(OPERATORS) for item in data["any_of"]):
+                # alternatives of fields in a `where`
+                _loads_as_a_check({"state": {"path": "calendar.events", "where": data}})
+            elif len(data) == 1:  # `field: matcher`
+                (matcher,) = data.values()
+                compile_matcher(matcher)
+                assert not list(matcher_problems(matcher, Any)), written
+            else:  # a bare matcher
+                compile_matcher(data)
+        except Exception as error:  # name the example that broke
+            raise AssertionError(f"{written}: {error}") from error
+
+
+def test_the_either_a_reply_or_a_new_email_pattern_is_given_whole() -> None:
+    patterns = [data for _, data in _inline_examples() if "email__reply_to_email" in str(data.get("tool"))]
+    assert any("any_of" in str(pattern["args"]) for pattern in patterns)
+    assert "an `any_of` of patterns" not in GUIDE.read_text(encoding="utf-8")
+
+
+def test_the_operator_table_lists_every_operator() -> None:
+    text = GUIDE.read_text(encoding="utf-8")
+    table = text[text.index("| operator | holds when the value |") : text.index("A mapping of field names")]
+    listed = set(re.findall(r"^\| `(\w+)`(?:, `(\w+)`)?", table, re.M))
+    names = {name for pair in listed for name in pair if name}
+    assert names == set(OPERATORS)

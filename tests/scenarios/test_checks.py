@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 from pare.agents import SilentAssistant, SilentUser
@@ -280,3 +281,49 @@ def test_a_pattern_is_compiled_once_per_pattern_and_start() -> None:
     assert CompiledPattern.of(check, scenario.start) is first
     other = datetime(2030, 1, 1, tzinfo=UTC)
     assert CompiledPattern.of(check, other).start is other
+
+
+def test_a_failing_fallback_quotes_the_text_and_says_which_clause_failed() -> None:
+    judged = {
+        "judge": {
+            "criterion": "says yes to Friday",
+            "action": {"tool": "email__reply_to_email"},
+            "fallback": {"any_of": [{"affirms": "friday"}, {"affirms": "thursday", "contains": "friday"}]},
+        }
+    }
+    data = _with_checks(judged)
+    data["oracle"]["interventions"][0]["actions"][0]["args"]["content"] = "Not Friday - Thursday works!"
+    _, result = _oracle_run(data)
+    (failure,) = result.outcome.failures()
+    assert failure.detail.startswith("no judge model; fallback any of (")
+    assert re.search(
+        r'fails on 1 text\(s\) \(#\d+\): "Not Friday - Thursday works!": any of: none holds \(',
+        failure.detail,
+    )
+    clause = 'clause "Not Friday - Thursday works"'
+    assert f"affirms 'friday': found 'Friday' in {clause} but it is negated by 'Not'" in failure.detail
+    assert "contains 'friday'" not in failure.detail  # the part of the rule that held is not blamed
+
+
+def test_a_failing_state_value_and_a_near_call_say_why() -> None:
+    data = _with_checks({"state": {"path": "email.user_email", "value": {"contains": "bob"}}})
+    _, result = _oracle_run(data)
+    assert "'bob' is not in the text as a whole word" in result.outcome.failures()[0].detail
+    data = _with_checks(
+        {"action": {"tool": "email__reply_to_email", "args": {"content": {"affirms": "friday"}}}}
+    )
+    _, result = _oracle_run(data)
+    detail = result.outcome.failures()[0].detail
+    assert "does not match: content: affirms 'friday': 'friday' is not in the text as a whole word" in detail
+
+
+def test_the_verdict_alone_is_not_explained(monkeypatch: Any) -> None:
+    from pare.scenarios import checks, explain
+
+    def refuse(*args: Any) -> str:
+        raise AssertionError("explained")
+
+    data = _with_checks({"state": {"path": "email.user_email", "value": {"contains": "bob"}}})
+    scenario, result = _oracle_run(data)
+    monkeypatch.setattr(explain, "explain", refuse)
+    assert not checks.goals_met(scenario, result.env.log.entries, result.env.snapshot())

@@ -308,3 +308,47 @@ def test_a_word_is_found_where_its_pattern_finds_it_in_any_text(piece: str, text
         return
     expected = word_pattern(normalise_quotes(piece)).search(normalise_quotes(text)) is not None
     assert has_word(text, piece) is expected
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "not Fri 🙈 Any chance we could move it?",
+        "not Fri 🙈🙈 Any chance we could move it?",
+        "not Fri 👍🏽 Any chance we could move it?",  # a skin tone: one pictograph
+        "not Fri ❤️ Any chance we could move it?",  # a variation selector
+        "not Fri 👨‍👩‍👧 Any chance we could move it?",  # a family joined by zero-width joiners
+        "not Fri 🇫🇷 Any chance we could move it?",  # a flag
+        "not Fri ✅ Any chance we could move it?",
+        "not Fri ⏰ Any chance we could move it?",
+        "not Fri‼ Any chance we could move it?",
+    ],
+)
+def test_an_emoji_ends_a_sentence(text: str) -> None:
+    assert clauses(text) == ["not Fri", "Any chance we could move it"]
+    assert affirms(text, "move*")
+    assert not affirms(text, "fri")
+
+
+def test_symbols_written_inside_a_sentence_do_not_end_it() -> None:
+    for text in ("Acme™ works © 2025", "Mon → Tue works", "he said ❝yes❞ to Thursday", "Bob ↔ Ann"):
+        assert clauses(text) == [text]
+
+
+def test_the_days_of_one_sentence_end_at_an_emoji() -> None:
+    # two sentences, each with one day or one time: only as the text's only day and only time together
+    assert mentions_moment("Thursday 🙂 18:15 then", THURSDAY_1815, START)
+    assert not mentions_moment("Thursday 🙂 18:15 then, or Friday 🙂 08:00", THURSDAY_1815, START)
+    assert mentions_moment("Thursday 18:15 🙂 or Friday 08:00", THURSDAY_1815, START)
+
+
+def test_every_emoji_pictograph_ends_a_sentence() -> None:
+    regex = pytest.importorskip("regex")  # its Unicode tables say which characters are pictographs
+    pictographs = [
+        chr(code)
+        for code in [*range(0x2600, 0x2760), *range(0x1F000, 0x1FB00)]
+        if regex.fullmatch(r"\p{Extended_Pictographic}", chr(code))
+    ]
+    assert len(pictographs) > 1000
+    for char in pictographs:
+        assert clauses(f"not Fri {char} move it") == ["not Fri", "move it"], hex(ord(char))

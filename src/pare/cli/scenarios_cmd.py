@@ -446,3 +446,50 @@ def review(
     from pare.cli.review_cmd import review as run_review
 
     run_review(folder, accept or [], reject or [], reason, library, interactive)
+
+
+TRIAL_START = "2025-03-03T09:00:00Z"
+"""The start ``pare scenarios match`` resolves relative days against unless told (a Monday)."""
+
+
+@app.command("match")
+def match(
+    rule: Annotated[
+        str,
+        typer.Argument(
+            help="A matcher as written in a scenario file, in YAML or JSON: '{affirms: [move*]}', "
+            "'{any_of: [{mentions_day: day+3}, {contains: thu}]}'.",
+            show_default=False,
+        ),
+    ],
+    text: Annotated[
+        str,
+        typer.Argument(help="The text to try it on ('-' reads it from standard input).", show_default=False),
+    ],
+    start: Annotated[
+        str,
+        typer.Option("--start", help="The scenario's start, which day+N and +2h are counted from (ISO)."),
+    ] = TRIAL_START,
+) -> None:
+    """Try a matcher on a text, as a check on a message would: PASS or FAIL with why, the clauses the text
+    was cut into and the negations found. Exits 0 on PASS, 1 on FAIL, 2 when the rule is not a matcher.
+    """
+    import sys
+    from datetime import UTC, datetime
+
+    from pare.errors import UserInputError
+    from pare.scenarios.trial import parse_rule, try_matcher
+
+    matcher = parse_rule(rule)
+    try:
+        anchor = datetime.fromisoformat(start.strip().replace("Z", "+00:00"))
+    except ValueError:
+        raise UserInputError(f"--start: '{start}' is not an ISO time such as {TRIAL_START}") from None
+    anchor = anchor if anchor.tzinfo else anchor.replace(tzinfo=UTC)
+    if text == "-":
+        text = sys.stdin.read().removesuffix("\n")  # the line break that ends what was piped in
+    trial = try_matcher(matcher, text, anchor)
+    for line in trial.lines:
+        typer.echo(line)
+    if not trial.passed:
+        raise typer.Exit(1)

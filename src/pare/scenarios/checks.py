@@ -15,6 +15,7 @@ from types import MappingProxyType
 from typing import Any
 
 from pare.env.attribution import Attribution, StatePath, item_key, place_of
+from pare.scenarios import explain as explaining
 from pare.scenarios.matchers import compile_matcher
 from pare.scenarios.model import (
     WHERE_ANY,
@@ -130,7 +131,7 @@ def evaluate(
         results = []
         for index, rule in enumerate(rules):
             passed, detail = rule.verdict(context)
-            user_made = not passed and rule.on_the_assistant and rule.verdict(credited)[0]
+            user_made = not passed and rule.on_the_assistant and rule.verdict(credited, explain=False)[0]
             results.append(
                 CheckResult(goal.id, index, rule.form, passed, detail, rule.description, user_made)
             )
@@ -153,7 +154,8 @@ def goals_met(
     ``state`` may be a function that takes the snapshot: it is called only if a state check is reached.
     """
     context = _Context(scenario.start, log, _StateView(state), attribution or Attribution(), None)
-    return all(rule.verdict(context)[0] for rule in compiled_goals(scenario).cheapest_first)
+    rules = compiled_goals(scenario).cheapest_first
+    return all(rule.verdict(context, explain=False)[0] for rule in rules)
 
 
 def state_check_places(
@@ -288,8 +290,11 @@ class _Rule(ABC):
         self.description = check.description
 
     @abstractmethod
-    def verdict(self, context: _Context) -> tuple[bool, str]:
-        """Whether the check holds in ``context``, and what was looked for and found."""
+    def verdict(self, context: _Context, *, explain: bool = True) -> tuple[bool, str]:
+        """Whether the check holds in ``context``, and what was looked for and found; with ``explain``, a
+        failing check also says why its matchers refused what was found (read again only then, see
+        :mod:`pare.scenarios.explain`). Callers that need only the verdict pass ``explain=False``.
+        """
 
 
 class _ActionRule(_Rule):
@@ -299,7 +304,7 @@ class _ActionRule(_Rule):
         self.count = as_count(action.count, _AT_LEAST_ONE)
         self.counted = self.count.describe()
 
-    def verdict(self, context: _Context) -> tuple[bool, str]:
+    def verdict(self, context: _Context, *, explain: bool = True) -> tuple[bool, str]:
         log = context.log
         pattern, described = self.pattern.of(context)
         found = pattern.find(log)
@@ -311,6 +316,8 @@ class _ActionRule(_Rule):
         detail = f"wanted {wanted}; found {len(found)}"
         if near:
             detail += f"; other calls to that tool: {_calls(near)}"
+            if explain:
+                detail += _why_not(pattern, near[0])
         return False, detail
 
 
@@ -320,7 +327,7 @@ class _NoActionRule(_Rule):
         self.pattern = CompiledPattern.of(pattern, start)
         self.described = self.pattern.describe()
 
-    def verdict(self, context: _Context) -> tuple[bool, str]:
+    def verdict(self, context: _Context, *, explain: bool = True) -> tuple[bool, str]:
         found = self.pattern.find(context.log)
         if not found:
             return True, f"no {self.described}"
@@ -340,7 +347,7 @@ class _StateRule(_Rule):
         self.count = as_count(state.count, _AT_LEAST_ONE)
         self.counted = self.count.describe()
 
-    def verdict(self, context: _Context) -> tuple[bool, str]:
+    def verdict(self, context: _Context, *, explain: bool = True) -> tuple[bool, str]:
         check, start, view = self.state, context.start, context.state
         value = view.value(check.path)
         if value is MISSING:
@@ -351,6 +358,8 @@ class _StateRule(_Rule):
             shown = _short({"value": value}, 120)
             verb = "matches" if passed else "does not match"
             detail = f"{check.path} {verb} {self.value_text} ({shown})"
+            if explain and not passed:
+                detail += f": {explaining.explain(self.value, value, start)}"
             if makers is not None:
                 place = view.place(check.path)
                 made = place is not None and context.attribution.credits(place, makers)
@@ -399,7 +408,7 @@ class _JudgeRule(_Rule):
         self.fallback = compile_matcher(judge.fallback)
         self.fallback_text = self.fallback.describe()
 
-    def verdict(self, context: _Context) -> tuple[bool, str]:
+    def verdict(self, context: _Context, *, explain: bool = True) -> tuple[bool, str]:
         check = self.judge
         pattern, described = self.pattern.of(context)
         read = [entry for entry in pattern.find(context.log) if isinstance(entry.args.get(check.field), str)]
@@ -416,7 +425,15 @@ class _JudgeRule(_Rule):
             return passed, f"judge {verdict} {texts} for: {check.criterion}"
         passed = any(self.fallback.test(text, context.start) for text in candidates)
         verdict = "holds" if passed else "fails"
-        return passed, f"no judge model; fallback {self.fallback_text} {verdict} on {texts}"
+        detail = f"no judge model; fallback {self.fallback_text} {verdict} on {texts}"
+        if explain and not passed:
+            shown = [
+                f"{explaining.quote(text)}: {explaining.explain(self.fallback, text, context.start)}"
+                for text in candidates[:_EXPLAINED]
+            ]
+            more = f" and {len(candidates) - _EXPLAINED} more" if len(candidates) > _EXPLAINED else ""
+            detail += ": " + " / ".join(shown) + more
+        return passed, detail
 
 
 def _rule(check: Check, start: datetime) -> _Rule:
@@ -468,6 +485,20 @@ def _on_the_assistant(check: Check) -> bool:
     if check.action is not None:
         return check.action.actor == "assistant"
     return check.state is not None and check.state.by == "assistant"
+
+
+_EXPLAINED = 3
+"""How many of a failing judge check's texts are explained one by one."""
+
+
+def _why_not(pattern: CompiledPattern, entry: LogEntry) -> str:
+    """Why the call ``entry`` (of the right tool) does not match ``pattern``: its arguments' reasons."""
+    reasons = [
+        f"{name}: {why}"
+        for name, matcher in pattern.args
+        if (why := explaining.explain(matcher, entry.args.get(name), pattern.start))
+    ]
+    return f"; #{entry.index} does not match: {'; '.join(reasons)}" if reasons else ""
 
 
 def _calls(entries: Sequence[LogEntry], limit: int = 3) -> str:

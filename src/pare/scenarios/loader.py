@@ -72,7 +72,9 @@ def load_scenario(path: str | FilePath) -> Scenario:
 def parse_scenario(text: str, *, source: str = "<scenario>") -> Scenario:
     """Parse and fully validate a scenario given as YAML text."""
     try:
-        document = parse_yaml(text)
+        # A message written as a folded or literal block reaches the apps without the line break YAML
+        # ends such a block with: here, once for every text of the file (events, oracle, variants).
+        document = parse_yaml(text, clip_block_scalars=True)
     except YamlSyntaxError as error:
         raise ScenarioError(source, [LocatedProblem(source, error.line, "(file)", str(error))]) from None
     if not isinstance(document.data, dict):

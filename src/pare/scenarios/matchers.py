@@ -426,6 +426,14 @@ def _leaves(value: Any) -> list[Any]:
     return [leaf for item in value for leaf in _leaves(item)]
 
 
+def item_texts(value: Any, operator: str) -> list[str]:
+    """The texts the text operator ``operator`` reads in ``value``, one per item it tries (to explain a
+    verdict): a list's items, and for ``contains`` and ``contains_any`` the items of nested lists too.
+    """
+    items = _leaves(value) if operator in ("contains", "contains_any") else _items(value)
+    return [_text(item) for item in items]
+
+
 def _text(value: Any) -> str:
     """Text to search in: a mapping's values only (never its field names, so 'content' does not
     contain 'tent'), a list's items, anything else as written.

@@ -143,14 +143,29 @@ def has_word(text: str, piece: str) -> bool:
 
 
 # -- clauses and negation -------------------------------------------------------------------------------
+_PICTOGRAPH = (
+    "\u203c\u2049\u231a\u231b\u2328\u23cf\u23e9-\u23f3\u23f8-\u23fa\u2600-\u26ff\u2700-\u275a\u2761-\u2767"
+    "\u27b0\u27bf\u2b1b\u2b1c\u2b50\u2b55\U0001f000-\U0001faff"
+)
+"""Emoji and the other pictographs that people end a sentence with ("not Fri 🙈 could we move it?"):
+Unicode's Extended_Pictographic characters (with the flags' regional indicators), less those written
+inside a sentence: (c), (R), TM, arrows, geometric shapes used as bullets, ornamental quotes and brackets.
+The Miscellaneous Symbols and Dingbats blocks are taken whole but for those (a check mark or a star ends
+a phrase as well)."""
+_PICTOGRAPH_RUN = f"[{_PICTOGRAPH}](?:[{_PICTOGRAPH}\ufe0e\ufe0f\u200d\u20e3\U000e0020-\U000e007f])*"
+"""A run of pictographs with what joins and styles them (variation selectors, zero-width joiners, keycaps,
+tag characters): one sentence break, so no joiner is left behind as a clause of its own."""
+
 _CLAUSE_BREAK = re.compile(
     # a comma breaks a clause, except inside a number written with thousands separators (44,200)
     # a full stop breaks one too, except in "no. 22" (a number, not a refusal)
     r"[;!?\n]|,(?!(?<=\d,)\d{3}\b)|(?<![Nn]o)\.(?=\s|$)|(?<=[Nn]o)\.(?=\s|$)(?!\s*\d)|"
     r"\s(?=(?:but|however|although|though|whereas|except|instead of|rather than|"
-    r"apart from|other than|unlike)\b)",
+    r"apart from|other than|unlike)\b)|" + _PICTOGRAPH_RUN,
     re.IGNORECASE,
 )
+_SENTENCE_BREAK = re.compile(r"[!?\n]|\.(?=\s|$)|" + _PICTOGRAPH_RUN)
+"""Where a sentence ends: the days and times of one sentence are read together."""
 NEGATION_CUES: tuple[str, ...] = (
     "not",
     "no",
@@ -363,6 +378,60 @@ def declines(text: str) -> bool:
     )
 
 
+@dataclass(frozen=True, slots=True)
+class Refusal:
+    """Why a text reads as a refusal, for explanations (:func:`refusal`)."""
+
+    clause: str
+    """The first clause that refuses."""
+    cue: str
+    """What in it refuses, as written."""
+    taken_up: tuple[str, str] | None
+    """A later clause that takes up another option and the phrase by which it does (then the text is a
+    counter-offer, not a refusal), or ``None``."""
+
+
+def refusal(text: str) -> Refusal | None:
+    """The first refusing clause of ``text`` with its cue, and what takes up another option after it; what
+    :func:`declines` decides on, spelt out (called only to explain a verdict).
+    """
+    parts = [_FRIENDLY_IDIOMS.sub(" ", part) for part in clauses(text)]
+    for index, part in enumerate(parts):
+        found = _any_cue(DECLINE_CUES).search(normalise_quotes(part))
+        found = found or next((m for p in _REFUSAL_PATTERNS if (m := p.search(part))), None)
+        cue = found.group(0) if found else None
+        if cue is None and index == 0 and _BARE_REFUSAL.fullmatch(part):
+            cue = part.strip()
+        if cue is None:
+            continue
+        for later in parts[index + 1 :]:
+            offer = _any_cue(COUNTER_OFFER_CUES).search(normalise_quotes(later))
+            if offer is not None and not _denies(later):
+                return Refusal(part.strip(), cue, (later.strip(), offer.group(0)))
+        return Refusal(part.strip(), cue, None)
+    return None
+
+
+def negation_cue(clause: str) -> str | None:
+    """The negation cue that keeps ``clause`` from affirming, as written, or ``None`` (for explanations)."""
+    found = _any_cue(NEGATION_CUES).search(normalise_quotes(_FRIENDLY_IDIOMS.sub(" ", clause)))
+    return found.group(0) if found else None
+
+
+def found_word(text: str, piece: str) -> str | None:
+    """What in ``text`` :func:`has_word` finds for ``piece``, as written, or ``None`` (for explanations)."""
+    text = normalise_quotes(text)
+    found = word_pattern(normalise_quotes(piece)).search(text)
+    if found is None:
+        return None
+    begin, end = found.span()  # the whole word a piece with '*' found the start or end of
+    while begin and text[begin - 1].isalnum():
+        begin -= 1
+    while end < len(text) and text[end].isalnum():
+        end += 1
+    return text[begin:end]
+
+
 def _denies(clause: str) -> bool:
     """Whether ``clause`` is negated, "nothing works" and "neither suits" included."""
     return is_negated(clause) or any(
@@ -528,13 +597,19 @@ def _affirmed_mentions(text: str, anchor: datetime) -> tuple[tuple[Mention, ...]
     Remembered: the same messages are read again by every check on them and every evaluation.
     """
     groups: list[tuple[Mention, ...]] = []
-    for sentence in re.split(r"[!?\n]|\.(?=\s|$)", normalise_quotes(text)):
+    for sentence in _SENTENCE_BREAK.split(normalise_quotes(text)):
         group: list[Mention] = []
         for clause in affirmed_clauses(sentence):
             group.extend(mentions(clause, anchor))
         if group:
             groups.append(tuple(group))
     return tuple(groups)
+
+
+def sentence_clauses(text: str) -> list[list[str]]:
+    """``text``'s clauses grouped by sentence, as the day and time operators read them."""
+    sentences = _SENTENCE_BREAK.split(normalise_quotes(text))
+    return [found for sentence in sentences if (found := clauses(sentence))]
 
 
 def mentions_day(text: str, day: date, anchor: datetime) -> bool:
