@@ -20,6 +20,7 @@ Failures are sorted by who is to blame:
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import heapq
 import json
 import math
@@ -33,16 +34,18 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
 
 from pare.agents.models.cache import ModelCallCache
+from pare.agents.models.capabilities import Adjustment
 from pare.agents.models.client import ModelClient
 from pare.agents.models.config import ModelConfig
 from pare.agents.models.ledger import UsageLedger
+from pare.agents.models.request_params import RequestParams
 from pare.agents.models.types import ChatMessage, Completion
 from pare.agents.policy import AssistantPolicy, UserPolicy
 from pare.bench import collector
 from pare.bench.episode import arun_episode
 from pare.bench.records import EpisodeRecord, Failure, FailureKind, summarize
 from pare.bench.runconfig import RunConfig
-from pare.bench.store import CACHE_FILE, RunStore, scenario_hash, trajectory_path
+from pare.bench.store import CACHE_FILE, REQUESTS, RunStore, scenario_hash, trajectory_path
 from pare.errors import CacheMiss, RunFailure, UserInputError, first_error
 from pare.scenarios.library import library, load_scenarios, select
 from pare.scenarios.model import Scenario
@@ -145,12 +148,14 @@ class JudgeModel:
     cache: ModelCallCache | None
     namespace: str
     ledger: UsageLedger
+    params: RequestParams | None = None
+    """The run's request parameters for the judge (what one call learns, the next ones know)."""
 
     async def complete(
         self, messages: Sequence[ChatMessage], tools: Sequence[dict[str, Any]] | None = None
     ) -> Completion:
         """The judge's answer."""
-        async with ModelClient(self.config, "judge", self.cache) as client:
+        async with ModelClient(self.config, "judge", self.cache, params=self.params) as client:
             return await client.complete(messages, tools, namespace=self.namespace, ledger=self.ledger)
 
 
@@ -162,10 +167,16 @@ class RunModels:
     cache: ModelCallCache | None
     ledger: UsageLedger = field(default_factory=UsageLedger)
     clients: dict[str, ModelClient] = field(default_factory=dict)
+    params: dict[str, RequestParams] = field(default_factory=dict)
+    """What each role's requests carry, shared by the role's clients."""
 
     @classmethod
-    def create(cls, config: RunConfig, run_dir: Path) -> RunModels:
-        """Clients for every configured role, with the run's cache."""
+    def create(
+        cls, config: RunConfig, run_dir: Path, learned: Mapping[str, Sequence[Adjustment]] | None = None
+    ) -> RunModels:
+        """Clients for every configured role, with the run's cache; ``learned`` are the parameter
+        refusals an earlier session of the run met, by role (so this one does not meet them again).
+        """
         cache = None
         if config.models.roles() and config.cache != "off":
             cache = ModelCallCache(
@@ -173,9 +184,22 @@ class RunModels:
             )
         models = cls(config, cache)
         for role, model in config.models.roles().items():
+            models.params[role] = RequestParams(model, role, (learned or {}).get(role, ()))
             if role != "judge":
-                models.clients[role] = ModelClient(model, role, cache, models.ledger)
+                models.clients[role] = ModelClient(
+                    model, role, cache, models.ledger, params=models.params[role]
+                )
         return models
+
+    def requests_record(self) -> dict[str, Any]:
+        """Per role, what its requests carry and how that differs from its configuration (manifest)."""
+        return {role: params.record() for role, params in self.params.items()}
+
+    def record_requests_in(self, store: RunStore) -> None:
+        """Record the requests in ``store``'s manifest now and again whenever a role learns a refusal."""
+        store.record_requests(self.requests_record())
+        for params in self.params.values():
+            params.subscribe(lambda _: store.record_requests(self.requests_record()))
 
     async def aclose(self) -> None:
         """Close every client's connections and the cache's."""
@@ -217,7 +241,9 @@ class RunModels:
         judge_config = config.models.judge
         judge = None
         if judge_config is not None:
-            judge = ModelJudge(JudgeModel(judge_config, self.cache, plan.namespace, ledger))
+            judge = ModelJudge(
+                JudgeModel(judge_config, self.cache, plan.namespace, ledger, self.params.get("judge"))
+            )
         return user, assistant, judge
 
 
@@ -518,6 +544,18 @@ async def run_local(
     return written
 
 
+def learned_refusals(manifest: Mapping[str, Any]) -> dict[str, list[Adjustment]]:
+    """The parameter refusals learned in earlier sessions of a run, by role, from its manifest."""
+    learned: dict[str, list[Adjustment]] = {}
+    for role, record in (manifest.get(REQUESTS) or {}).items():
+        adjusted = record.get("adjusted", []) if isinstance(record, dict) else []
+        for item in adjusted:
+            if isinstance(item, dict) and item.get("learned"):
+                with contextlib.suppress(ValueError):  # a record this PARE cannot read is learnt again
+                    learned.setdefault(str(role), []).append(Adjustment.from_json(item))
+    return learned
+
+
 def check_credentials(config: RunConfig) -> None:
     """Fail before anything runs (or any folder is made) when a role's API key is not in the environment."""
     for role, model in config.models.roles().items():
@@ -549,9 +587,17 @@ def run_benchmark(
                 if config.backend == "ray":
                     from pare.bench.ray_backend import run_ray
 
+                    # each Ray task learns refusals on its own: the manifest records what is known beforehand
+                    store.record_requests(
+                        {
+                            role: RequestParams(model, role).record()
+                            for role, model in config.models.roles().items()
+                        }
+                    )
                     written = run_ray(todo, config, store, progress)
                 else:
-                    models = RunModels.create(config, run_dir)
+                    models = RunModels.create(config, run_dir, learned_refusals(store.manifest))
+                    models.record_requests_in(store)
                     written = asyncio.run(run_local(todo, config, models, store, progress))
             finally:
                 progress.stopped()
