@@ -3,7 +3,10 @@
 * :class:`ChatServer` — a small OpenAI-compatible chat-completions server on 127.0.0.1 that answers
   through a *responder* and records what it was sent;
 * :func:`proactive_play` — a ready responder that plays the user and the assistant (observe and execute)
-  plausibly and deterministically, so ``pare run`` can go end to end without a real model:
+  plausibly and deterministically, so ``pare run`` can go end to end without a real model;
+* provider profiles (:mod:`pare.testing.providers`) that wrap any responder to answer as the major
+  providers do: OpenAI's reasoning models' parameter refusals, rate limits, tool-call-only answers,
+  cached prompt tokens, context-length errors, and Anthropic's Messages API:
 
 .. code-block:: python
 
@@ -24,15 +27,33 @@ from pare.testing.chat_server import (
     failure,
     proactive_play,
 )
+from pare.testing.providers import (
+    PROFILES,
+    AnthropicChatServer,
+    anthropic_messages,
+    cached_prompts,
+    context_limit,
+    openai_reasoning,
+    rate_limited,
+    tool_calls_only,
+)
 
 __all__ = [
+    "PROFILES",
     "PROPOSAL",
     "REPORT",
+    "AnthropicChatServer",
     "ChatServer",
     "Reply",
     "Responder",
+    "anthropic_messages",
+    "cached_prompts",
     "completion",
+    "context_limit",
     "conversation_role",
     "failure",
+    "openai_reasoning",
     "proactive_play",
+    "rate_limited",
+    "tool_calls_only",
 ]

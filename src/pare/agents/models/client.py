@@ -310,7 +310,7 @@ class ModelClient:
                 adjustment = refused_parameter(error.__cause__, params)
                 if adjustment is None:
                     raise
-                self.params.learn(adjustment)
+                self.params.learn(dataclasses.replace(adjustment, why=self._scrub(adjustment.why)))
                 if self.params.sent() == params:  # nothing changed: sending again would fail the same way
                     raise
 
@@ -357,9 +357,12 @@ class ModelClient:
 
     def _scrubbed(self, failure: Failure) -> Failure:
         """``failure`` without the key or secret ``extra`` values a provider may echo in its message."""
+        return dataclasses.replace(failure, detail=self._scrub(failure.detail))
+
+    def _scrub(self, text: str) -> str:
+        """``text`` without the key or the secret ``extra`` values."""
         key = os.environ.get(self.config.api_key_env or "", "") if self.config.api_key_env else None
-        detail = scrub(failure.detail, [key, *secret_values(self.config.extra)])
-        return dataclasses.replace(failure, detail=detail)
+        return scrub(text, [key, *secret_values(self.config.extra)])
 
     def _log_retry(self, state: RetryCallState) -> None:
         outcome = state.outcome

@@ -14,6 +14,7 @@ import re
 from collections.abc import Mapping
 from typing import Any
 
+from pare.agents.models.backends import classify_error
 from pare.agents.models.capabilities import RENAMED_FOR_REASONING, Adjustment
 
 _NAMED = (
@@ -22,7 +23,8 @@ _NAMED = (
     re.compile(r"(?:doesn't|does not|do not) support (?:the )?'?([\w.]+)'?\s*=", re.IGNORECASE),
     re.compile(r"'?([\w.]+)'? (?:is|are) not supported (?:with|by|for) this model", re.IGNORECASE),
     re.compile(r"unknown (?:parameter|field|argument):?\s*'?([\w.]+)", re.IGNORECASE),
-    re.compile(r"extra inputs are not permitted.*?'([\w.]+)'", re.IGNORECASE),
+    re.compile(r"([\w.]+)'?: extra inputs are not permitted", re.IGNORECASE),  # Anthropic
+    re.compile(r"'loc': \('body', '([\w.]+)'\)[^}]*extra inputs are not permitted", re.IGNORECASE),  # vLLM
 )
 _LISTED = re.compile(r"does not support parameters:?\s*\[([^\]]*)\]", re.IGNORECASE)
 _INSTEAD = re.compile(r"use '([\w.]+)' instead", re.IGNORECASE)
@@ -43,7 +45,8 @@ def refused_parameter(error: BaseException | None, sent: Mapping[str, Any]) -> A
     if name is None:
         return None
     code = inner.get("code") if isinstance(inner.get("code"), str) else None
-    said = message.strip().replace("\n", " ")
+    failure = classify_error(error)
+    said = (failure.detail if failure is not None else message).strip().replace("\n", " ")
     if len(said) > 200:
         said = said[:197] + "..."
     why = f"the provider refused it (HTTP {status}{f', {code}' if code else ''}: {said})"
