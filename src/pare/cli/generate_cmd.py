@@ -98,13 +98,12 @@ def generate(
     """
     from rich.console import Console
 
+    from pare.agents.models.capabilities import is_reasoning_model
     from pare.bench.runconfig import parse_assignment, set_path
     from pare.generate import build_generate_config
     from pare.generate import generate as run_generation
-    from pare.generate.progress import RichGenerationProgress
-
-    from pare.agents.models.capabilities import is_reasoning_model
     from pare.generate.config import GENERATOR_TEMPERATURE
+    from pare.generate.progress import RichGenerationProgress
 
     if temperature is None and not is_reasoning_model(model):
         temperature = GENERATOR_TEMPERATURE
