@@ -105,7 +105,9 @@ class ModelConfig(BaseModel):
     )
     seed: int | None = Field(default=None, description="Sampling seed, for providers that honour one.")
     extra: dict[str, JsonValue] = Field(
-        default_factory=dict, description="Further request parameters, sent as they are (top_p, stop, ...)."
+        default_factory=dict,
+        description="Further request parameters (top_p, stop, reasoning_effort, ...), sent where the "
+        "model accepts them.",
     )
     timeout_s: float = Field(default=60.0, gt=0.0, le=86_400.0, description="Seconds one request may take.")
     max_retries: int = Field(
