@@ -107,6 +107,10 @@ def test_the_papers_setup_runs_against_openai_reasoning_rules(
         settings = ("--set", "models.user.temperature=0.0", "--set", "models.user.max_tokens=2048")
         assert readme_run(tmp_path / "run", user, assistant, *settings, backend=backend) == 0
         completed(tmp_path / "run")
+        requests_made = user.request_count
+        # the same command resumes the run (its max_tokens is a setting, not a secret to mask): nothing new
+        assert readme_run(tmp_path / "run", user, assistant, *settings, backend=backend) == 0
+        assert user.request_count == requests_made
         # the reasoning model got its token limit under its own name and no temperature: never refused
         assert user.request_count > 0
         assert all(params == {"max_completion_tokens": 2048} for params in params_sent(user))

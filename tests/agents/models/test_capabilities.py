@@ -24,6 +24,7 @@ from pare.agents.models.capabilities import (
 )
 from pare.agents.models.refusals import refused_parameter
 from pare.agents.models.request_params import RequestParams
+from pare.agents.models.secrets import redact_secrets
 from pare.errors import ModelRequestError
 from pare.testing import (
     AnthropicChatServer,
@@ -321,3 +322,10 @@ def test_learned_refusals_given_up_front_are_applied_from_the_first_call(
     params = RequestParams(settings, "user", [Adjustment("temperature", "dropped", "refused", learned=True)])
     assert params.sent() == {} and params.sent() == {}
     assert len(warnings_about(caplog, "temperature=0.0")) == 1
+
+
+def test_token_counts_are_settings_and_tokens_are_secrets() -> None:
+    masked = redact_secrets(
+        {"max_tokens": 64, "max_completion_tokens": 64, "access_token": "abc", "token": "d"}
+    )
+    assert masked == {"max_tokens": 64, "max_completion_tokens": 64, "access_token": "***", "token": "***"}
