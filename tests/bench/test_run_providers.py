@@ -266,3 +266,20 @@ def test_an_anthropic_user_through_litellm(tmp_path: Path, warnings: pytest.LogC
             assert "seed" not in body and body["temperature"] == 0.2 and body["max_tokens"] > 0
     assert len(warned(warnings, "seed=7")) == 2  # once for the user, once for the judge (the user's model)
     assert manifest_requests(output)["user"]["sent"] == {"temperature": 0.2}
+
+
+def test_refusals_learned_in_ray_tasks_reach_the_manifest(
+    tmp_path: Path, warnings: pytest.LogCaptureFixture
+) -> None:
+    pytest.importorskip("ray", reason="Ray is an optional extra")
+    output = tmp_path / "run"
+    play = openai_reasoning(proactive_play(), reasoning=lambda model: model.endswith("paper-user"))
+    with ChatServer(play) as user, ChatServer(proactive_play()) as assistant:
+        settings = ("--set", "models.user.temperature=0.0", "--set", "models.deterministic_judge=true")
+        ray = ("--backend", "ray", "--concurrency", "1")
+        assert readme_run(output, user, assistant, *settings, *ray, user_model="paper-user") == 0
+        completed(output)
+        assert params_sent(user)[0] == {"temperature": 0.0}
+    (adjustment,) = manifest_requests(output)["user"]["adjusted"]
+    assert (adjustment["param"], adjustment["learned"]) == ("temperature", True)
+    assert len(warned(warnings, "user model 'paper-user': temperature=0.0")) == 1  # told in the driver

@@ -20,7 +20,7 @@ Failures are sorted by who is to blame:
 from __future__ import annotations
 
 import asyncio
-import contextlib
+import dataclasses
 import heapq
 import json
 import math
@@ -34,7 +34,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
 
 from pare.agents.models.cache import ModelCallCache
-from pare.agents.models.capabilities import Adjustment
 from pare.agents.models.client import ModelClient
 from pare.agents.models.config import ModelConfig
 from pare.agents.models.ledger import UsageLedger
@@ -44,8 +43,9 @@ from pare.agents.policy import AssistantPolicy, UserPolicy
 from pare.bench import collector
 from pare.bench.episode import arun_episode
 from pare.bench.records import EpisodeRecord, Failure, FailureKind, summarize
+from pare.bench.run_requests import Learned, RunRequests, learned_refusals
 from pare.bench.runconfig import RunConfig
-from pare.bench.store import CACHE_FILE, REQUESTS, RunStore, scenario_hash, trajectory_path
+from pare.bench.store import CACHE_FILE, RunStore, scenario_hash, trajectory_path
 from pare.errors import CacheMiss, RunFailure, UserInputError, first_error
 from pare.scenarios.library import library, load_scenarios, select
 from pare.scenarios.model import Scenario
@@ -167,39 +167,25 @@ class RunModels:
     cache: ModelCallCache | None
     ledger: UsageLedger = field(default_factory=UsageLedger)
     clients: dict[str, ModelClient] = field(default_factory=dict)
-    params: dict[str, RequestParams] = field(default_factory=dict)
+    requests: RunRequests = field(default_factory=RunRequests)
     """What each role's requests carry, shared by the role's clients."""
 
     @classmethod
-    def create(
-        cls, config: RunConfig, run_dir: Path, learned: Mapping[str, Sequence[Adjustment]] | None = None
-    ) -> RunModels:
-        """Clients for every configured role, with the run's cache; ``learned`` are the parameter
-        refusals an earlier session of the run met, by role (so this one does not meet them again).
+    def create(cls, config: RunConfig, run_dir: Path, requests: RunRequests | None = None) -> RunModels:
+        """Clients for every configured role, with the run's cache, sending ``requests`` (default: what is
+        known about each role's model beforehand).
         """
         cache = None
         if config.models.roles() and config.cache != "off":
             cache = ModelCallCache(
                 Path(config.cache_path) if config.cache_path else run_dir / CACHE_FILE, config.cache
             )
-        models = cls(config, cache)
+        models = cls(config, cache, requests=requests or RunRequests.create(config))
         for role, model in config.models.roles().items():
-            models.params[role] = RequestParams(model, role, (learned or {}).get(role, ()))
             if role != "judge":
-                models.clients[role] = ModelClient(
-                    model, role, cache, models.ledger, params=models.params[role]
-                )
+                params = models.requests.params[role]
+                models.clients[role] = ModelClient(model, role, cache, models.ledger, params=params)
         return models
-
-    def requests_record(self) -> dict[str, Any]:
-        """Per role, what its requests carry and how that differs from its configuration (manifest)."""
-        return {role: params.record() for role, params in self.params.items()}
-
-    def record_requests_in(self, store: RunStore) -> None:
-        """Record the requests in ``store``'s manifest now and again whenever a role learns a refusal."""
-        store.record_requests(self.requests_record())
-        for params in self.params.values():
-            params.subscribe(lambda _: store.record_requests(self.requests_record()))
 
     async def aclose(self) -> None:
         """Close every client's connections and the cache's."""
@@ -242,7 +228,9 @@ class RunModels:
         judge = None
         if judge_config is not None:
             judge = ModelJudge(
-                JudgeModel(judge_config, self.cache, plan.namespace, ledger, self.params.get("judge"))
+                JudgeModel(
+                    judge_config, self.cache, plan.namespace, ledger, self.requests.params.get("judge")
+                )
             )
         return user, assistant, judge
 
@@ -256,6 +244,8 @@ class EpisodeOutput:
     trajectory: str | None
     """The trajectory file's JSON text, serialised where the episode was played (so a value no file can
     hold fails this episode, not the run)."""
+    learned: Learned = field(default_factory=dict)
+    """Parameter refusals the episode's clients learned, by role (set for an episode played apart)."""
 
 
 def _base_fields(plan: EpisodePlan) -> dict[str, Any]:
@@ -465,21 +455,25 @@ class RunSummary:
         return [record for record in self.records if not record.complete]
 
 
-def play_apart(plan: EpisodePlan, config: RunConfig, run_dir: Path) -> tuple[str, EpisodeOutput | str]:
+def play_apart(
+    plan: EpisodePlan, config: RunConfig, run_dir: Path, learned: Learned | None = None
+) -> tuple[str, EpisodeOutput | str]:
     """One episode played on its own, in a process other than the run's (a Ray task, a worker process):
-    with its own model clients, retrying infrastructure failures like the local backend. Returns
-    ``("ok", output)``, or ``("error", message)`` for a mistake in the configuration (returned, not
+    with its own model clients, knowing the parameter refusals the run ``learned`` so far, retrying
+    infrastructure failures like the local backend. Returns ``("ok", output)`` (with the refusals its
+    clients learned), or ``("error", message)`` for a mistake in the configuration (returned, not
     raised, so the run raises it with PARE's own message rather than the executor's wrapper).
     """
 
     async def play() -> EpisodeOutput:
-        models = RunModels.create(config, run_dir)
+        models = RunModels.create(config, run_dir, RunRequests.create(config, learned))
         try:
 
             async def attempt(plan: EpisodePlan, number: int) -> EpisodeOutput:
                 return await play_episode(plan, config, models, number)
 
-            return await play_with_retries(plan, attempt, config.episode_retries)
+            output = await play_with_retries(plan, attempt, config.episode_retries)
+            return dataclasses.replace(output, learned=models.requests.learned())
         finally:
             await models.aclose()
 
@@ -544,18 +538,6 @@ async def run_local(
     return written
 
 
-def learned_refusals(manifest: Mapping[str, Any]) -> dict[str, list[Adjustment]]:
-    """The parameter refusals learned in earlier sessions of a run, by role, from its manifest."""
-    learned: dict[str, list[Adjustment]] = {}
-    for role, record in (manifest.get(REQUESTS) or {}).items():
-        adjusted = record.get("adjusted", []) if isinstance(record, dict) else []
-        for item in adjusted:
-            if isinstance(item, dict) and item.get("learned"):
-                with contextlib.suppress(ValueError):  # a record this PARE cannot read is learnt again
-                    learned.setdefault(str(role), []).append(Adjustment.from_json(item))
-    return learned
-
-
 def check_credentials(config: RunConfig) -> None:
     """Fail before anything runs (or any folder is made) when a role's API key is not in the environment."""
     for role, model in config.models.roles().items():
@@ -584,20 +566,14 @@ def run_benchmark(
         progress.started(len(plans), len(plans) - len(todo), config.label())
         with collector.long_lived_frozen():
             try:
+                requests = RunRequests.create(config, learned_refusals(store.manifest))
+                requests.record_in(store)
                 if config.backend == "ray":
                     from pare.bench.ray_backend import run_ray
 
-                    # each Ray task learns refusals on its own: the manifest records what is known beforehand
-                    store.record_requests(
-                        {
-                            role: RequestParams(model, role).record()
-                            for role, model in config.models.roles().items()
-                        }
-                    )
-                    written = run_ray(todo, config, store, progress)
+                    written = run_ray(todo, config, store, progress, requests)
                 else:
-                    models = RunModels.create(config, run_dir, learned_refusals(store.manifest))
-                    models.record_requests_in(store)
+                    models = RunModels.create(config, run_dir, requests)
                     written = asyncio.run(run_local(todo, config, models, store, progress))
             finally:
                 progress.stopped()

@@ -44,6 +44,7 @@ from pare import __version__
 from pare.agents.models.secrets import redact_secrets
 from pare.bench import _store_writer
 from pare.bench.records import EpisodeRecord
+from pare.bench.run_requests import REQUESTS
 from pare.bench.runconfig import RunConfig
 from pare.errors import UserInputError
 from pare.scenarios.model import Scenario
@@ -69,9 +70,6 @@ LOCK_WAIT_S = 3.0
 episodes it was sent."""
 _WRITER_PROGRAM = _store_writer.__file__
 MANIFEST_FORMAT = 1
-REQUESTS = "requests"
-"""The manifest's record of the request parameters each role's calls carried (see
-:meth:`RunStore.record_requests`)."""
 
 PROVENANCE_PACKAGES = ("pydantic", "openai", "litellm", "ray", "jinja2", "rich", "typer")
 
