@@ -210,7 +210,12 @@ def test_answers_with_only_tool_calls_play_through_native_tools(tmp_path: Path, 
         native = ("--set", "models.user.native_tools=true", "--set", "models.assistant.native_tools=true")
         assert readme_run(tmp_path / "run", user, assistant, *native, backend=backend) == 0
         (record,) = completed(tmp_path / "run")
-        assert all(body.get("tools") for body in user.requests + assistant.requests)
+        bodies = user.requests + assistant.requests
+        assert all(body.get("tools") for body in bodies)
+        # the answers were tool calls: the conversations carry them back, each answered by a tool message
+        echoed = [m for body in bodies for m in body["messages"] if m["role"] == "assistant"]
+        assert echoed and all(m.get("tool_calls") for m in echoed)
+        assert any(m["role"] == "tool" for body in bodies for m in body["messages"])
     assert {p.decision for p in record.proposals} == {"accept"}
 
 
@@ -283,3 +288,42 @@ def test_refusals_learned_in_ray_tasks_reach_the_manifest(
     (adjustment,) = manifest_requests(output)["user"]["adjusted"]
     assert (adjustment["param"], adjustment["learned"]) == ("temperature", True)
     assert len(warned(warnings, "user model 'paper-user': temperature=0.0")) == 1  # told in the driver
+
+
+def test_the_profiles_answer_in_the_providers_formats() -> None:
+    def ok(body: dict[str, Any]) -> Reply:
+        return Reply(200, {"choices": [{"message": {"role": "assistant", "content": "hi"}}], "usage": {}})
+
+    reasoning = openai_reasoning(ok)
+    refused = reasoning({"model": "gpt-5-mini", "temperature": 0.0})
+    assert refused.status == 400
+    assert (refused.body["error"]["param"], refused.body["error"]["code"]) == (
+        "temperature",
+        "unsupported_value",
+    )
+    assert reasoning({"model": "o4-mini", "max_tokens": 5}).body["error"]["code"] == "unsupported_parameter"
+    assert (
+        reasoning({"model": "o4-mini", "max_completion_tokens": 5, "reasoning_effort": "low"}).status == 200
+    )
+    assert reasoning({"model": "gpt-5-chat-latest", "temperature": 0.0}).status == 200
+    assert (
+        reasoning({"model": "gpt-4o", "reasoning_effort": "low"}).body["error"]["param"] == "reasoning_effort"
+    )
+
+    limited = rate_limited(ok, every=2, retry_after_ms=1500)
+    first, second = limited({"model": "m"}), limited({"model": "m"})
+    assert first.status == 200 and second.status == 429
+    assert second.headers["Retry-After"] == "2" and second.headers["retry-after-ms"] == "1500"
+    assert second.body["error"]["code"] == "rate_limit_exceeded"
+
+    too_long = context_limit(ok, max_prompt_tokens=1)({"messages": [{"role": "user", "content": "x" * 40}]})
+    assert (too_long.status, too_long.body["error"]["code"]) == (400, "context_length_exceeded")
+
+    anthropic = anthropic_messages(ok)
+    assert (
+        anthropic({"model": "claude", "messages": []}).body["error"]["message"]
+        == "max_tokens: Field required"
+    )
+    assert anthropic({"model": "claude", "max_tokens": 5, "seed": 1, "messages": []}).status == 400
+    answer = anthropic({"model": "claude", "max_tokens": 5, "messages": [{"role": "user", "content": "x"}]})
+    assert answer.body["content"] == [{"type": "text", "text": "hi"}] and answer.body["type"] == "message"
