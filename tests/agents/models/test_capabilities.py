@@ -274,6 +274,18 @@ def openai_error(body: dict[str, Any], status: int = 400) -> openai.APIStatusErr
         ),
         pytest.param(
             {
+                "type": "error",
+                "error": {
+                    "type": "invalid_request_error",
+                    "message": "`temperature` and `top_p` cannot both be specified for this model. "
+                    "Please use only one.",
+                },
+            },
+            ("top_p", "dropped", None),
+            id="anthropic-either",
+        ),
+        pytest.param(
+            {
                 "object": "error",
                 "message": "[{'type': 'extra_forbidden', 'loc': ('body', 'top_k'), "
                 "'msg': 'Extra inputs are not permitted', 'input': 20}]",
@@ -287,7 +299,7 @@ def openai_error(body: dict[str, Any], status: int = 400) -> openai.APIStatusErr
 def test_refusals_are_read_from_each_providers_answer(
     body: dict[str, Any], expected: tuple[str, str, str | None]
 ) -> None:
-    sent_params = {"temperature": 0.0, "max_tokens": 64, "top_k": 20}
+    sent_params = {"temperature": 0.0, "max_tokens": 64, "top_k": 20, "top_p": 0.9}
     adjustment = refused_parameter(openai_error(body), sent_params)
     assert adjustment is not None and adjustment.learned
     assert (adjustment.param, adjustment.action, adjustment.to) == expected

@@ -27,6 +27,8 @@ _NAMED = (
     re.compile(r"'loc': \('body', '([\w.]+)'\)[^}]*extra inputs are not permitted", re.IGNORECASE),  # vLLM
 )
 _LISTED = re.compile(r"does not support parameters:?\s*\[([^\]]*)\]", re.IGNORECASE)
+_EITHER = re.compile(r"`?([\w.]+)`? and `?([\w.]+)`? cannot both be specified", re.IGNORECASE)
+"""Anthropic's newer models take a temperature or a top_p, not both: the second named is left out."""
 _INSTEAD = re.compile(r"use '([\w.]+)' instead", re.IGNORECASE)
 
 
@@ -82,6 +84,9 @@ def _refused_name(inner: Mapping[str, Any], message: str, sent: Mapping[str, Any
             name = str(match.group(1))
             if name in sent:
                 return name
+    either = _EITHER.search(message)
+    if either is not None and either.group(1) in sent and either.group(2) in sent:
+        return str(either.group(2))
     listed = _LISTED.search(message)
     if listed is not None:
         for listed_name in re.findall(r"[\w.]+", listed.group(1)):
