@@ -3,10 +3,7 @@
 * :class:`ChatServer` — a small OpenAI-compatible chat-completions server on 127.0.0.1 that answers
   through a *responder* and records what it was sent;
 * :func:`proactive_play` — a ready responder that plays the user and the assistant (observe and execute)
-  plausibly and deterministically, so ``pare run`` can go end to end without a real model;
-* provider profiles (:mod:`pare.testing.providers`) that wrap any responder to answer as the major
-  providers do: OpenAI's reasoning models' parameter refusals, rate limits, tool-call-only answers,
-  cached prompt tokens, context-length errors, and Anthropic's Messages API:
+  plausibly and deterministically, so ``pare run`` can go end to end without a real model:
 
 .. code-block:: python
 
@@ -14,6 +11,11 @@
 
     with ChatServer(proactive_play(), delay_s=0.2) as server:
         ...  # point models.user / models.assistant api_base at server.base_url
+
+Provider profiles (:mod:`pare.testing.providers`) wrap any responder to answer as the major providers do:
+OpenAI's reasoning models' parameter refusals (:func:`openai_reasoning`), rate limits, tool-call-only
+answers, cached prompt tokens, context-length errors, and Anthropic's Messages API
+(:class:`AnthropicChatServer`).
 """
 
 from pare.testing.chat_server import (
