@@ -13,7 +13,7 @@ from pare.cli import main
 from pare.generate.review import REJECTED, REVIEWS
 from pare.scenarios import load_scenario
 from pare.scenarios.schema import SCHEMA_FILE
-from pare.testing import ChatServer
+from pare.testing import ChatServer, openai_reasoning
 from tests.generate.conftest import ScriptedGenerator, example_answers
 
 
@@ -24,6 +24,11 @@ def wide_terminal(monkeypatch: pytest.MonkeyPatch) -> None:
 
 def _generate(server: ChatServer, folder: Path, library: Path, *options: str) -> int:
     server.responder = ScriptedGenerator({1: {stage: [text] for stage, text in example_answers().items()}})
+    return _generate_with(server, folder, library, *options)
+
+
+def _generate_with(server: ChatServer, folder: Path, library: Path, *options: str) -> int:
+    """``pare generate`` of one email and calendar candidate against ``server`` as it answers now."""
     return main(
         [
             "generate",
@@ -54,6 +59,19 @@ def test_generate_prints_each_candidate_and_the_cost(
     assert "model calls: 4" in out and "cost" in out
     assert f"pare scenarios review {tmp_path / 'out'}" in out.replace("\n", "")
     assert server.requests[0]["temperature"] == 0.7
+
+
+def test_generate_sends_a_reasoning_model_no_temperature(
+    server: ChatServer, tmp_path: Path, library: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    server.responder = openai_reasoning(
+        ScriptedGenerator({1: {stage: [text] for stage, text in example_answers().items()}})
+    )
+    options = ("--model", "o3-mini", "--set", "generator.max_tokens=16000")
+    assert _generate_with(server, tmp_path / "out", library, *options) == 0
+    assert "passed" in capsys.readouterr().out
+    assert server.requests and all("temperature" not in body for body in server.requests)
+    assert {body["max_completion_tokens"] for body in server.requests} == {16000}
 
 
 def test_generate_refuses_unknown_apps_and_a_folder_of_other_settings(

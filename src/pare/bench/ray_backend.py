@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from pare.bench.records import EpisodeRecord
+from pare.bench.run_requests import Learned, RunRequests
 from pare.bench.runconfig import RunConfig
 from pare.bench.runner import (
     REPORT_INTERVAL_S,
@@ -43,15 +44,23 @@ def _import_ray() -> Any:
     return ray
 
 
-def play_remote(plan: EpisodePlan, config: RunConfig, run_dir: str) -> tuple[str, Any]:
+def play_remote(plan: EpisodePlan, config: RunConfig, run_dir: str, learned: Learned) -> tuple[str, Any]:
     """The body of one Ray task (see :func:`~pare.bench.runner.play_apart`)."""
-    return play_apart(plan, config, Path(run_dir))
+    return play_apart(plan, config, Path(run_dir), learned)
 
 
 def run_ray(
-    plans: Sequence[EpisodePlan], config: RunConfig, store: RunStore, progress: ProgressSink
+    plans: Sequence[EpisodePlan],
+    config: RunConfig,
+    store: RunStore,
+    progress: ProgressSink,
+    requests: RunRequests | None = None,
 ) -> list[EpisodeRecord]:
-    """Play ``plans`` as Ray tasks and store each result as it arrives."""
+    """Play ``plans`` as Ray tasks and store each result as it arrives. Each task starts from the
+    parameter refusals ``requests`` knows; those it learns come back with its result and are taken in
+    (warned about and recorded here: a task's own log does not reach the driver).
+    """
+    requests = requests or RunRequests.create(config)
     ray = _import_ray()
     started_here = not ray.is_initialized()
     if started_here:
@@ -70,7 +79,7 @@ def run_ray(
         while True:
             while len(pending) < config.concurrency and queue:
                 plan = queue.pop()
-                pending[task.remote(plan, config, run_dir)] = plan
+                pending[task.remote(plan, config, run_dir, requests.learned())] = plan
             if not pending:
                 break
             # with a timeout, so episodes stored meanwhile are reported while the tasks run on
@@ -81,6 +90,7 @@ def run_ray(
                 status, value = ray.get(ref)
                 if status == "error":
                     raise UserInputError(value)
+                requests.absorb(value.learned)
                 queue.learn(value.record)
                 store.append(value.record, value.trajectory)
                 report_written(store, progress, written)

@@ -20,6 +20,7 @@ Failures are sorted by who is to blame:
 from __future__ import annotations
 
 import asyncio
+import dataclasses
 import heapq
 import json
 import math
@@ -36,11 +37,13 @@ from pare.agents.models.cache import ModelCallCache
 from pare.agents.models.client import ModelClient
 from pare.agents.models.config import ModelConfig
 from pare.agents.models.ledger import UsageLedger
+from pare.agents.models.request_params import RequestParams
 from pare.agents.models.types import ChatMessage, Completion
 from pare.agents.policy import AssistantPolicy, UserPolicy
 from pare.bench import collector
 from pare.bench.episode import arun_episode
 from pare.bench.records import EpisodeRecord, Failure, FailureKind, summarize
+from pare.bench.run_requests import Learned, RunRequests, learned_refusals
 from pare.bench.runconfig import RunConfig
 from pare.bench.store import CACHE_FILE, RunStore, scenario_hash, trajectory_path
 from pare.errors import CacheMiss, RunFailure, UserInputError, first_error
@@ -145,12 +148,14 @@ class JudgeModel:
     cache: ModelCallCache | None
     namespace: str
     ledger: UsageLedger
+    params: RequestParams | None = None
+    """The run's request parameters for the judge (what one call learns, the next ones know)."""
 
     async def complete(
         self, messages: Sequence[ChatMessage], tools: Sequence[dict[str, Any]] | None = None
     ) -> Completion:
         """The judge's answer."""
-        async with ModelClient(self.config, "judge", self.cache) as client:
+        async with ModelClient(self.config, "judge", self.cache, params=self.params) as client:
             return await client.complete(messages, tools, namespace=self.namespace, ledger=self.ledger)
 
 
@@ -162,19 +167,24 @@ class RunModels:
     cache: ModelCallCache | None
     ledger: UsageLedger = field(default_factory=UsageLedger)
     clients: dict[str, ModelClient] = field(default_factory=dict)
+    requests: RunRequests = field(default_factory=RunRequests)
+    """What each role's requests carry, shared by the role's clients."""
 
     @classmethod
-    def create(cls, config: RunConfig, run_dir: Path) -> RunModels:
-        """Clients for every configured role, with the run's cache."""
+    def create(cls, config: RunConfig, run_dir: Path, requests: RunRequests | None = None) -> RunModels:
+        """Clients for every configured role, with the run's cache, sending ``requests`` (default: what is
+        known about each role's model beforehand).
+        """
         cache = None
         if config.models.roles() and config.cache != "off":
             cache = ModelCallCache(
                 Path(config.cache_path) if config.cache_path else run_dir / CACHE_FILE, config.cache
             )
-        models = cls(config, cache)
+        models = cls(config, cache, requests=requests or RunRequests.create(config))
         for role, model in config.models.roles().items():
             if role != "judge":
-                models.clients[role] = ModelClient(model, role, cache, models.ledger)
+                params = models.requests.params[role]
+                models.clients[role] = ModelClient(model, role, cache, models.ledger, params=params)
         return models
 
     async def aclose(self) -> None:
@@ -217,7 +227,11 @@ class RunModels:
         judge_config = config.models.judge
         judge = None
         if judge_config is not None:
-            judge = ModelJudge(JudgeModel(judge_config, self.cache, plan.namespace, ledger))
+            judge = ModelJudge(
+                JudgeModel(
+                    judge_config, self.cache, plan.namespace, ledger, self.requests.params.get("judge")
+                )
+            )
         return user, assistant, judge
 
 
@@ -230,6 +244,8 @@ class EpisodeOutput:
     trajectory: str | None
     """The trajectory file's JSON text, serialised where the episode was played (so a value no file can
     hold fails this episode, not the run)."""
+    learned: Learned = field(default_factory=dict)
+    """Parameter refusals the episode's clients learned, by role (set for an episode played apart)."""
 
 
 def _base_fields(plan: EpisodePlan) -> dict[str, Any]:
@@ -439,21 +455,25 @@ class RunSummary:
         return [record for record in self.records if not record.complete]
 
 
-def play_apart(plan: EpisodePlan, config: RunConfig, run_dir: Path) -> tuple[str, EpisodeOutput | str]:
+def play_apart(
+    plan: EpisodePlan, config: RunConfig, run_dir: Path, learned: Learned | None = None
+) -> tuple[str, EpisodeOutput | str]:
     """One episode played on its own, in a process other than the run's (a Ray task, a worker process):
-    with its own model clients, retrying infrastructure failures like the local backend. Returns
-    ``("ok", output)``, or ``("error", message)`` for a mistake in the configuration (returned, not
+    with its own model clients, knowing the parameter refusals the run ``learned`` so far, retrying
+    infrastructure failures like the local backend. Returns ``("ok", output)`` (with the refusals its
+    clients learned), or ``("error", message)`` for a mistake in the configuration (returned, not
     raised, so the run raises it with PARE's own message rather than the executor's wrapper).
     """
 
     async def play() -> EpisodeOutput:
-        models = RunModels.create(config, run_dir)
+        models = RunModels.create(config, run_dir, RunRequests.create(config, learned))
         try:
 
             async def attempt(plan: EpisodePlan, number: int) -> EpisodeOutput:
                 return await play_episode(plan, config, models, number)
 
-            return await play_with_retries(plan, attempt, config.episode_retries)
+            output = await play_with_retries(plan, attempt, config.episode_retries)
+            return dataclasses.replace(output, learned=models.requests.learned())
         finally:
             await models.aclose()
 
@@ -546,12 +566,14 @@ def run_benchmark(
         progress.started(len(plans), len(plans) - len(todo), config.label())
         with collector.long_lived_frozen():
             try:
+                requests = RunRequests.create(config, learned_refusals(store.manifest))
+                requests.record_in(store)
                 if config.backend == "ray":
                     from pare.bench.ray_backend import run_ray
 
-                    written = run_ray(todo, config, store, progress)
+                    written = run_ray(todo, config, store, progress, requests)
                 else:
-                    models = RunModels.create(config, run_dir)
+                    models = RunModels.create(config, run_dir, requests)
                     written = asyncio.run(run_local(todo, config, models, store, progress))
             finally:
                 progress.stopped()

@@ -2,7 +2,8 @@
 
 Layout::
 
-    RUN/manifest.json                    provenance and the plan (rewritten at the start of each session)
+    RUN/manifest.json                    provenance, the plan, what the model requests carry (rewritten
+                                         at the start of each session and when a refusal is learned)
     RUN/episodes.jsonl                   one EpisodeRecord per line, appended as each episode finishes
     RUN/trajectories/<scenario>/run-<r>.json   the full trajectory of a complete episode
     RUN/model_calls.sqlite               the record/replay cache of model calls (when enabled)
@@ -27,6 +28,7 @@ import platform
 import select
 import subprocess
 import sys
+import threading
 import time
 from collections import deque
 from collections.abc import Iterable, Iterator, Mapping
@@ -42,6 +44,7 @@ from pare import __version__
 from pare.agents.models.secrets import redact_secrets
 from pare.bench import _store_writer
 from pare.bench.records import EpisodeRecord
+from pare.bench.run_requests import REQUESTS
 from pare.bench.runconfig import RunConfig
 from pare.errors import UserInputError
 from pare.scenarios.model import Scenario
@@ -169,6 +172,7 @@ class RunStore:
     """The content hash of every scenario of the run, by id (computed once, when the store is opened)."""
     _lock: IO[str] | None = None
     _writer: _WriterProcess | _InlineWriter | None = None
+    _manifest_lock: threading.Lock = field(default_factory=threading.Lock)
 
     # -- opening -------------------------------------------------------------------------------------------
     @classmethod
@@ -198,8 +202,7 @@ class RunStore:
             store.records = latest_records(read_records(path / EPISODES))
             _check_scenarios_unchanged(path, store.records, hashes)
             store.manifest = _manifest(config, hashes, previous, sweep_point)
-            manifest = json.dumps(store.manifest, indent=2, ensure_ascii=False) + "\n"
-            _store_writer.write_atomically(str(path / MANIFEST), manifest.encode("utf-8"))
+            store._write_manifest()
             store._writer = _start_writer(path, lock)
         except BaseException:
             lock.close()
@@ -221,6 +224,20 @@ class RunStore:
                 )
             return None
         return read_manifest(file)
+
+    def _write_manifest(self) -> None:
+        with self._manifest_lock:  # one temporary file per manifest: writers take turns
+            manifest = json.dumps(self.manifest, indent=2, ensure_ascii=False) + "\n"
+            _store_writer.write_atomically(str(self.path / MANIFEST), manifest.encode("utf-8"))
+
+    def record_requests(self, requests: Mapping[str, Any]) -> None:
+        """Record in the manifest, per role, the request parameters the calls carry and every adjustment
+        made to the configured ones (rewritten whole, atomically, each time one is learned: a run killed
+        at any moment leaves the last record complete). Safe to call from any thread.
+        """
+        with self._manifest_lock:
+            self.manifest = {**self.manifest, REQUESTS: redact_secrets(dict(requests))}
+        self._write_manifest()
 
     # -- writing -------------------------------------------------------------------------------------------
     def done(self, key: EpisodeKey) -> bool:
@@ -550,6 +567,8 @@ def _manifest(
         "scenario_set_hash": scenario_set_hash(hashes),
         "provenance": provenance(),
         "sessions": sessions,
+        # what the requests carried: the previous session's record until this session writes its own
+        REQUESTS: dict((previous or {}).get(REQUESTS, {})),
     }
 
 

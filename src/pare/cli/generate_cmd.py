@@ -53,8 +53,15 @@ def generate(
         typer.Option("--api-key-env", help="Variable holding the key ('none' for a local server)."),
     ] = None,
     temperature: Annotated[
-        float, typer.Option("--temperature", min=0.0, help="The generator's sampling temperature.")
-    ] = 0.7,
+        float | None,
+        typer.Option(
+            "--temperature",
+            min=0.0,
+            help="The generator's sampling temperature (default 0.7; not sent to reasoning models, which "
+            "accept only their own).",
+            show_default=False,
+        ),
+    ] = None,
     timeout: Annotated[
         float, typer.Option("--timeout", min=1.0, help="Seconds one answer may take (a stage is long).")
     ] = 600.0,
@@ -91,17 +98,18 @@ def generate(
     """
     from rich.console import Console
 
+    from pare.agents.models.capabilities import is_reasoning_model
     from pare.bench.runconfig import parse_assignment, set_path
     from pare.generate import build_generate_config
     from pare.generate import generate as run_generation
+    from pare.generate.config import GENERATOR_TEMPERATURE
     from pare.generate.progress import RichGenerationProgress
 
-    generator: dict[str, Any] = {
-        "model": model,
-        "backend": provider,
-        "temperature": temperature,
-        "timeout_s": timeout,
-    }
+    if temperature is None and not is_reasoning_model(model):
+        temperature = GENERATOR_TEMPERATURE
+    generator: dict[str, Any] = {"model": model, "backend": provider, "timeout_s": timeout}
+    if temperature is not None:
+        generator["temperature"] = temperature
     if endpoint is not None:
         generator["api_base"] = endpoint
     if api_key_env is not None:
@@ -110,7 +118,10 @@ def generate(
         generator["api_key_env"] = None  # a local server needs no key unless one is named
     judge: dict[str, Any] | None = None
     if judge_model is not None or judge_endpoint is not None:
-        judge = {**generator, "model": judge_model or model, "temperature": 0.0}
+        judge = {key: value for key, value in generator.items() if key != "temperature"}
+        judge["model"] = judge_model or model
+        if not is_reasoning_model(judge["model"]):
+            judge["temperature"] = 0.0
         if judge_endpoint is not None:
             judge["api_base"] = judge_endpoint
     data: dict[str, Any] = {

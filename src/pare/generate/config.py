@@ -8,6 +8,7 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from pare.agents.models.cache import CacheMode
+from pare.agents.models.capabilities import is_reasoning_model
 from pare.agents.models.config import ModelConfig
 from pare.apps.registry import CORE_APPS, app_names
 from pare.errors import UserInputError, did_you_mean
@@ -17,6 +18,9 @@ IDENTITY_FIELDS = ("apps", "tags", "difficulty", "stage_retries")
 """The settings that shape what a candidate becomes; an output folder keeps them for good."""
 MODEL_IDENTITY_FIELDS = ("model", "backend", "temperature", "max_tokens", "seed", "extra")
 """The fields of a model configuration that can change what it answers."""
+GENERATOR_TEMPERATURE = 0.7
+"""The generator's temperature unless one is given (reasoning models are sent none: they accept only
+their own)."""
 
 
 class GenerateConfig(BaseModel):
@@ -71,8 +75,13 @@ class GenerateConfig(BaseModel):
 
     @property
     def judge_model(self) -> ModelConfig:
-        """The judge's model configuration: the generator's model at temperature 0 unless one is given."""
-        return self.judge or self.generator.model_copy(update={"temperature": 0.0})
+        """The judge's model configuration: the generator's model at temperature 0 (reasoning models: at
+        their own, the only one they accept) unless one is given.
+        """
+        if self.judge is not None:
+            return self.judge
+        temperature = None if is_reasoning_model(self.generator.model) else 0.0
+        return self.generator.model_copy(update={"temperature": temperature})
 
     @property
     def folder(self) -> Path:

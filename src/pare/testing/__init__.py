@@ -13,6 +13,11 @@
 
     with ChatServer(proactive_play(), delay_s=0.2) as server:
         ...  # point models.user / models.assistant api_base at server.base_url
+
+Provider profiles (:mod:`pare.testing.providers`) wrap any responder to answer as the major providers do:
+OpenAI's reasoning models' parameter refusals (:func:`openai_reasoning`), rate limits, tool-call-only
+answers, cached prompt tokens, context-length errors, and Anthropic's Messages API
+(:class:`AnthropicChatServer`).
 """
 
 from pare.testing.chat_server import (
@@ -27,16 +32,34 @@ from pare.testing.chat_server import (
     proactive_play,
     thinking,
 )
+from pare.testing.providers import (
+    PROFILES,
+    AnthropicChatServer,
+    anthropic_messages,
+    cached_prompts,
+    context_limit,
+    openai_reasoning,
+    rate_limited,
+    tool_calls_only,
+)
 
 __all__ = [
+    "PROFILES",
     "PROPOSAL",
     "REPORT",
+    "AnthropicChatServer",
     "ChatServer",
     "Reply",
     "Responder",
+    "anthropic_messages",
+    "cached_prompts",
     "completion",
+    "context_limit",
     "conversation_role",
     "failure",
+    "openai_reasoning",
     "proactive_play",
     "thinking",
+    "rate_limited",
+    "tool_calls_only",
 ]

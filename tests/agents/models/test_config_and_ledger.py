@@ -15,7 +15,12 @@ def test_defaults() -> None:
     config = ModelConfig(model="gpt-4o-mini")
     assert config.backend == "openai"
     assert config.api_key_env == "OPENAI_API_KEY"
-    assert (config.temperature, config.max_tokens, config.seed, config.extra) == (0.0, None, None, {})
+    assert (config.temperature, config.max_tokens, config.seed, config.extra) == (None, None, None, {})
+    assert config.request_params() == {}  # nothing is sent that is not configured: the provider's defaults
+    assert ModelConfig(model="m", temperature=0.0, max_tokens=5).request_params() == {
+        "temperature": 0.0,
+        "max_tokens": 5,
+    }
     assert (config.timeout_s, config.max_retries, config.retry_initial_s, config.retry_max_s) == (
         60,
         5,

@@ -14,6 +14,7 @@ import os
 import re
 import time
 import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass
 from types import ModuleType
 from typing import Any, Literal, Protocol
@@ -62,9 +63,14 @@ class ModelBackend(Protocol):
     name: str
 
     async def complete(
-        self, messages: list[dict[str, Any]], tools: list[dict[str, Any]] | None
+        self,
+        messages: list[dict[str, Any]],
+        tools: list[dict[str, Any]] | None,
+        params: Mapping[str, Any] | None = None,
     ) -> BackendResponse:
-        """Send the conversation (OpenAI chat format) and return the parsed first choice."""
+        """Send the conversation (OpenAI chat format) with the request parameters ``params`` (default:
+        the configuration's own) and return the parsed first choice.
+        """
         ...
 
     async def prepare(self) -> None:
@@ -85,7 +91,6 @@ class OpenAIBackend:
         self.config = config
         self._api_key = api_key if api_key is not None else NO_KEY
         self._client: Any = None
-        self._body_params = self._request_body_params()
 
     def _get_client(self) -> Any:
         if self._client is None:
@@ -105,7 +110,10 @@ class OpenAIBackend:
         self._get_client()
 
     async def complete(
-        self, messages: list[dict[str, Any]], tools: list[dict[str, Any]] | None
+        self,
+        messages: list[dict[str, Any]],
+        tools: list[dict[str, Any]] | None,
+        params: Mapping[str, Any] | None = None,
     ) -> BackendResponse:
         """Send one chat completion request through the SDK's client.
 
@@ -117,7 +125,8 @@ class OpenAIBackend:
         from openai.types.chat import ChatCompletion
 
         client = self._get_client()
-        body: dict[str, Any] = {"model": self.config.model, "messages": messages, **self._body_params}
+        sent = self.config.request_params() if params is None else params
+        body: dict[str, Any] = {"model": self.config.model, "messages": messages, **body_params(sent)}
         if tools:
             body["tools"] = tools
         try:
@@ -126,23 +135,24 @@ class OpenAIBackend:
             raise MalformedResponse(f"the provider's response body is not valid JSON ({error})") from error
         return parse_response(response, self.config.model)
 
-    def _request_body_params(self) -> dict[str, Any]:
-        """The sampling parameters as top-level body fields; an ``extra_body`` mapping in ``extra`` (the
-        SDK's name for server-specific fields such as vLLM's ``top_k``) is merged in as well.
-        """
-        params: dict[str, Any] = dict(self.config.request_params())
-        extra_body = params.pop("extra_body", None)
-        if isinstance(extra_body, dict):
-            params.update(extra_body)
-        elif extra_body is not None:
-            params["extra_body"] = extra_body
-        return params
-
     async def aclose(self) -> None:
         """Close the SDK's HTTP client."""
         if self._client is not None:
             client, self._client = self._client, None
             await client.close()
+
+
+def body_params(params: Mapping[str, Any]) -> dict[str, Any]:
+    """The request parameters as top-level body fields; an ``extra_body`` mapping in them (the OpenAI
+    SDK's name for server-specific fields such as vLLM's ``top_k``) is merged in as well.
+    """
+    fields: dict[str, Any] = dict(params)
+    extra_body = fields.pop("extra_body", None)
+    if isinstance(extra_body, dict):
+        fields.update(extra_body)
+    elif extra_body is not None:
+        fields["extra_body"] = extra_body
+    return fields
 
 
 class LiteLLMBackend:
@@ -156,7 +166,10 @@ class LiteLLMBackend:
         self._litellm = import_litellm()
 
     async def complete(
-        self, messages: list[dict[str, Any]], tools: list[dict[str, Any]] | None
+        self,
+        messages: list[dict[str, Any]],
+        tools: list[dict[str, Any]] | None,
+        params: Mapping[str, Any] | None = None,
     ) -> BackendResponse:
         """Send one request through ``litellm.acompletion`` with litellm's own retries switched off."""
         kwargs: dict[str, Any] = {
@@ -166,7 +179,7 @@ class LiteLLMBackend:
             "max_retries": 0,
             "num_retries": 0,
         }
-        kwargs.update(self.config.request_params())
+        kwargs.update(self.config.request_params() if params is None else params)
         if self.config.api_base is not None:
             kwargs["api_base"] = self.config.api_base
         if self._api_key is not None:

@@ -1,11 +1,12 @@
 """A content-addressed record/replay cache of model calls, in one sqlite file.
 
 The key is the SHA-256 of the canonical JSON of everything that shapes the answer (backend, model,
-sampling parameters, tools sent, messages) and nothing that does not (endpoint, key, timeouts, retries),
-so a run recorded against one server replays anywhere. Several asyncio tasks and several processes may
-share one file: it is in WAL mode with a busy timeout, each operation is one short autocommit transaction,
-and writes are ``INSERT OR IGNORE`` (the first answer stored for a key is the one kept). Each thread of
-each process keeps one open connection (opening one per call cost more than the lookup itself).
+the request parameters the configuration sets, tools sent, messages) and nothing that does not
+(endpoint, key, timeouts, retries), so a run recorded against one server replays anywhere. Several
+asyncio tasks and several processes may share one file: it is in WAL mode with a busy timeout, each
+operation is one short autocommit transaction, and writes are ``INSERT OR IGNORE`` (the first answer
+stored for a key is the one kept). Each thread of each process keeps one open connection (opening one
+per call cost more than the lookup itself).
 """
 
 from __future__ import annotations
@@ -65,6 +66,8 @@ def request_record(
     of one scenario send the same first prompt, and each run must get its own sample, not a replay of
     run 1's.
     """
+    # The configured parameters, not those a request ends up carrying: what a provider refuses is learnt
+    # during a run, and a replay (which calls no provider) must find the same keys.
     record = {
         "version": KEY_VERSION,
         "backend": config.backend,

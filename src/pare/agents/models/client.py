@@ -30,9 +30,12 @@ from pare.agents.models.backends import (
     make_backend,
 )
 from pare.agents.models.cache import ModelCallCache, cache_key, request_record
+from pare.agents.models.capabilities import Adjustment
 from pare.agents.models.config import ModelConfig
 from pare.agents.models.ledger import UsageLedger
 from pare.agents.models.pricing import call_cost
+from pare.agents.models.refusals import refused_parameter
+from pare.agents.models.request_params import RequestParams
 from pare.agents.models.secrets import scrub, secret_values
 from pare.agents.models.types import ChatMessage, Completion
 from pare.errors import CacheMiss, ModelRequestError, ProviderUnavailable
@@ -135,11 +138,16 @@ class ModelClient:
         role: str,
         cache: ModelCallCache | None = None,
         ledger: UsageLedger | None = None,
+        *,
+        params: RequestParams | None = None,
     ) -> None:
         self.config = config
         self.role = role
         self.cache = cache
         self.ledger = ledger if ledger is not None else UsageLedger()
+        self.params = params if params is not None else RequestParams(config, role)
+        """What the requests carry; clients of one role in one run share one, so what one learns, all
+        know."""
         self._backend: ModelBackend | None = None
         self._backend_loop: weakref.ref[asyncio.AbstractEventLoop] | None = None
 
@@ -147,6 +155,17 @@ class ModelClient:
         return (
             f"ModelClient(role={self.role!r}, model={self.config.model!r}, backend={self.config.backend!r})"
         )
+
+    def sent_params(self) -> dict[str, Any]:
+        """The request parameters each call carries now: the configured ones, renamed or dropped where the
+        model is known (or was found) to refuse them.
+        """
+        return self.params.sent()
+
+    @property
+    def adjustments(self) -> list[Adjustment]:
+        """How the parameters sent differ from the configured ones, and why (known, then learned)."""
+        return self.params.adjustments
 
     def _where(self) -> str:
         return f"{self.role} model '{self.config.model}' at {self.config.endpoint()}"
@@ -275,9 +294,29 @@ class ModelClient:
         return asyncio.run(complete_and_close())
 
     async def _call(self, messages: list[ChatMessage], tools: list[dict[str, Any]] | None) -> Completion:
+        """Send the request with the parameters the model accepts; when the provider refuses one of them
+        by name, learn it (for every later call of the role) and send the request again without it.
+        """
         if self.config.api_key_env is not None:
             self.api_key()  # a missing variable fails here, before any import or request
         await _import_sdks(self.config)
+        while True:
+            params = self.params.sent()
+            try:
+                return await self._send(messages, tools, params)
+            except ModelRequestError as error:
+                if error.kind != "bad_request":
+                    raise
+                adjustment = refused_parameter(error.__cause__, params)
+                if adjustment is None:
+                    raise
+                self.params.learn(dataclasses.replace(adjustment, why=self._scrub(adjustment.why)))
+                if self.params.sent() == params:  # nothing changed: sending again would fail the same way
+                    raise
+
+    async def _send(
+        self, messages: list[ChatMessage], tools: list[dict[str, Any]] | None, params: dict[str, Any]
+    ) -> Completion:
         backend = self._get_backend()  # resolves the key (litellm: checks the provider's own variable)
         await backend.prepare()
         payload = [message.to_openai() for message in messages]
@@ -296,7 +335,7 @@ class ModelClient:
                     async with semaphore:
                         attempts += 1
                         started = time.perf_counter()
-                        response = await backend.complete(payload, tools)
+                        response = await backend.complete(payload, tools, params)
                         latency = time.perf_counter() - started
         except Exception as error:
             failure = classify_error(error)
@@ -319,9 +358,12 @@ class ModelClient:
 
     def _scrubbed(self, failure: Failure) -> Failure:
         """``failure`` without the key or secret ``extra`` values a provider may echo in its message."""
+        return dataclasses.replace(failure, detail=self._scrub(failure.detail))
+
+    def _scrub(self, text: str) -> str:
+        """``text`` without the key or the secret ``extra`` values."""
         key = os.environ.get(self.config.api_key_env or "", "") if self.config.api_key_env else None
-        detail = scrub(failure.detail, [key, *secret_values(self.config.extra)])
-        return dataclasses.replace(failure, detail=detail)
+        return scrub(text, [key, *secret_values(self.config.extra)])
 
     def _log_retry(self, state: RetryCallState) -> None:
         outcome = state.outcome

@@ -93,13 +93,21 @@ class ModelConfig(BaseModel):
         "the openai backend). None: no key (a local server; a dummy key is sent) or, with litellm, the "
         "provider's usual variable.",
     )
-    temperature: float = Field(default=0.0, ge=0.0, le=10.0)
+    temperature: float | None = Field(
+        default=None,
+        ge=0.0,
+        le=10.0,
+        description="Sampling temperature; None: not sent, the provider's default applies (reasoning "
+        "models accept no other).",
+    )
     max_tokens: int | None = Field(
         default=None, gt=0, le=10_000_000, description="Most tokens the model may generate."
     )
     seed: int | None = Field(default=None, description="Sampling seed, for providers that honour one.")
     extra: dict[str, JsonValue] = Field(
-        default_factory=dict, description="Further request parameters, sent as they are (top_p, stop, ...)."
+        default_factory=dict,
+        description="Further request parameters (top_p, stop, reasoning_effort, ...), sent where the "
+        "model accepts them.",
     )
     timeout_s: float = Field(default=60.0, gt=0.0, le=86_400.0, description="Seconds one request may take.")
     max_retries: int = Field(
@@ -178,8 +186,13 @@ class ModelConfig(BaseModel):
         return f"{provider} default endpoint (litellm)"
 
     def request_params(self) -> dict[str, JsonValue]:
-        """Return the sampling parameters sent with every request (those that are set)."""
-        params: dict[str, JsonValue] = {"temperature": self.temperature}
+        """Return the request parameters this configuration sets, and only those: nothing is sent that
+        the configuration leaves unset, so the provider's defaults apply. What each request actually
+        carries can differ by model (see :mod:`pare.agents.models.capabilities`).
+        """
+        params: dict[str, JsonValue] = {}
+        if self.temperature is not None:
+            params["temperature"] = self.temperature
         if self.max_tokens is not None:
             params["max_tokens"] = self.max_tokens
         if self.seed is not None:

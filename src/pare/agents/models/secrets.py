@@ -12,7 +12,8 @@ import re
 from collections.abc import Iterable, Iterator
 from typing import Any
 
-SECRET_NAME = re.compile(r"(api[_-]?key|token|secret|password|authorization|credential)", re.IGNORECASE)
+SECRET_NAME = re.compile(r"(api[_-]?key|token(?!s)|secret|password|authorization|credential)", re.IGNORECASE)
+"""A name that suggests a secret; ``tokens`` is a count (``max_tokens``), not a secret."""
 MASK = "***"
 _SHORTEST_SECRET = 4
 """Values shorter than this are not cut out of text: they would mask ordinary words and numbers."""
