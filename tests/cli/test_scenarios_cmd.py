@@ -157,3 +157,14 @@ def test_the_similar_help_states_the_library_threshold(capsys: pytest.CaptureFix
 
     assert main(["scenarios", "similar", "--help"]) == 0
     assert f"threshold, {THRESHOLD:.2f})" in " ".join(capsys.readouterr().out.split())
+
+
+def test_check_lists_the_events_each_run_set_off_and_the_branch_each_reaction_took(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
+) -> None:
+    _write(tmp_path, fair())
+    assert main(["scenarios", "check", "-v", str(tmp_path)]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert '  [oracle] events: 09:05 ann_asks; 09:12 ann_confirms (reply: "Great, see you!")' in lines
+    assert '  [variant:declines] events: 09:05 ann_asks; 09:12 ann_confirms (otherwise: "Which day?")' in lines
+    assert "  [nothing] events: 09:05 ann_asks" in lines

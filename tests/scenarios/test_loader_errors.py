@@ -9,7 +9,7 @@ from typing import Any
 import pytest
 
 from pare.scenarios import ScenarioError, load_scenario, parse_scenario
-from tests.scenarios.helpers import base, parse, to_yaml
+from tests.scenarios.helpers import base, fair, parse, to_yaml
 
 Edit = Callable[[dict[str, Any]], None]
 
@@ -536,3 +536,24 @@ def _problems_or_none(data: dict[str, Any]) -> list[str]:
     except ScenarioError as error:
         return [str(problem) for problem in error.problems]
     return []
+
+
+@pytest.mark.parametrize(
+    ("excused", "expect", "place", "message"),
+    [
+        ({"ann_confrims": "w"}, "pass", "variants[0].otherwise_ok.ann_confrims", "did you mean 'ann_confirms'"),
+        ({"ann_asks": "w"}, "pass", "variants[0].otherwise_ok.ann_asks", "has no 'otherwise' branch"),
+        ({"ann_confirms": ""}, "pass", "variants[0].otherwise_ok.ann_confirms", ""),  # a reason is required
+        ({"ann_confirms": "w"}, "fail", "variants[0]", "a failing variant may get any reply"),
+    ],
+)
+def test_a_variants_otherwise_ok_names_a_branch_it_excuses_with_a_reason(
+    excused: dict[str, str], expect: str, place: str, message: str
+) -> None:
+    data = fair()
+    data["variants"][0].update(otherwise_ok=excused, expect=expect)
+    found = problems_of(data)
+    assert any(p.startswith("tiny.yaml:") and f": {place}: " in p and message in p.lower() for p in found), found
+    data["variants"][0].update(otherwise_ok={"ann_confirms": "Ann asks back, then gets her answer."})
+    data["variants"][0]["expect"] = "pass"
+    assert parse(data).variants[0].otherwise_ok == {"ann_confirms": "Ann asks back, then gets her answer."}

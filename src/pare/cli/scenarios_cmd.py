@@ -267,6 +267,9 @@ def _print_details(
         turns = "" if run.turns is None else str(run.turns)
         runs.add_row(run.run, must, _mark(run.ok, _outcome(run)), turns, run.why)
     console.print(runs)
+    for run in verdict.runs:
+        happened = "; ".join(event.describe(scenario.start) for event in run.events) or "none"
+        console.print(f"  [{run.run}] events: {happened}", markup=False, highlight=False)
     for name, outcome in outcomes.items():
         for goal in outcome.goals:
             for item in goal.checks:

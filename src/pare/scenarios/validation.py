@@ -252,12 +252,28 @@ class _Validator:
                 if goal_id not in goals:
                     hint = did_you_mean(goal_id, goals)
                     yield Problem((*where, "fails", index), f"unknown goal '{goal_id}'.{hint}")
+            yield from self._otherwise_ok(variant.otherwise_ok, (*where, "otherwise_ok"))
             if variant.user is not None:
                 yield from self._user_steps(variant.user, (*where, "user"))
             if variant.interventions is not None:
                 self.action_ids = []  # a variant's ${id.field} values name its own actions
                 yield from self._interventions(variant.interventions, (*where, "interventions"))
                 self.action_ids = oracle_ids
+
+    def _otherwise_ok(self, excused: Mapping[str, str], where: Path) -> Iterator[Problem]:
+        """A variant's ``otherwise_ok`` names reactive events that have an ``otherwise`` branch."""
+        events = {event.id: event for event in self.scenario.events}
+        branching = [event.id for event in self.scenario.events if event.otherwise is not None]
+        for event_id in excused:
+            event = events.get(event_id)
+            if event is None:
+                hint = did_you_mean(event_id, branching or list(events))
+                yield Problem((*where, event_id), f"unknown event '{event_id}'.{hint}")
+            elif event.otherwise is None:
+                others = f" (events with one: {', '.join(branching)})" if branching else ""
+                yield Problem(
+                    (*where, event_id), f"event '{event_id}' has no 'otherwise' branch to excuse{others}"
+                )
 
     def _user_steps(self, steps: Iterable[UserStep], at: Path) -> Iterator[Problem]:
         catalog = self.catalog
