@@ -557,3 +557,24 @@ def test_a_variants_otherwise_ok_names_a_branch_it_excuses_with_a_reason(
     data["variants"][0].update(otherwise_ok={"ann_confirms": "Ann asks back, then gets her answer."})
     data["variants"][0]["expect"] = "pass"
     assert parse(data).variants[0].otherwise_ok == {"ann_confirms": "Ann asks back, then gets her answer."}
+
+
+def test_one_mistake_seen_in_many_places_is_said_once_with_its_places() -> None:
+    """A seed id misspelt: every action naming it is wrong in the same way, so the message says it once."""
+    data = fair()
+    data["seed"]["email"]["emails"][0]["email_id"] = "e_one"  # Bob's email, renamed in the seed only
+    for variant in data["variants"][1:]:
+        variant["interventions"][0]["actions"][0]["args"]["email_id"] = "e1"
+    data["oracle"]["interventions"][0]["actions"][0]["args"]["email_id"] = "e1"
+    with pytest.raises(ScenarioError) as caught:
+        parse(data)
+    error = caught.value
+    assert len(error.problems) == 3
+    first = min(problem.line for problem in error.problems if problem.line is not None)
+    heading, line = str(error).splitlines()
+    assert heading == "tiny.yaml: 1 problem in 3 places:"
+    assert line.startswith(
+        f"  tiny.yaml:{first}: oracle.interventions[0].actions[0].args.email_id, "
+        "variants[1-2].interventions[0].actions[0].args.email_id: 'e1' is not an id in the seed data"
+    ), line
+    assert line.endswith("(3 places)")

@@ -12,6 +12,7 @@ from pare.errors import UserInputError, did_you_mean
 from pare.scenarios.annotations import model_fields, step_into
 from pare.scenarios.model import Scenario
 from pare.scenarios.parsed_cache import cached, remember
+from pare.scenarios.problem_groups import group_problems
 from pare.scenarios.validation import Problem, format_path, validate_scenario
 from pare.yaml_source import Path, UnreadableFile, YamlDocument, YamlSyntaxError, parse_yaml, read_text_file
 
@@ -31,13 +32,23 @@ class LocatedProblem:
 
 
 class ScenarioError(UserInputError):
-    """A scenario file that cannot be used; :attr:`problems` lists everything wrong with it."""
+    """A scenario file that cannot be used; :attr:`problems` lists everything wrong with it, place by
+    place, and the message says each mistake once (:attr:`grouped`: the same message at several places is
+    one line with the places and their count).
+    """
 
     def __init__(self, source: str, problems: list[LocatedProblem]) -> None:
         self.source = source
         self.problems = problems
-        count = f"{len(problems)} problem{'s' if len(problems) != 1 else ''}"
-        super().__init__(f"{source}: {count}:\n" + "\n".join(f"  {problem}" for problem in problems))
+        self.grouped = group_problems(problems)
+        count = _count(len(self.grouped), "problem")
+        if len(problems) != len(self.grouped):
+            count += f" in {_count(len(problems), 'place')}"
+        super().__init__(f"{source}: {count}:\n" + "\n".join(f"  {group}" for group in self.grouped))
+
+
+def _count(number: int, noun: str) -> str:
+    return f"{number} {noun}{'s' if number != 1 else ''}"
 
 
 def load_scenario(path: str | FilePath) -> Scenario:
