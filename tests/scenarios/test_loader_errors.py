@@ -578,3 +578,52 @@ def test_one_mistake_seen_in_many_places_is_said_once_with_its_places() -> None:
         "variants[1-2].interventions[0].actions[0].args.email_id: 'e1' is not an id in the seed data"
     ), line
     assert line.endswith("(3 places)")
+
+
+@pytest.mark.parametrize(
+    ("app", "edit", "place", "record"),
+    [
+        (
+            "email",
+            lambda seed: seed["emails"][0].update(timestamp="+1h"),
+            "seed.email.emails[0].timestamp",
+            "email 'e1' sent 2025-03-03 10:00",
+        ),
+        (
+            "messaging",
+            lambda seed: seed["conversations"][0]["messages"][1].update(timestamp="day+1 08:00"),
+            "seed.messaging.conversations[0].messages[1].timestamp",
+            "message 'm2' of conversation 'conv-jo' sent 2025-03-04 08:00",
+        ),
+    ],
+)
+def test_a_seed_record_dated_after_the_start_is_refused_at_load_with_its_line(
+    app: str, edit: Callable[[dict[str, Any]], None], place: str, record: str
+) -> None:
+    data = base()
+    data["apps"].append("messaging")
+    data["seed"]["messaging"] = {
+        "current_user_id": "user-me",
+        "users": {"user-me": "Me", "user-jo": "Jo Park"},
+        "conversations": [
+            {
+                "conversation_id": "conv-jo",
+                "participant_ids": ["user-me", "user-jo"],
+                "messages": [
+                    {"message_id": "m1", "sender_id": "user-jo", "content": "Hi", "timestamp": "-2h"},
+                    {"message_id": "m2", "sender_id": "user-me", "content": "Hello", "timestamp": "-1h"},
+                ],
+            },
+        ],
+    }
+    parse(data)  # dated before the start: fine
+    edit(data["seed"][app])
+    text = to_yaml(data)
+    with pytest.raises(ScenarioError) as caught:
+        parse_scenario(text, source="tiny.yaml")
+    (problem,) = caught.value.problems
+    assert problem.path == place
+    assert problem.message.startswith(f"{record} is after the scenario starts (2025-03-03 09:00)")
+    assert problem.line is not None
+    written = text.splitlines()[problem.line - 1]
+    assert "timestamp:" in written and ("+1h" in written or "day+1 08:00" in written), written

@@ -14,6 +14,7 @@ from typing import Any
 
 from pydantic import ValidationError
 
+from pare.apps.base import App
 from pare.apps.registry import CORE_APPS, get_app_class
 from pare.apps.tools import ToolSpec, describe_argument_errors
 from pare.errors import did_you_mean
@@ -32,7 +33,7 @@ from pare.scenarios.model import (
     as_count,
     reference,
 )
-from pare.scenarios.seed import SeedError, original_location, prepare_seed
+from pare.scenarios.seed import Location, SeedError, original_location, prepare_seed
 from pare.scenarios.times import parse_time, resolve_relative_times
 from pare.sim.budget import DEFAULT_BUDGET
 from pare.yaml_source import Path
@@ -123,13 +124,30 @@ class _Validator:
             except SeedError as error:
                 yield Problem(("seed", app, *error.location), str(error))
                 continue
+            cls = get_app_class(app)
             try:
-                get_app_class(app).State.model_validate(prepared)
+                state = cls.State.model_validate(prepared)
             except ValidationError as error:
                 for item in error.errors():
                     loc = tuple(part for part in item["loc"] if isinstance(part, str | int))
                     yield Problem(("seed", app, *original_location(loc, moved)), _pydantic_message(item))
+            else:
+                yield from self._dated_after_start(cls, state, app, moved)
             _collect_ids(prepared, self.known_ids)
+
+    def _dated_after_start(
+        self, cls: type[App], state: Any, app: str, moved: Mapping[Location, Location]
+    ) -> Iterator[Problem]:
+        """Seed records that say they happened after the start (the app refuses them when played)."""
+        probe = cls()
+        probe.adopt(state)
+        for record in probe.records_dated_after(self.start):
+            yield Problem(
+                ("seed", app, *original_location(record.location, moved)),
+                f"{record} is after the scenario starts ({self.start:%Y-%m-%d %H:%M}): seed data is the "
+                "phone at the start, so a later edit would be stamped before the record existed; date it at "
+                "or before the start, or make it an event that arrives during the episode",
+            )
 
     # -- events ----------------------------------------------------------------------------------------
     def _events(self) -> Iterator[Problem]:
