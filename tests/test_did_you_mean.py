@@ -27,11 +27,16 @@ def test_the_name_meant_comes_first(typed: str, meant: str) -> None:
 def test_a_name_one_word_off_is_found_among_names_that_share_more_letters() -> None:
     choices = ["send_message", "send_message_to_group_conversation", "read_messages", "send_message_to_user"]
     assert closest_names("send_message_to_users", choices)[0] == "send_message_to_user"
-    assert closest_names("create_event", ["create_calendar_event", "delete_contact"]) == ["create_calendar_event"]
+    assert closest_names("create_event", ["create_calendar_event", "delete_contact"]) == [
+        "create_calendar_event"
+    ]
 
 
 def test_a_name_with_the_same_words_is_suggested_alone() -> None:
-    assert did_you_mean("calendar__create_calendar_event", TOOLS) == " Did you mean 'calendar__add_calendar_event'?"
+    assert (
+        did_you_mean("calendar__create_calendar_event", TOOLS)
+        == " Did you mean 'calendar__add_calendar_event'?"
+    )
 
 
 @pytest.mark.parametrize(

@@ -59,7 +59,9 @@ def test_a_correct_variant_the_world_corrected_is_a_breach() -> None:
 
 def test_a_variant_may_say_why_the_correction_is_part_of_its_solution() -> None:
     data = fair()
-    data["variants"].append(_asks_then_answers(otherwise_ok={"ann_confirms": "Ann asks; the answer follows."}))
+    data["variants"].append(
+        _asks_then_answers(otherwise_ok={"ann_confirms": "Ann asks; the answer follows."})
+    )
     verdict = check_scenario(parse(data))
     assert verdict.ok, verdict.breaches()
     assert not verdict.warnings

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -541,7 +542,12 @@ def _problems_or_none(data: dict[str, Any]) -> list[str]:
 @pytest.mark.parametrize(
     ("excused", "expect", "place", "message"),
     [
-        ({"ann_confrims": "w"}, "pass", "variants[0].otherwise_ok.ann_confrims", "did you mean 'ann_confirms'"),
+        (
+            {"ann_confrims": "w"},
+            "pass",
+            "variants[0].otherwise_ok.ann_confrims",
+            "did you mean 'ann_confirms'",
+        ),
         ({"ann_asks": "w"}, "pass", "variants[0].otherwise_ok.ann_asks", "has no 'otherwise' branch"),
         ({"ann_confirms": ""}, "pass", "variants[0].otherwise_ok.ann_confirms", ""),  # a reason is required
         ({"ann_confirms": "w"}, "fail", "variants[0]", "a failing variant may get any reply"),
@@ -553,7 +559,10 @@ def test_a_variants_otherwise_ok_names_a_branch_it_excuses_with_a_reason(
     data = fair()
     data["variants"][0].update(otherwise_ok=excused, expect=expect)
     found = problems_of(data)
-    assert any(p.startswith("tiny.yaml:") and f": {place}: " in p and message in p.lower() for p in found), found
+    matching = [
+        p for p in found if p.startswith("tiny.yaml:") and f": {place}: " in p and message in p.lower()
+    ]
+    assert matching, found
     data["variants"][0].update(otherwise_ok={"ann_confirms": "Ann asks back, then gets her answer."})
     data["variants"][0]["expect"] = "pass"
     assert parse(data).variants[0].otherwise_ok == {"ann_confirms": "Ann asks back, then gets her answer."}
@@ -561,7 +570,7 @@ def test_a_variants_otherwise_ok_names_a_branch_it_excuses_with_a_reason(
 
 def test_one_mistake_seen_in_many_places_is_said_once_with_its_places() -> None:
     """A seed id misspelt: every action naming it is wrong in the same way, so the message says it once."""
-    data = fair()
+    data = copy.deepcopy(fair())  # fair() shares its reply's arguments with the helpers
     data["seed"]["email"]["emails"][0]["email_id"] = "e_one"  # Bob's email, renamed in the seed only
     for variant in data["variants"][1:]:
         variant["interventions"][0]["actions"][0]["args"]["email_id"] = "e1"

@@ -145,7 +145,8 @@ class EmailApp(App):
         """See :meth:`App.records_dated_after`."""
         return [
             DatedRecord(
-                ("emails", key, "timestamp"), f"email '{email.email_id}' sent {email.timestamp:%Y-%m-%d %H:%M}"
+                ("emails", key, "timestamp"),
+                f"email '{email.email_id}' sent {email.timestamp:%Y-%m-%d %H:%M}",
             )
             for key, email in self.state.emails.items()
             if email.timestamp > now

@@ -136,7 +136,8 @@ class NotesApp(App):
         return [
             DatedRecord(
                 ("notes", key, "created_at" if note.created_at > now else "updated_at"),
-                f"note '{note.note_id}' created or updated {max(note.created_at, note.updated_at):%Y-%m-%d %H:%M}",
+                f"note '{note.note_id}' created or updated "
+                f"{max(note.created_at, note.updated_at):%Y-%m-%d %H:%M}",
             )
             for key, note in self.state.notes.items()
             if max(note.created_at, note.updated_at) > now

@@ -39,7 +39,7 @@ class WorldEvent:
     """What the world said (the call's free-text arguments), for a reader of the run."""
 
     def describe(self, start: datetime) -> str:
-        """``day+0 09:12 practice_confirms (otherwise: "Sorry, which slot?")``, times relative to ``start``."""
+        """``09:12 practice_confirms (otherwise: "Sorry, which slot?")``, the day relative to ``start``."""
         when = _clock(self.at, start) if self.at is not None else "due after the end"
         branch = "" if self.branch == "timed" else f" ({self.branch}"
         if branch and self.text:
@@ -62,10 +62,13 @@ def world_events(scenario: Scenario, env: Environment) -> tuple[WorldEvent, ...]
         if event.id in fired or event.id not in waiting:
             found.append(WorldEvent(event.id, "reply", fired.get(event.id), event.id, _text(event.args)))
         otherwise_id = event.otherwise_id
-        if event.otherwise is not None and otherwise_id is not None:
-            if otherwise_id in fired or otherwise_id not in waiting:
-                text = _text(event.otherwise.args)
-                found.append(WorldEvent(event.id, "otherwise", fired.get(otherwise_id), otherwise_id, text))
+        if (
+            event.otherwise is not None
+            and otherwise_id is not None
+            and (otherwise_id in fired or otherwise_id not in waiting)
+        ):
+            text = _text(event.otherwise.args)
+            found.append(WorldEvent(event.id, "otherwise", fired.get(otherwise_id), otherwise_id, text))
     order = {event.id: index for index, event in enumerate(scenario.events)}
     return tuple(
         sorted(found, key=lambda e: (e.at is None, e.at or scenario.start, order[e.event], e.branch))
@@ -101,9 +104,7 @@ def corrected_solution(
             )
 
 
-def unused_excuses(
-    run: str, excused: frozenset[str], events: tuple[WorldEvent, ...]
-) -> Iterator[str]:
+def unused_excuses(run: str, excused: frozenset[str], events: tuple[WorldEvent, ...]) -> Iterator[str]:
     """A variant's ``otherwise_ok`` entries that its run never needed: stale declarations."""
     corrected = {world.event for world in events if world.branch == "otherwise"}
     for event_id in sorted(excused - corrected):

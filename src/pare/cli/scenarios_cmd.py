@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -339,9 +340,26 @@ def sample(
     console.print(f"split '{write}' written with {size} scenarios")
 
 
+class Against(StrEnum):
+    """What ``pare scenarios similar`` compares the given scenarios with."""
+
+    library = "library"
+    themselves = "themselves"
+
+
 @app.command("similar")
 def similar(
     paths: Paths = None,
+    against: Annotated[
+        Against | None,
+        typer.Option(
+            "--against",
+            help="library: each given scenario against the shipped library (and the others given); "
+            "themselves: only the given ones with each other. Default: library when a path is outside "
+            "the library, else themselves.",
+            show_default=False,
+        ),
+    ] = None,
     top: Annotated[
         int, typer.Option("--top", "-n", min=1, help="How many of the most alike pairs to show.")
     ] = 10,
@@ -356,19 +374,35 @@ def similar(
         ),
     ] = None,
 ) -> None:
-    """The most alike pairs of scenarios by story (names left out), apps and oracle tools. Exits 1 when a
-    pair reaches the threshold: the same story with names changed.
+    """The most alike pairs of scenarios by story (names left out), apps and oracle tools: new files are
+    compared with the library they would join. Exits 1 when a pair reaches the threshold: the same story
+    with names changed.
     """
     from rich.console import Console
     from rich.table import Table
 
+    from pare.scenarios.library import BENCH_DIR, load_scenarios, scenario_files
     from pare.scenarios.similarity import THRESHOLD, similarities
 
     threshold = THRESHOLD if threshold is None else threshold
 
     scenarios = _chosen(paths, None, None, None, None)
-    pairs = similarities(scenarios)
-    table = Table(title=f"most alike of {len(pairs)} pairs (threshold {threshold:.2f})")
+    files = [file.resolve() for file in scenario_files(paths)] if paths else []
+    library_dir = BENCH_DIR.resolve()
+    if against is None:
+        outside = any(library_dir not in file.parents for file in files)
+        against = Against.library if outside else Against.themselves
+    others: list[Scenario] = []
+    if against is Against.library and paths:
+        # a given file stands for the library scenario of its id (an edited copy is not its own twin)
+        given = {scenario.id for scenario in scenarios}
+        others = [scenario for scenario in load_scenarios() if scenario.id not in given]
+    pairs = similarities(scenarios, others)
+    compared = (
+        f"{len(scenarios)} given against the library's {len(others)}" if others else str(len(scenarios))
+    )
+    title = f"most alike of {len(pairs)} pairs ({compared} scenarios; threshold {threshold:.2f})"
+    table = Table(title=title)
     for column in ("score", "story", "apps", "tools", "pair"):
         table.add_column(column, justify="right" if column != "pair" else "left", overflow="fold")
     for pair in pairs[:top]:

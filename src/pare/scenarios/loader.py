@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path as FilePath
 from typing import Any
 
@@ -12,23 +11,9 @@ from pare.errors import UserInputError, did_you_mean
 from pare.scenarios.annotations import model_fields, step_into
 from pare.scenarios.model import Scenario
 from pare.scenarios.parsed_cache import cached, remember
-from pare.scenarios.problem_groups import group_problems
+from pare.scenarios.problem_groups import LocatedProblem, group_problems
 from pare.scenarios.validation import Problem, format_path, validate_scenario
 from pare.yaml_source import Path, UnreadableFile, YamlDocument, YamlSyntaxError, parse_yaml, read_text_file
-
-
-@dataclass(frozen=True, slots=True)
-class LocatedProblem:
-    """A problem with where it is: file, line (when known) and path in the document."""
-
-    source: str
-    line: int | None
-    path: str
-    message: str
-
-    def __str__(self) -> str:
-        place = f"{self.source}:{self.line}" if self.line is not None else self.source
-        return f"{place}: {self.path}: {self.message}"
 
 
 class ScenarioError(UserInputError):

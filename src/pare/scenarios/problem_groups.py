@@ -10,22 +10,22 @@ from __future__ import annotations
 import re
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Protocol
 
 _INDEX = re.compile(r"\[(\d+)\]")
 
 
-class Located(Protocol):
-    """A problem with where it is (see :class:`pare.scenarios.loader.LocatedProblem`)."""
+@dataclass(frozen=True, slots=True)
+class LocatedProblem:
+    """A problem with where it is: file, line (when known) and path in the document."""
 
-    @property
-    def source(self) -> str: ...
-    @property
-    def line(self) -> int | None: ...
-    @property
-    def path(self) -> str: ...
-    @property
-    def message(self) -> str: ...
+    source: str
+    line: int | None
+    path: str
+    message: str
+
+    def __str__(self) -> str:
+        place = f"{self.source}:{self.line}" if self.line is not None else self.source
+        return f"{place}: {self.path}: {self.message}"
 
 
 @dataclass(frozen=True, slots=True)
@@ -45,11 +45,11 @@ class ProblemGroup:
         return f"{where}: {', '.join(self.places)}: {self.message}{times}"
 
 
-def group_problems(problems: Iterable[Located]) -> list[ProblemGroup]:
+def group_problems(problems: Iterable[LocatedProblem]) -> list[ProblemGroup]:
     """``problems`` with the same file and message as one group each, in the order first seen; a group's
     line is the earliest of its places'.
     """
-    groups: dict[tuple[str, str], list[Located]] = {}
+    groups: dict[tuple[str, str], list[LocatedProblem]] = {}
     for problem in problems:
         groups.setdefault((problem.source, problem.message), []).append(problem)
     result = []
