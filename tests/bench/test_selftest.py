@@ -49,7 +49,8 @@ def test_a_correct_variant_the_world_corrected_is_a_breach() -> None:
     assert run.success and not run.ok
     [line] = verdict.breaches()
     assert line.startswith("tiny_reply [variant:asks_then_answers]: variant 'asks_then_answers' passed")
-    assert "otherwise branch of event 'ann_confirms'" in line and '"Which day?"' in line
+    assert "otherwise branch of event 'ann_confirms' (\"Which day?\")" in line
+    assert 'set off by #8 assistant email.reply_to_email "Got it, let me check."' in line
     assert [(event.event, event.branch) for event in run.events] == [
         ("ann_asks", "timed"),
         ("ann_confirms", "otherwise"),

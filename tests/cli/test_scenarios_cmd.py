@@ -192,8 +192,8 @@ def test_check_lists_the_events_each_run_set_off_and_the_branch_each_reaction_to
     _write(tmp_path, fair())
     assert main(["scenarios", "check", "-v", str(tmp_path)]) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert '  [oracle] events: 09:05 ann_asks; 09:12 ann_confirms (reply: "Great, see you!")' in lines
-    assert (
-        '  [variant:declines] events: 09:05 ann_asks; 09:12 ann_confirms (otherwise: "Which day?")' in lines
-    )
+    reply = '09:12 ann_confirms (reply: "Great, see you!", after #8 assistant email.reply_to_email)'
+    assert f"  [oracle] events: 09:05 ann_asks; {reply}" in lines
+    otherwise = '09:12 ann_confirms (otherwise: "Which day?", after #8 assistant email.reply_to_email)'
+    assert f"  [variant:declines] events: 09:05 ann_asks; {otherwise}" in lines
     assert "  [nothing] events: 09:05 ann_asks" in lines

@@ -37,6 +37,10 @@ class WorldEvent:
     """The id it fired under: the event's, or its ``otherwise`` reaction's."""
     text: str = ""
     """What the world said (the call's free-text arguments), for a reader of the run."""
+    cause: str = ""
+    """For a reactive event: the action that set it off (``#6 assistant messaging.send_message``)."""
+    cause_text: str = ""
+    """What that action said."""
 
     def describe(self, start: datetime) -> str:
         """``09:12 practice_confirms (otherwise: "Sorry, which slot?")``, the day relative to ``start``."""
@@ -44,6 +48,8 @@ class WorldEvent:
         branch = "" if self.branch == "timed" else f" ({self.branch}"
         if branch and self.text:
             branch += f': "{_short(self.text)}"'
+        if branch and self.cause:
+            branch += f", after {self.cause}"
         return f"{when} {self.event}{branch}{')' if branch else ''}"
 
 
@@ -51,24 +57,22 @@ def world_events(scenario: Scenario, env: Environment) -> tuple[WorldEvent, ...]
     """The scenario's events that fired in the run played in ``env`` (or were set off), in time order."""
     scheduler = env.scheduler
     fired = scheduler.completed
-    waiting = set(scheduler.waiting_on_conditions)
     found: list[WorldEvent] = []
     for event in scenario.events:
         if event.when is None:
             if event.id in fired:
                 found.append(WorldEvent(event.id, "timed", fired[event.id], event.id, _text(event.args)))
             continue
-        # a reactive branch stops waiting on its condition the moment an action sets it off
-        if event.id in fired or event.id not in waiting:
-            found.append(WorldEvent(event.id, "reply", fired.get(event.id), event.id, _text(event.args)))
-        otherwise_id = event.otherwise_id
-        if (
-            event.otherwise is not None
-            and otherwise_id is not None
-            and (otherwise_id in fired or otherwise_id not in waiting)
-        ):
-            text = _text(event.otherwise.args)
-            found.append(WorldEvent(event.id, "otherwise", fired.get(otherwise_id), otherwise_id, text))
+        branches: list[tuple[Branch, str | None, dict[str, object]]] = [("reply", event.id, event.args)]
+        if event.otherwise is not None:
+            branches.append(("otherwise", event.otherwise_id, event.otherwise.args))
+        for branch, fired_id, args in branches:
+            if fired_id is None or fired_id not in scheduler.set_off:
+                continue
+            entry = env.log[scheduler.set_off[fired_id]]
+            cause = f"#{entry.index} {entry.actor} {entry.app}.{entry.tool}"
+            at = fired.get(fired_id)
+            found.append(WorldEvent(event.id, branch, at, fired_id, _text(args), cause, _text(entry.args)))
     order = {event.id: index for index, event in enumerate(scenario.events)}
     return tuple(
         sorted(found, key=lambda e: (e.at is None, e.at or scenario.start, order[e.event], e.branch))
@@ -87,20 +91,22 @@ def corrected_solution(
             continue
         event = by_id[world.event]
         said = f' ("{_short(world.text)}")' if world.text else ""
+        written = f' "{_short(world.cause_text)}"' if world.cause_text else ""
+        cause = f"{world.cause}{written}, which does not meet its if_args ({_wanted(event)})"
         if run == "oracle":
             yield (
-                f"the world answered the oracle with the otherwise branch of event '{world.event}'{said}: "
-                f"an oracle action set the event off without meeting its if_args ({_wanted(event)}); the "
-                "oracle must ask what the world answers, and the event's 'when' match only that"
+                f"the world answered the oracle with the otherwise branch of event '{world.event}'{said}, "
+                f"set off by {cause}: the oracle must ask what the world answers, and the event's 'when' "
+                "match only that"
             )
         else:
             name = run.removeprefix("variant:")
             yield (
                 f"variant '{name}' passed, but the world answered it with the otherwise branch of event "
-                f"'{world.event}'{said}: a correct solution must get the reply, not the correction. Narrow "
-                f"the event's 'when' if an unrelated action set it off, widen its if_args ({_wanted(event)}) "
-                "if this answer is right, make the variant expect: fail if it is wrong, or give the variant "
-                f"otherwise_ok: {{{world.event}: <why the correction is part of this solution>}}"
+                f"'{world.event}'{said}, set off by {cause}: a correct solution must get the reply, not the "
+                "correction. Narrow the event's 'when' if that action is unrelated, widen its if_args if it "
+                "is right, make the variant expect: fail if it is wrong, or give the variant otherwise_ok: "
+                f"{{{world.event}: <why the correction is part of this solution>}}"
             )
 
 
