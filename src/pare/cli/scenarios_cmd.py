@@ -147,7 +147,13 @@ def check(
     difficulty: DifficultyFilter = None,
     split: SplitFilter = None,
     verbose: Annotated[
-        bool, typer.Option("--verbose", "-v", help="Show every run and variant, and every check's verdict.")
+        bool,
+        typer.Option(
+            "--verbose",
+            "-v",
+            help="Show every run and variant, the events each run set off (and which branch each reactive "
+            "one took), and every check's verdict.",
+        ),
     ] = False,
     jobs: Annotated[
         int,
@@ -161,7 +167,8 @@ def check(
 ) -> None:
     """Self-test scenarios: the oracle must pass, also with a slow user; doing nothing, the user alone, the
     user doing the task by hand and an unrelated proposal must fail; every variant must get its declared
-    verdict. Exits 1 on any breach.
+    verdict, and neither the oracle nor a variant that passes may get a reactive event's otherwise reply
+    (unless the variant's otherwise_ok says why). Exits 1 on any breach.
     """
     import time
 
