@@ -6,7 +6,7 @@ import pytest
 
 from pare.bench.episode import EpisodeResult
 from pare.bench.selftest import check_scenario
-from tests.scenarios.helpers import fair, parse
+from tests.scenarios.helpers import REPLY, fair, intervention, parse
 
 
 def test_the_gate_keeps_every_result_without_formatting_it(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -24,3 +24,71 @@ def test_the_gate_keeps_every_result_without_formatting_it(monkeypatch: pytest.M
     assert verdict.ok, verdict.breaches()
     assert set(verdict.details) == {run.run for run in verdict.runs}
     assert formatted == []
+
+
+HOLDING = {"tool": "email__reply_to_email", "args": {"email_id": "e_ann", "content": "Got it, let me check."}}
+"""A first reply that names no day: the world asks back ("Which day?")."""
+
+
+def _asks_then_answers(**extra: object) -> dict[str, object]:
+    """A correct variant whose first reply gets Ann's correction, then gives the answer."""
+    return {
+        "id": "asks_then_answers",
+        "expect": "pass",
+        "why": "A holding reply, then Thursday, still tells Ann.",
+        "interventions": [intervention(HOLDING, REPLY)],
+        **extra,
+    }
+
+
+def test_a_correct_variant_the_world_corrected_is_a_breach() -> None:
+    data = fair()
+    data["variants"].append(_asks_then_answers())
+    verdict = check_scenario(parse(data))
+    run = verdict.run("variant:asks_then_answers")
+    assert run.success and not run.ok
+    [line] = verdict.breaches()
+    assert line.startswith("tiny_reply [variant:asks_then_answers]: variant 'asks_then_answers' passed")
+    assert "otherwise branch of event 'ann_confirms' (\"Which day?\")" in line
+    assert 'set off by #8 assistant email.reply_to_email "Got it, let me check."' in line
+    assert [(event.event, event.branch) for event in run.events] == [
+        ("ann_asks", "timed"),
+        ("ann_confirms", "otherwise"),
+        ("ann_confirms", "reply"),
+    ]
+
+
+def test_a_variant_may_say_why_the_correction_is_part_of_its_solution() -> None:
+    data = fair()
+    data["variants"].append(
+        _asks_then_answers(otherwise_ok={"ann_confirms": "Ann asks; the answer follows."})
+    )
+    verdict = check_scenario(parse(data))
+    assert verdict.ok, verdict.breaches()
+    assert not verdict.warnings
+
+
+def test_an_excuse_the_variant_never_needed_is_warned_about() -> None:
+    data = fair()
+    data["variants"][0]["otherwise_ok"] = {"ann_confirms": "A fresh email is never corrected."}
+    verdict = check_scenario(parse(data))
+    assert verdict.ok, verdict.breaches()
+    assert verdict.warnings == (
+        "variant:fresh_email declares otherwise_ok for event 'ann_confirms', but the world never answered "
+        "it with that event's otherwise branch: drop the entry",
+    )
+
+
+def test_the_oracle_must_never_get_a_correction() -> None:
+    data = fair()
+    data["oracle"]["interventions"] = [intervention(HOLDING, REPLY)]
+    verdict = check_scenario(parse(data), runs=("oracle",), variants=False)
+    oracle = verdict.run("oracle")
+    assert oracle.success and not oracle.ok
+    assert "world answered the oracle with the otherwise branch of event 'ann_confirms'" in oracle.problems[0]
+
+
+def test_a_wrong_variant_may_get_the_correction() -> None:
+    verdict = check_scenario(parse(fair()))
+    declines = verdict.run("variant:declines")
+    assert declines.ok and ("ann_confirms", "otherwise") in [(e.event, e.branch) for e in declines.events]

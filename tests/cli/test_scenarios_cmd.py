@@ -8,6 +8,7 @@ import pytest
 
 from pare.cli import main
 from pare.scenarios import library
+from pare.scenarios.library import BENCH_DIR, scenario_files
 from tests.scenarios.helpers import base, fair, to_yaml
 
 
@@ -142,15 +143,41 @@ def test_similar_finds_a_story_told_again_with_names_changed(
     other["id"] = "lunch_with_bob"
     other["story"] = "Bob wonders about a Friday lunch at the noodle bar near the office."
     _write(tmp_path, other)
-    assert main(["scenarios", "similar", str(tmp_path)]) == 0
+    assert main(["scenarios", "similar", str(tmp_path), "--against", "themselves"]) == 0
     assert "no pair reaches 0.60" in capsys.readouterr().out
     renamed = fair()
     renamed["id"] = "tiny_reply_again"
     renamed["story"] = original["story"].replace("Ann", "Joan").replace("Sam", "Kim").replace("Leeds", "York")
     _write(tmp_path, renamed)
-    assert main(["scenarios", "similar", str(tmp_path)]) == 1
+    assert main(["scenarios", "similar", str(tmp_path), "--against", "themselves"]) == 1
     out = capsys.readouterr().out
     assert "1 pair(s) tell the same story:" in out and "tiny_reply ~ tiny_reply_again (0.9" in out
+
+
+def test_similar_compares_a_new_file_with_the_library(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
+) -> None:
+    """A library story told again with names changed, in a file of its own: found without naming the
+    library; --against themselves leaves the library out."""
+    source = BENCH_DIR / "dentist_moves_checkup.yaml"
+    retold = source.read_text(encoding="utf-8").replace("Haddad", "Morel").replace("Sam", "Kim")
+    retold = retold.replace("id: dentist_moves_checkup", "id: dentist_retold")
+    (tmp_path / "dentist_retold.yaml").write_text(retold, encoding="utf-8")
+    assert main(["scenarios", "similar", str(tmp_path / "dentist_retold.yaml")]) == 1
+    out = capsys.readouterr().out
+    count = len(scenario_files())
+    assert f"most alike of {count} pairs (1 given against the library's {count} scenarios" in out
+    assert "dentist_retold ~ dentist_moves_checkup (0.9" in out
+    assert main(["scenarios", "similar", str(tmp_path), "--against", "themselves"]) == 0
+    assert "most alike of 0 pairs (1 scenarios" in capsys.readouterr().out
+
+
+def test_similar_given_library_files_compares_them_with_each_other(
+    capsys: pytest.CaptureFixture[str], wide_console: None
+) -> None:
+    files = [str(BENCH_DIR / f"{name}.yaml") for name in ("dentist_moves_checkup", "sister_gift_jacket_size")]
+    assert main(["scenarios", "similar", *files]) == 0
+    assert "most alike of 1 pairs (2 scenarios" in capsys.readouterr().out
 
 
 def test_the_similar_help_states_the_library_threshold(capsys: pytest.CaptureFixture[str]) -> None:
@@ -238,3 +265,16 @@ def test_the_gate_says_why_a_passing_variant_failed(
     assert (
         "found 'Thursday' in clause \"Friday is out - Thursday works\" but it is negated by 'is out'" in out
     )
+
+
+def test_check_lists_the_events_each_run_set_off_and_the_branch_each_reaction_took(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
+) -> None:
+    _write(tmp_path, fair())
+    assert main(["scenarios", "check", "-v", str(tmp_path)]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    reply = '09:12 ann_confirms (reply: "Great, see you!", after #8 assistant email.reply_to_email)'
+    assert f"  [oracle] events: 09:05 ann_asks; {reply}" in lines
+    otherwise = '09:12 ann_confirms (otherwise: "Which day?", after #8 assistant email.reply_to_email)'
+    assert f"  [variant:declines] events: 09:05 ann_asks; {otherwise}" in lines
+    assert "  [nothing] events: 09:05 ann_asks" in lines

@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import pytest
 
+from pare.generate.checking import load_partial
 from pare.generate.prompts import STAGE_HEADINGS, TEMPLATES
-from pare.generate.sections import ORDER, assemble, extract_yaml, split_sections, top_key
+from pare.generate.sections import ORDER, STAGE_KEYS, STAGES, assemble, extract_yaml, split_sections, top_key
 from pare.generate.uniqueness import JudgeAnswerError, read_verdict
+from tests.scenarios.helpers import base, to_yaml
 
 
 def test_the_yaml_of_an_answer_is_its_fenced_blocks_or_the_whole_text() -> None:
@@ -51,3 +53,16 @@ def test_the_judges_verdict_is_read_from_its_json() -> None:
 def test_the_stage_headings_open_the_stage_templates() -> None:
     for stage, heading in STAGE_HEADINGS.items():
         assert (TEMPLATES / f"{stage}.j2").read_text().startswith(heading)
+
+
+def test_one_mistake_goes_back_to_the_generator_once_with_its_places() -> None:
+    data = base()
+    data["oracle"]["user"][1]["args"]["email_id"] = "e_anne"
+    data["oracle"]["interventions"][0]["actions"][0]["args"]["email_id"] = "e_anne"
+    keys = [key for stage in STAGES for key in STAGE_KEYS[stage]]
+    sections = split_sections(to_yaml(data), keys).sections
+    scenario, problems = load_partial(sections, STAGES[-1])
+    assert scenario is None
+    [problem] = problems
+    assert "oracle.user[1].args.email_id, oracle.interventions[0].actions[0].args.email_id" in problem
+    assert problem.endswith("(2 places)")

@@ -97,3 +97,17 @@ def test_a_seeded_note_edited_during_the_episode_stays_valid() -> None:
     note = env.app("notes").state.notes["n-1"]
     assert note.updated_at >= note.created_at
     type(env.app("notes").state).model_validate(env.app("notes").snapshot())
+
+
+@pytest.mark.parametrize(("app", "data", "named"), seeds(LATE), ids=lambda v: v if isinstance(v, str) else "")
+def test_each_late_record_says_where_its_date_is(app: str, data: dict[str, Any], named: str) -> None:
+    """The scenario loader turns the location into the file's line: it must lead to the late date."""
+    loaded = make_env([app]).app(app)
+    late = type(loaded.state).model_validate(data)
+    loaded.adopt(late)
+    (record,) = loaded.records_dated_after(loaded.ctx.now())
+    assert named in str(record)
+    value: Any = late.model_dump(mode="json")
+    for part in record.location:
+        value = value[part]
+    assert value.startswith("2025-03-03T10:00")

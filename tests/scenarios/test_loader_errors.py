@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -9,7 +10,7 @@ from typing import Any
 import pytest
 
 from pare.scenarios import ScenarioError, load_scenario, parse_scenario
-from tests.scenarios.helpers import base, parse, to_yaml
+from tests.scenarios.helpers import base, fair, parse, to_yaml
 
 Edit = Callable[[dict[str, Any]], None]
 
@@ -536,3 +537,102 @@ def _problems_or_none(data: dict[str, Any]) -> list[str]:
     except ScenarioError as error:
         return [str(problem) for problem in error.problems]
     return []
+
+
+@pytest.mark.parametrize(
+    ("excused", "expect", "place", "message"),
+    [
+        (
+            {"ann_confrims": "w"},
+            "pass",
+            "variants[0].otherwise_ok.ann_confrims",
+            "did you mean 'ann_confirms'",
+        ),
+        ({"ann_asks": "w"}, "pass", "variants[0].otherwise_ok.ann_asks", "has no 'otherwise' branch"),
+        ({"ann_confirms": ""}, "pass", "variants[0].otherwise_ok.ann_confirms", ""),  # a reason is required
+        ({"ann_confirms": "w"}, "fail", "variants[0]", "a failing variant may get any reply"),
+    ],
+)
+def test_a_variants_otherwise_ok_names_a_branch_it_excuses_with_a_reason(
+    excused: dict[str, str], expect: str, place: str, message: str
+) -> None:
+    data = fair()
+    data["variants"][0].update(otherwise_ok=excused, expect=expect)
+    found = problems_of(data)
+    matching = [
+        p for p in found if p.startswith("tiny.yaml:") and f": {place}: " in p and message in p.lower()
+    ]
+    assert matching, found
+    data["variants"][0].update(otherwise_ok={"ann_confirms": "Ann asks back, then gets her answer."})
+    data["variants"][0]["expect"] = "pass"
+    assert parse(data).variants[0].otherwise_ok == {"ann_confirms": "Ann asks back, then gets her answer."}
+
+
+def test_one_mistake_seen_in_many_places_is_said_once_with_its_places() -> None:
+    """A seed id misspelt: every action naming it is wrong in the same way, so the message says it once."""
+    data = copy.deepcopy(fair())  # fair() shares its reply's arguments with the helpers
+    data["seed"]["email"]["emails"][0]["email_id"] = "e_one"  # Bob's email, renamed in the seed only
+    for variant in data["variants"][1:]:
+        variant["interventions"][0]["actions"][0]["args"]["email_id"] = "e1"
+    data["oracle"]["interventions"][0]["actions"][0]["args"]["email_id"] = "e1"
+    with pytest.raises(ScenarioError) as caught:
+        parse(data)
+    error = caught.value
+    assert len(error.problems) == 3
+    first = min(problem.line for problem in error.problems if problem.line is not None)
+    heading, line = str(error).splitlines()
+    assert heading == "tiny.yaml: 1 problem in 3 places:"
+    assert line.startswith(
+        f"  tiny.yaml:{first}: oracle.interventions[0].actions[0].args.email_id, "
+        "variants[1-2].interventions[0].actions[0].args.email_id: 'e1' is not an id in the seed data"
+    ), line
+    assert line.endswith("(3 places)")
+
+
+@pytest.mark.parametrize(
+    ("app", "edit", "place", "record"),
+    [
+        (
+            "email",
+            lambda seed: seed["emails"][0].update(timestamp="+1h"),
+            "seed.email.emails[0].timestamp",
+            "email 'e1' sent 2025-03-03 10:00",
+        ),
+        (
+            "messaging",
+            lambda seed: seed["conversations"][0]["messages"][1].update(timestamp="day+1 08:00"),
+            "seed.messaging.conversations[0].messages[1].timestamp",
+            "message 'm2' of conversation 'conv-jo' sent 2025-03-04 08:00",
+        ),
+    ],
+)
+def test_a_seed_record_dated_after_the_start_is_refused_at_load_with_its_line(
+    app: str, edit: Callable[[dict[str, Any]], None], place: str, record: str
+) -> None:
+    data = base()
+    data["apps"].append("messaging")
+    data["seed"]["messaging"] = {
+        "current_user_id": "user-me",
+        "users": {"user-me": "Me", "user-jo": "Jo Park"},
+        "conversations": [
+            {
+                "conversation_id": "conv-jo",
+                "participant_ids": ["user-me", "user-jo"],
+                "messages": [
+                    {"message_id": "m1", "sender_id": "user-jo", "content": "Hi", "timestamp": "-2h"},
+                    {"message_id": "m2", "sender_id": "user-me", "content": "Hello", "timestamp": "-1h"},
+                ],
+            },
+        ],
+    }
+    parse(data)  # dated before the start: fine
+    edit(data["seed"][app])
+    text = to_yaml(data)
+    with pytest.raises(ScenarioError) as caught:
+        parse_scenario(text, source="tiny.yaml")
+    (problem,) = caught.value.problems
+    assert problem.path == place
+    assert problem.message.startswith(f"{record} is after the scenario starts (2025-03-03 09:00)")
+    assert problem.line is not None
+    written = text.splitlines()[problem.line - 1]
+    assert "timestamp:" in written and ("+1h" in written or "day+1 08:00" in written), written

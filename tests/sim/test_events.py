@@ -54,6 +54,8 @@ def test_condition_on_the_log_fires_once_after_its_delay_whoever_acts() -> None:
     ok(env.call("assistant", "notebook__add_item", {"text": "ping"}, mode="execute"))
     env.advance(timedelta(minutes=9))
     assert fired(env) == []
+    assert env.scheduler.set_off == {"pong": len(env.log) - 2}  # the first ping, before it is due
+    assert env.log[env.scheduler.set_off["pong"]].args == {"text": "ping"}
     env.advance(timedelta(minutes=5))
     assert fired(env) == [("pong", "09:40"), ("after-pong", "09:41")]
 

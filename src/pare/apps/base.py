@@ -73,6 +73,19 @@ class AppContext:
 
 
 @dataclass(frozen=True, slots=True)
+class DatedRecord:
+    """A record of an app's data with its date: where it is in the state, and what it is, for a message."""
+
+    location: tuple[str | int, ...]
+    """Where the date is in the app's state (``("emails", "e9", "timestamp")``)."""
+    description: str
+    """``email 'e9' sent 2025-03-03 10:00``."""
+
+    def __str__(self) -> str:
+        return self.description
+
+
+@dataclass(frozen=True, slots=True)
 class SeedState:
     """An app's validated start state as many episodes share it: pickled, each episode unpickling its
     own copy only if it reads the data, and as the snapshot that state gives (what an episode that never
@@ -230,8 +243,8 @@ class App:
             place = where or f"seed data of app '{self.name}'"
             raise UserInputError(
                 f"{place}: dated after the episode's start ({now:%Y-%m-%d %H:%M}), which would make later "
-                f"edits stamp records before they existed: {'; '.join(late)}. Give them a time at or "
-                "before the start, or make them events that arrive during the episode."
+                f"edits stamp records before they existed: {'; '.join(map(str, late))}. Give them a time "
+                "at or before the start, or make them events that arrive during the episode."
             )
 
     def adopt(self, state: BaseModel) -> None:
@@ -252,7 +265,7 @@ class App:
         self.__dict__.pop("state", None)
         self._seed = seed
 
-    def records_dated_after(self, now: datetime) -> list[str]:
+    def records_dated_after(self, now: datetime) -> list[DatedRecord]:
         """The loaded records that say they already happened (sent, created, placed) after ``now``.
 
         Seed data describes the phone at the episode's start; such a record would be edited at a

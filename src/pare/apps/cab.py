@@ -20,7 +20,7 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from pare.apps.base import App
+from pare.apps.base import App, DatedRecord
 from pare.apps.screens import Screen, Transition, action, back_to, push, replace
 from pare.apps.text import PAGE, short_time
 from pare.apps.tools import tool
@@ -256,11 +256,13 @@ class CabApp(App):
     state: CabState
 
     # -- helpers used by screens --------------------------------------------------------------------
-    def records_dated_after(self, now: datetime) -> list[str]:
+    def records_dated_after(self, now: datetime) -> list[DatedRecord]:
         """See :meth:`App.records_dated_after`."""
         return [
-            f"ride '{ride.ride_id}' booked {ride.booked_at:%Y-%m-%d %H:%M}"
-            for ride in self.state.rides.values()
+            DatedRecord(
+                ("rides", key, "booked_at"), f"ride '{ride.ride_id}' booked {ride.booked_at:%Y-%m-%d %H:%M}"
+            )
+            for key, ride in self.state.rides.items()
             if ride.booked_at > now
         ]
 

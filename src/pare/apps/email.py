@@ -13,7 +13,7 @@ from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
-from pare.apps.base import App
+from pare.apps.base import App, DatedRecord
 from pare.apps.files import DirectoryEntry, FilesApp, browse, files_of, normalize_path
 from pare.apps.screens import BACK, Screen, Transition, action, back, push, replace
 from pare.apps.text import PAGE, preview, short_time
@@ -141,11 +141,14 @@ class EmailApp(App):
         """Every (holder, path) of a file an email has attached, e.g. ("email 'email-3'", "/Docs/a.pdf")."""
         return [(f"email '{e.email_id}'", path) for e in self.state.emails.values() for path in e.attachments]
 
-    def records_dated_after(self, now: datetime) -> list[str]:
+    def records_dated_after(self, now: datetime) -> list[DatedRecord]:
         """See :meth:`App.records_dated_after`."""
         return [
-            f"email '{email.email_id}' sent {email.timestamp:%Y-%m-%d %H:%M}"
-            for email in self.state.emails.values()
+            DatedRecord(
+                ("emails", key, "timestamp"),
+                f"email '{email.email_id}' sent {email.timestamp:%Y-%m-%d %H:%M}",
+            )
+            for key, email in self.state.emails.items()
             if email.timestamp > now
         ]
 

@@ -9,7 +9,7 @@ from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from pare.apps.base import App
+from pare.apps.base import App, DatedRecord
 from pare.apps.files import DirectoryEntry, FilesApp, browse, files_of, normalize_path
 from pare.apps.screens import Screen, Transition, action, push
 from pare.apps.text import PAGE, preview, short_time
@@ -203,13 +203,16 @@ class MessagingApp(App):
             if m.attachment is not None
         ]
 
-    def records_dated_after(self, now: datetime) -> list[str]:
+    def records_dated_after(self, now: datetime) -> list[DatedRecord]:
         """See :meth:`App.records_dated_after`."""
         return [
-            f"message '{message.message_id}' of conversation '{conversation.conversation_id}' sent "
-            f"{message.timestamp:%Y-%m-%d %H:%M}"
-            for conversation in self.state.conversations.values()
-            for message in conversation.messages
+            DatedRecord(
+                ("conversations", key, "messages", index, "timestamp"),
+                f"message '{message.message_id}' of conversation '{conversation.conversation_id}' sent "
+                f"{message.timestamp:%Y-%m-%d %H:%M}",
+            )
+            for key, conversation in self.state.conversations.items()
+            for index, message in enumerate(conversation.messages)
             if message.timestamp > now
         ]
 

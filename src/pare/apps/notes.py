@@ -8,7 +8,7 @@ from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
-from pare.apps.base import App
+from pare.apps.base import App, DatedRecord
 from pare.apps.files import DirectoryEntry, FilesApp, browse, files_of, normalize_path
 from pare.apps.screens import BACK, Screen, Transition, action, back, back_to, push, replace
 from pare.apps.text import PAGE, preview, short_time
@@ -131,11 +131,15 @@ class NotesApp(App):
         """Every (holder, path) of a file a note has attached."""
         return [(f"note '{n.note_id}'", path) for n in self.state.notes.values() for path in n.attachments]
 
-    def records_dated_after(self, now: datetime) -> list[str]:
+    def records_dated_after(self, now: datetime) -> list[DatedRecord]:
         """See :meth:`App.records_dated_after`."""
         return [
-            f"note '{note.note_id}' created or updated {max(note.created_at, note.updated_at):%Y-%m-%d %H:%M}"
-            for note in self.state.notes.values()
+            DatedRecord(
+                ("notes", key, "created_at" if note.created_at > now else "updated_at"),
+                f"note '{note.note_id}' created or updated "
+                f"{max(note.created_at, note.updated_at):%Y-%m-%d %H:%M}",
+            )
+            for key, note in self.state.notes.items()
             if max(note.created_at, note.updated_at) > now
         ]
 

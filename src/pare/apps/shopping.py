@@ -12,7 +12,7 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
-from pare.apps.base import App
+from pare.apps.base import App, DatedRecord
 from pare.apps.screens import Screen, Transition, action, push, replace
 from pare.apps.text import PAGE, short_time
 from pare.apps.tools import tool
@@ -402,12 +402,15 @@ class ShoppingApp(App):
     state: ShoppingState
 
     # -- helpers used by screens ---------------------------------------------------------------------
-    def records_dated_after(self, now: datetime) -> list[str]:
+    def records_dated_after(self, now: datetime) -> list[DatedRecord]:
         """See :meth:`App.records_dated_after`."""
         return [
-            f"order '{order.order_id}' placed or updated "
-            f"{max(order.placed_at, order.updated_at):%Y-%m-%d %H:%M}"
-            for order in self.state.orders.values()
+            DatedRecord(
+                ("orders", key, "placed_at" if order.placed_at > now else "updated_at"),
+                f"order '{order.order_id}' placed or updated "
+                f"{max(order.placed_at, order.updated_at):%Y-%m-%d %H:%M}",
+            )
+            for key, order in self.state.orders.items()
             if max(order.placed_at, order.updated_at) > now
         ]
 

@@ -4,7 +4,8 @@ its checks judge other solutions as they should.
 Deterministic runs per scenario, through the same turn loop as a real run:
 
 * ``oracle`` — the oracle user and the oracle assistant: must succeed, with no failed oracle call and no
-  failed scheduled event, and every reactive event must fire;
+  failed scheduled event, every reactive event must fire, and none may answer with its ``otherwise``
+  branch (the correction for a wrong question);
 * ``slow_user`` — the same with a user that takes a harmless extra step before each of its steps and
   before answering: must still succeed within the turn limit (the scenario leaves slack);
 * ``nothing`` — a silent user and a silent assistant: must fail;
@@ -13,9 +14,12 @@ Deterministic runs per scenario, through the same turn loop as a real run:
   assistant: must fail, since the assistant's work is what is judged;
 * ``unrelated`` — the oracle user and an assistant that proposes and does something unrelated: must fail;
 * ``variant:<id>`` — each declared variant, played like the oracle: must get its declared verdict (at
-  least one correct-but-different variant that passes, and two near-misses that fail).
+  least one correct-but-different variant that passes, and two near-misses that fail); a variant that
+  must pass and does, but that the world answered with an ``otherwise`` branch, breaches unless its
+  ``otherwise_ok`` says why that correction is part of the solution.
 
-Warnings do not fail the gate: a reactive reply that restates what the assistant was meant to find.
+Warnings do not fail the gate: a reactive reply that restates what the assistant was meant to find, an
+``otherwise_ok`` that the variant's run never needed.
 """
 
 from __future__ import annotations
@@ -23,11 +27,12 @@ from __future__ import annotations
 import asyncio
 import time
 from collections.abc import Awaitable, Callable, Collection, Iterable, Iterator, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 from pare.agents.policy import AssistantPolicy, SilentAssistant, SilentUser, UserPolicy
 from pare.bench.episode import EpisodeResult, EpisodeSettings, arun_episode
+from pare.bench.reactions import WorldEvent, corrected_solution, unused_excuses, world_events
 from pare.errors import UserInputError
 from pare.scenarios.matchers import OPERATORS, TEXT_OPERATORS, compile_matcher
 from pare.scenarios.model import Scenario, Solution
@@ -70,6 +75,10 @@ class RunVerdict:
     """Turns the run used (``None`` when it could not be played)."""
     why: str = ""
     """For a variant: why its declared verdict is right."""
+    events: tuple[WorldEvent, ...] = ()
+    """The scenario's events that fired in the run, each reactive one with the branch it took."""
+    warnings: tuple[str, ...] = ()
+    """What does not fail the run but should be looked at (an ``otherwise_ok`` the run never needed)."""
 
     @property
     def ok(self) -> bool:
@@ -126,10 +135,12 @@ def check_scenario(
         if (scenario.kind == "proposal" or name in NO_PROPOSAL_RUNS) and (runs is None or name in runs)
     ]
     fails: dict[str, list[str]] = {}
+    excused: dict[str, frozenset[str]] = {}
     for variant in scenario.variants if variants else ():
         pair = _playing(scenario.solution(variant.id))
         plays.append((f"variant:{variant.id}", pair, variant.expect == "pass", variant.why))
         fails[f"variant:{variant.id}"] = variant.fails
+        excused[f"variant:{variant.id}"] = frozenset(variant.otherwise_ok)
     with asyncio.Runner() as runner:  # one event loop for the scenario's runs, not one per run
         for name, make, expected, why in plays:
             user, assistant = make(scenario)
@@ -141,15 +152,33 @@ def check_scenario(
                 verdicts.append(RunVerdict(name, expected, None, (str(error),), why=why))
                 continue
             details[name] = result = played[0]
-            verdicts.append(_verdict(name, scenario, user, result, expected, why, fails.get(name, [])))
+            verdict = _verdict(name, scenario, user, result, expected, why, fails.get(name, []))
+            verdicts.append(_with_reactions(verdict, scenario, result, excused.get(name, frozenset())))
     return ScenarioVerdict(
         scenario.id,
         tuple(verdicts),
         time.perf_counter() - began,
         details,
         tuple(_declaration_problems(scenario)),
-        tuple(restated_answers(scenario)),
+        (*restated_answers(scenario), *(line for run in verdicts for line in run.warnings)),
     )
+
+
+def _with_reactions(
+    verdict: RunVerdict, scenario: Scenario, result: EpisodeResult, excused: frozenset[str]
+) -> RunVerdict:
+    """``verdict`` with the events that fired, and a breach where the world corrected a solution that
+    had to succeed and did: the oracle always, a variant unless its ``otherwise_ok`` says why.
+    """
+    events = world_events(scenario, result.env)
+    problems = list(verdict.problems)
+    warnings: list[str] = []
+    passing_variant = verdict.run.startswith("variant:") and verdict.expected_success and result.success
+    if verdict.run == "oracle" or passing_variant:
+        problems.extend(corrected_solution(scenario, verdict.run, events, excused))
+    if excused:
+        warnings.extend(unused_excuses(verdict.run, excused, events))
+    return replace(verdict, problems=tuple(problems), events=events, warnings=tuple(warnings))
 
 
 async def _kept(episode: Awaitable[EpisodeResult], into: list[EpisodeResult]) -> None:

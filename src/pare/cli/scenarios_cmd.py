@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -146,7 +147,13 @@ def check(
     difficulty: DifficultyFilter = None,
     split: SplitFilter = None,
     verbose: Annotated[
-        bool, typer.Option("--verbose", "-v", help="Show every run and variant, and every check's verdict.")
+        bool,
+        typer.Option(
+            "--verbose",
+            "-v",
+            help="Show every run and variant, the events each run set off (and which branch each reactive "
+            "one took), and every check's verdict.",
+        ),
     ] = False,
     jobs: Annotated[
         int,
@@ -160,7 +167,8 @@ def check(
 ) -> None:
     """Self-test scenarios: the oracle must pass, also with a slow user; doing nothing, the user alone, the
     user doing the task by hand and an unrelated proposal must fail; every variant must get its declared
-    verdict. Exits 1 on any breach.
+    verdict, and neither the oracle nor a variant that passes may get a reactive event's otherwise reply
+    (unless the variant's otherwise_ok says why). Exits 1 on any breach.
     """
     import time
 
@@ -267,6 +275,9 @@ def _print_details(
         turns = "" if run.turns is None else str(run.turns)
         runs.add_row(run.run, must, _mark(run.ok, _outcome(run)), turns, run.why)
     console.print(runs)
+    for run in verdict.runs:
+        happened = "; ".join(event.describe(scenario.start) for event in run.events) or "none"
+        console.print(f"  [{run.run}] events: {happened}", markup=False, highlight=False)
     for name, outcome in outcomes.items():
         for goal in outcome.goals:
             for item in goal.checks:
@@ -336,9 +347,26 @@ def sample(
     console.print(f"split '{write}' written with {size} scenarios")
 
 
+class Against(StrEnum):
+    """What ``pare scenarios similar`` compares the given scenarios with."""
+
+    library = "library"
+    themselves = "themselves"
+
+
 @app.command("similar")
 def similar(
     paths: Paths = None,
+    against: Annotated[
+        Against | None,
+        typer.Option(
+            "--against",
+            help="library: each given scenario against the shipped library (and the others given); "
+            "themselves: only the given ones with each other. Default: library when a path is outside "
+            "the library, else themselves.",
+            show_default=False,
+        ),
+    ] = None,
     top: Annotated[
         int, typer.Option("--top", "-n", min=1, help="How many of the most alike pairs to show.")
     ] = 10,
@@ -353,19 +381,35 @@ def similar(
         ),
     ] = None,
 ) -> None:
-    """The most alike pairs of scenarios by story (names left out), apps and oracle tools. Exits 1 when a
-    pair reaches the threshold: the same story with names changed.
+    """The most alike pairs of scenarios by story (names left out), apps and oracle tools: new files are
+    compared with the library they would join. Exits 1 when a pair reaches the threshold: the same story
+    with names changed.
     """
     from rich.console import Console
     from rich.table import Table
 
+    from pare.scenarios.library import BENCH_DIR, load_scenarios, scenario_files
     from pare.scenarios.similarity import THRESHOLD, similarities
 
     threshold = THRESHOLD if threshold is None else threshold
 
     scenarios = _chosen(paths, None, None, None, None)
-    pairs = similarities(scenarios)
-    table = Table(title=f"most alike of {len(pairs)} pairs (threshold {threshold:.2f})")
+    files = [file.resolve() for file in scenario_files(paths)] if paths else []
+    library_dir = BENCH_DIR.resolve()
+    if against is None:
+        outside = any(library_dir not in file.parents for file in files)
+        against = Against.library if outside else Against.themselves
+    others: list[Scenario] = []
+    if against is Against.library and paths:
+        # a given file stands for the library scenario of its id (an edited copy is not its own twin)
+        given = {scenario.id for scenario in scenarios}
+        others = [scenario for scenario in load_scenarios() if scenario.id not in given]
+    pairs = similarities(scenarios, others)
+    compared = (
+        f"{len(scenarios)} given against the library's {len(others)}" if others else str(len(scenarios))
+    )
+    title = f"most alike of {len(pairs)} pairs ({compared} scenarios; threshold {threshold:.2f})"
+    table = Table(title=title)
     for column in ("score", "story", "apps", "tools", "pair"):
         table.add_column(column, justify="right" if column != "pair" else "left", overflow="fold")
     for pair in pairs[:top]:

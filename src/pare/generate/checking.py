@@ -17,6 +17,7 @@ from pare.generate.config import GenerateConfig
 from pare.generate.sections import STAGE_KEYS, STAGES, assemble, top_key
 from pare.scenarios.loader import ScenarioError, parse_scenario
 from pare.scenarios.model import Scenario
+from pare.scenarios.problem_groups import group_problems
 
 SOURCE = "candidate.yaml"
 _PLACEHOLDER_GOAL_LINES = ("check failed: placeholder", "goal 'placeholder'")
@@ -54,12 +55,9 @@ def load_partial(sections: Mapping[str, str], stage: str) -> tuple[Scenario | No
     try:
         return parse_scenario(text, source=SOURCE), []
     except ScenarioError as error:
-        problems = [
-            str(problem) for problem in error.problems if top_key(problem.path) in keys or not problem.path
-        ]
-        if not problems:  # only the placeholders are wrong: nothing the stage can fix, so say it whole
-            problems = [str(problem) for problem in error.problems]
-        return None, problems
+        written = [problem for problem in error.problems if top_key(problem.path) in keys or not problem.path]
+        # only the placeholders are wrong: nothing the stage can fix, so say it whole
+        return None, [str(group) for group in group_problems(written or error.problems)]
 
 
 def check_stage(

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path as FilePath
 from typing import Any
 
@@ -12,32 +11,29 @@ from pare.errors import UserInputError, did_you_mean
 from pare.scenarios.annotations import model_fields, step_into
 from pare.scenarios.model import Scenario
 from pare.scenarios.parsed_cache import cached, remember
+from pare.scenarios.problem_groups import LocatedProblem, group_problems
 from pare.scenarios.validation import Problem, format_path, validate_scenario
 from pare.yaml_source import Path, UnreadableFile, YamlDocument, YamlSyntaxError, parse_yaml, read_text_file
 
 
-@dataclass(frozen=True, slots=True)
-class LocatedProblem:
-    """A problem with where it is: file, line (when known) and path in the document."""
-
-    source: str
-    line: int | None
-    path: str
-    message: str
-
-    def __str__(self) -> str:
-        place = f"{self.source}:{self.line}" if self.line is not None else self.source
-        return f"{place}: {self.path}: {self.message}"
-
-
 class ScenarioError(UserInputError):
-    """A scenario file that cannot be used; :attr:`problems` lists everything wrong with it."""
+    """A scenario file that cannot be used; :attr:`problems` lists everything wrong with it, place by
+    place, and the message says each mistake once (:attr:`grouped`: the same message at several places is
+    one line with the places and their count).
+    """
 
     def __init__(self, source: str, problems: list[LocatedProblem]) -> None:
         self.source = source
         self.problems = problems
-        count = f"{len(problems)} problem{'s' if len(problems) != 1 else ''}"
-        super().__init__(f"{source}: {count}:\n" + "\n".join(f"  {problem}" for problem in problems))
+        self.grouped = group_problems(problems)
+        count = _count(len(self.grouped), "problem")
+        if len(problems) != len(self.grouped):
+            count += f" in {_count(len(problems), 'place')}"
+        super().__init__(f"{source}: {count}:\n" + "\n".join(f"  {group}" for group in self.grouped))
+
+
+def _count(number: int, noun: str) -> str:
+    return f"{number} {noun}{'s' if number != 1 else ''}"
 
 
 def load_scenario(path: str | FilePath) -> Scenario:

@@ -511,6 +511,13 @@ class Variant(_Strict):
         description="For expect: fail, the goals that must be the ones failed (so a near-miss fails for the "
         "reason it was written for, not by accident).",
     )
+    otherwise_ok: dict[str, Annotated[str, Field(min_length=1)]] = Field(
+        default_factory=dict,
+        description="For expect: pass, the reactive events whose 'otherwise' reply this solution gets on "
+        "purpose (a first message that asks or says too little, then the full answer once the world asks "
+        "back), each with why that is fine. The gate fails a passing variant that the world answered with "
+        "an 'otherwise' branch not named here.",
+    )
 
     @model_validator(mode="after")
     def _differs(self) -> Variant:
@@ -518,6 +525,11 @@ class Variant(_Strict):
             raise ValueError("a variant gives 'interventions' or 'user' (or both): what it does differently")
         if self.fails and self.expect == "pass":
             raise ValueError("'fails' names the goals a failing variant fails; this variant must pass")
+        if self.otherwise_ok and self.expect == "fail":
+            raise ValueError(
+                "'otherwise_ok' excuses a correct solution that gets an 'otherwise' reply; a failing "
+                "variant may get any reply"
+            )
         return self
 
 

@@ -200,17 +200,20 @@ def cosine(left: dict[str, float], right: dict[str, float]) -> float:
     return sum(value * right.get(word, 0.0) for word, value in left.items())
 
 
-def similarities(scenarios: Sequence[Scenario]) -> list[Similarity]:
-    """Every pair of ``scenarios``, most alike first."""
-    vectors = _vectors(scenarios)
-    apps = [set(scenario.all_apps) for scenario in scenarios]
-    tools = [_tools(scenario) for scenario in scenarios]
+def similarities(scenarios: Sequence[Scenario], against: Sequence[Scenario] = ()) -> list[Similarity]:
+    """Every pair of ``scenarios``, and each of them with each of ``against`` (a library they would join;
+    its pairs among themselves are left out), most alike first. Story words are weighed over all of them.
+    """
+    everything = [*scenarios, *against]
+    vectors = _vectors(everything)
+    apps = [set(scenario.all_apps) for scenario in everything]
+    tools = [_tools(scenario) for scenario in everything]
     pairs = []
     for i in range(len(scenarios)):
-        for j in range(i + 1, len(scenarios)):
+        for j in range(i + 1, len(everything)):
             story = cosine(vectors[i], vectors[j])
             app_share = jaccard(apps[i], apps[j])
             tool_share = jaccard(tools[i], tools[j])
             score = WEIGHTS["story"] * story + WEIGHTS["apps"] * app_share + WEIGHTS["tools"] * tool_share
-            pairs.append(Similarity(scenarios[i].id, scenarios[j].id, score, story, app_share, tool_share))
+            pairs.append(Similarity(everything[i].id, everything[j].id, score, story, app_share, tool_share))
     return sorted(pairs, key=lambda pair: (-pair.score, pair.first, pair.second))

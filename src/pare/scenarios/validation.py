@@ -14,6 +14,7 @@ from typing import Any
 
 from pydantic import ValidationError
 
+from pare.apps.base import App
 from pare.apps.registry import CORE_APPS, get_app_class
 from pare.apps.tools import ToolSpec, describe_argument_errors
 from pare.errors import did_you_mean
@@ -32,7 +33,7 @@ from pare.scenarios.model import (
     as_count,
     reference,
 )
-from pare.scenarios.seed import SeedError, original_location, prepare_seed
+from pare.scenarios.seed import Location, SeedError, original_location, prepare_seed
 from pare.scenarios.times import parse_time, resolve_relative_times
 from pare.sim.budget import DEFAULT_BUDGET
 from pare.yaml_source import Path
@@ -123,13 +124,30 @@ class _Validator:
             except SeedError as error:
                 yield Problem(("seed", app, *error.location), str(error))
                 continue
+            cls = get_app_class(app)
             try:
-                get_app_class(app).State.model_validate(prepared)
+                state = cls.State.model_validate(prepared)
             except ValidationError as error:
                 for item in error.errors():
                     loc = tuple(part for part in item["loc"] if isinstance(part, str | int))
                     yield Problem(("seed", app, *original_location(loc, moved)), _pydantic_message(item))
+            else:
+                yield from self._dated_after_start(cls, state, app, moved)
             _collect_ids(prepared, self.known_ids)
+
+    def _dated_after_start(
+        self, cls: type[App], state: Any, app: str, moved: Mapping[Location, Location]
+    ) -> Iterator[Problem]:
+        """Seed records that say they happened after the start (the app refuses them when played)."""
+        probe = cls()
+        probe.adopt(state)
+        for record in probe.records_dated_after(self.start):
+            yield Problem(
+                ("seed", app, *original_location(record.location, moved)),
+                f"{record} is after the scenario starts ({self.start:%Y-%m-%d %H:%M}): seed data is the "
+                "phone at the start, so a later edit would be stamped before the record existed; date it at "
+                "or before the start, or make it an event that arrives during the episode",
+            )
 
     # -- events ----------------------------------------------------------------------------------------
     def _events(self) -> Iterator[Problem]:
@@ -252,12 +270,28 @@ class _Validator:
                 if goal_id not in goals:
                     hint = did_you_mean(goal_id, goals)
                     yield Problem((*where, "fails", index), f"unknown goal '{goal_id}'.{hint}")
+            yield from self._otherwise_ok(variant.otherwise_ok, (*where, "otherwise_ok"))
             if variant.user is not None:
                 yield from self._user_steps(variant.user, (*where, "user"))
             if variant.interventions is not None:
                 self.action_ids = []  # a variant's ${id.field} values name its own actions
                 yield from self._interventions(variant.interventions, (*where, "interventions"))
                 self.action_ids = oracle_ids
+
+    def _otherwise_ok(self, excused: Mapping[str, str], where: Path) -> Iterator[Problem]:
+        """A variant's ``otherwise_ok`` names reactive events that have an ``otherwise`` branch."""
+        events = {event.id: event for event in self.scenario.events}
+        branching = [event.id for event in self.scenario.events if event.otherwise is not None]
+        for event_id in excused:
+            event = events.get(event_id)
+            if event is None:
+                hint = did_you_mean(event_id, branching or list(events))
+                yield Problem((*where, event_id), f"unknown event '{event_id}'.{hint}")
+            elif event.otherwise is None:
+                others = f" (events with one: {', '.join(branching)})" if branching else ""
+                yield Problem(
+                    (*where, event_id), f"event '{event_id}' has no 'otherwise' branch to excuse{others}"
+                )
 
     def _user_steps(self, steps: Iterable[UserStep], at: Path) -> Iterator[Problem]:
         catalog = self.catalog

@@ -96,6 +96,9 @@ class EventScheduler:
         self._log_cursor = 0
         self.completed: dict[str, datetime] = {}
         """Completed events and when they completed."""
+        self.set_off: dict[str, int] = {}
+        """Events waiting on a log condition that it set off, each with the index of the log entry that
+        did (the action a reactive event answers); set off before it is due, so also for one still due."""
 
     def add(self, event: ScheduledEvent) -> None:
         """Schedule ``event``. An ``AfterEvent`` may name an event added later; :meth:`validate` checks."""
@@ -149,6 +152,7 @@ class EventScheduler:
             fired = [e for e in self._conditions if _when_logged(e).condition(entry)]
             for event in fired:
                 self._conditions.remove(event)
+                self.set_off[event.event_id] = entry.index
                 self._push(entry.time + _when_logged(event).delay, event.event_id)
         self._log_cursor += len(entries)
 
