@@ -12,7 +12,7 @@ from collections.abc import Sequence
 import typer
 
 import pare
-from pare.cli import apps_cmd, generate_cmd, report_cmd, run_cmd, scenarios_cmd, view_cmd
+from pare.cli import apps_cmd, doctor_cmd, generate_cmd, report_cmd, run_cmd, scenarios_cmd, view_cmd
 from pare.errors import UserInputError
 
 app = typer.Typer(
@@ -29,6 +29,7 @@ app = typer.Typer(
 app.add_typer(apps_cmd.app, name="apps")
 app.add_typer(scenarios_cmd.app, name="scenarios")
 app.command("run")(run_cmd.run)
+app.command("doctor")(doctor_cmd.doctor)
 app.command("sweep")(run_cmd.sweep)
 app.command("report")(report_cmd.report)
 app.command("plot")(report_cmd.plot)

@@ -102,20 +102,16 @@ def generate(
     from pare.bench.runconfig import parse_assignment, set_path
     from pare.generate import build_generate_config
     from pare.generate import generate as run_generation
-    from pare.generate.config import GENERATOR_TEMPERATURE
     from pare.generate.progress import RichGenerationProgress
 
-    if temperature is None and not is_reasoning_model(model):
-        temperature = GENERATOR_TEMPERATURE
-    generator: dict[str, Any] = {"model": model, "backend": provider, "timeout_s": timeout}
-    if temperature is not None:
-        generator["temperature"] = temperature
-    if endpoint is not None:
-        generator["api_base"] = endpoint
-    if api_key_env is not None:
-        generator["api_key_env"] = None if api_key_env.lower() in ("none", "null", "") else api_key_env
-    elif endpoint is not None:
-        generator["api_key_env"] = None  # a local server needs no key unless one is named
+    generator = generator_settings(
+        model=model,
+        provider=provider,
+        endpoint=endpoint,
+        api_key_env=api_key_env,
+        temperature=temperature,
+        timeout=timeout,
+    )
     judge: dict[str, Any] | None = None
     if judge_model is not None or judge_endpoint is not None:
         judge = {key: value for key, value in generator.items() if key != "temperature"}
@@ -153,6 +149,39 @@ def generate(
     print_summary(summary, console)
     if summary.unfinished:
         raise typer.Exit(1)
+
+
+def generator_settings(
+    *,
+    model: str,
+    provider: str,
+    endpoint: str | None,
+    api_key_env: str | None = None,
+    temperature: float | None = None,
+    timeout: float | None = None,
+) -> dict[str, Any]:
+    """The generator's model configuration from ``pare generate``'s flags (``pare doctor`` uses it too).
+
+    A chat model writes at the generator's usual temperature unless told otherwise; a reasoning model is
+    sent none (it refuses any but its default).
+    """
+    from pare.agents.models.capabilities import is_reasoning_model
+    from pare.generate.config import GENERATOR_TEMPERATURE
+
+    if temperature is None and not is_reasoning_model(model):
+        temperature = GENERATOR_TEMPERATURE
+    generator: dict[str, Any] = {"model": model, "backend": provider}
+    if timeout is not None:
+        generator["timeout_s"] = timeout
+    if temperature is not None:
+        generator["temperature"] = temperature
+    if endpoint is not None:
+        generator["api_base"] = endpoint
+    if api_key_env is not None:
+        generator["api_key_env"] = None if api_key_env.lower() in ("none", "null", "") else api_key_env
+    elif endpoint is not None:
+        generator["api_key_env"] = None  # a local server needs no key unless one is named
+    return generator
 
 
 def print_summary(summary: GenerationSummary, console: Console) -> None:

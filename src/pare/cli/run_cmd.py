@@ -30,6 +30,30 @@ def _model_flag(role: str, what: str, help_text: str) -> Any:
     return typer.Option(f"--{role}-{what}", help=help_text, show_default=False)
 
 
+# The model flags of every role, shared by `pare run` and `pare doctor` (same names, same meaning).
+UserModel = Annotated[str | None, _model_flag("user", "model", "The user simulator's model.")]
+UserProvider = Annotated[
+    str | None, _model_flag("user", "provider", "openai (any OpenAI-compatible server) or litellm.")
+]
+UserEndpoint = Annotated[str | None, _model_flag("user", "endpoint", "Base URL of its server.")]
+AssistantModel = Annotated[
+    str | None, _model_flag("assistant", "model", "The assistant's model (observe and execute).")
+]
+AssistantProvider = Annotated[str | None, _model_flag("assistant", "provider", "openai or litellm.")]
+AssistantEndpoint = Annotated[str | None, _model_flag("assistant", "endpoint", "Base URL of its server.")]
+ObserveModel = Annotated[str | None, _model_flag("observe", "model", "Observe mode's model.")]
+ObserveProvider = Annotated[str | None, _model_flag("observe", "provider", "openai or litellm.")]
+ObserveEndpoint = Annotated[str | None, _model_flag("observe", "endpoint", "Base URL.")]
+ExecuteModel = Annotated[str | None, _model_flag("execute", "model", "Execute mode's model.")]
+ExecuteProvider = Annotated[str | None, _model_flag("execute", "provider", "openai or litellm.")]
+ExecuteEndpoint = Annotated[str | None, _model_flag("execute", "endpoint", "Base URL.")]
+JudgeModel = Annotated[
+    str | None, _model_flag("judge", "model", "Judge of free-text checks (default: the user's model).")
+]
+JudgeProvider = Annotated[str | None, _model_flag("judge", "provider", "openai or litellm.")]
+JudgeEndpoint = Annotated[str | None, _model_flag("judge", "endpoint", "Base URL.")]
+
+
 def collect_overrides(
     *,
     sets: list[str] | None,
@@ -48,6 +72,14 @@ def collect_overrides(
                 overrides.append((f"models.{role}.{name}", value))
     overrides.extend(parse_assignment(text) for text in sets or [])
     return overrides
+
+
+def role_models(**roles: tuple[str | None, str | None, str | None]) -> dict[str, dict[str, str | None]]:
+    """Each role's ``(--ROLE-model, --ROLE-provider, --ROLE-endpoint)`` as the fields they set."""
+    return {
+        role: {"model": model, "backend": provider, "api_base": endpoint}
+        for role, (model, provider, endpoint) in roles.items()
+    }
 
 
 def load_config(config_file: Path | None, overrides: list[tuple[str, Any]]) -> RunConfig:
@@ -115,31 +147,21 @@ def run(
     runs: Annotated[int | None, typer.Option("--runs", "-k", help="Runs per scenario (default 4).")] = None,
     seed: Annotated[int | None, typer.Option("--seed", help="Base seed (default 0).")] = None,
     name: Annotated[str | None, typer.Option("--name", help="A label for reports and the folder.")] = None,
-    user_model: Annotated[str | None, _model_flag("user", "model", "The user simulator's model.")] = None,
-    user_provider: Annotated[
-        str | None, _model_flag("user", "provider", "openai (any OpenAI-compatible server) or litellm.")
-    ] = None,
-    user_endpoint: Annotated[str | None, _model_flag("user", "endpoint", "Base URL of its server.")] = None,
-    assistant_model: Annotated[
-        str | None, _model_flag("assistant", "model", "The assistant's model (observe and execute).")
-    ] = None,
-    assistant_provider: Annotated[
-        str | None, _model_flag("assistant", "provider", "openai or litellm.")
-    ] = None,
-    assistant_endpoint: Annotated[
-        str | None, _model_flag("assistant", "endpoint", "Base URL of its server.")
-    ] = None,
-    observe_model: Annotated[str | None, _model_flag("observe", "model", "Observe mode's model.")] = None,
-    observe_provider: Annotated[str | None, _model_flag("observe", "provider", "openai or litellm.")] = None,
-    observe_endpoint: Annotated[str | None, _model_flag("observe", "endpoint", "Base URL.")] = None,
-    execute_model: Annotated[str | None, _model_flag("execute", "model", "Execute mode's model.")] = None,
-    execute_provider: Annotated[str | None, _model_flag("execute", "provider", "openai or litellm.")] = None,
-    execute_endpoint: Annotated[str | None, _model_flag("execute", "endpoint", "Base URL.")] = None,
-    judge_model: Annotated[
-        str | None, _model_flag("judge", "model", "Judge of free-text checks (default: the user's model).")
-    ] = None,
-    judge_provider: Annotated[str | None, _model_flag("judge", "provider", "openai or litellm.")] = None,
-    judge_endpoint: Annotated[str | None, _model_flag("judge", "endpoint", "Base URL.")] = None,
+    user_model: UserModel = None,
+    user_provider: UserProvider = None,
+    user_endpoint: UserEndpoint = None,
+    assistant_model: AssistantModel = None,
+    assistant_provider: AssistantProvider = None,
+    assistant_endpoint: AssistantEndpoint = None,
+    observe_model: ObserveModel = None,
+    observe_provider: ObserveProvider = None,
+    observe_endpoint: ObserveEndpoint = None,
+    execute_model: ExecuteModel = None,
+    execute_provider: ExecuteProvider = None,
+    execute_endpoint: ExecuteEndpoint = None,
+    judge_model: JudgeModel = None,
+    judge_provider: JudgeProvider = None,
+    judge_endpoint: JudgeEndpoint = None,
     max_turns: Annotated[
         int | None, typer.Option("--max-turns", help="Turns per episode (default 10).")
     ] = None,
@@ -220,17 +242,13 @@ def run(
         "backend": backend,
         "ray_address": ray_address,
     }
-    models = {
-        "user": {"model": user_model, "backend": user_provider, "api_base": user_endpoint},
-        "assistant": {
-            "model": assistant_model,
-            "backend": assistant_provider,
-            "api_base": assistant_endpoint,
-        },
-        "observe": {"model": observe_model, "backend": observe_provider, "api_base": observe_endpoint},
-        "execute": {"model": execute_model, "backend": execute_provider, "api_base": execute_endpoint},
-        "judge": {"model": judge_model, "backend": judge_provider, "api_base": judge_endpoint},
-    }
+    models = role_models(
+        user=(user_model, user_provider, user_endpoint),
+        assistant=(assistant_model, assistant_provider, assistant_endpoint),
+        observe=(observe_model, observe_provider, observe_endpoint),
+        execute=(execute_model, execute_provider, execute_endpoint),
+        judge=(judge_model, judge_provider, judge_endpoint),
+    )
     config = load_config(config_file, collect_overrides(sets=sets, flags=flags, models=models))
     console = Console()
     if dry_run:

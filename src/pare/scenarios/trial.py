@@ -13,8 +13,9 @@ from typing import Any
 from pare.scenarios import meaning
 from pare.scenarios.explain import explain, quote
 from pare.scenarios.kinds import matcher_problems
-from pare.scenarios.loader import LocatedProblem, ScenarioError
+from pare.scenarios.loader import ScenarioError
 from pare.scenarios.matchers import Matcher, MatcherError, compile_matcher
+from pare.scenarios.problem_groups import LocatedProblem
 from pare.yaml_source import YamlSyntaxError, parse_yaml
 
 RULE_SOURCE = "RULE"
