@@ -59,7 +59,7 @@ __all__ = [
     "failure",
     "openai_reasoning",
     "proactive_play",
-    "thinking",
     "rate_limited",
+    "thinking",
     "tool_calls_only",
 ]
