@@ -14,7 +14,9 @@ limit and must adapt. The default retry settings are kept (5 retries, exponentia
 ``--requests-per-minute`` also sets the models' request budget (the client then paces itself).
 
 Printed: the allowed rate; the achieved rate of successful requests (answered requests / the time from
-the first request to the last answer) and its share of the allowed rate; the 429s the server sent; the
+the first request to the last answer) and its share of the allowed rate, and the share of the requests
+the server would have answered in that time (the rate times the time, plus the burst its full bucket
+allows at the start); the 429s the server sent; the
 episodes completed, failed (missing coverage) and missing (planned but not stored); the endpoint's limiter
 at the end (concurrency, cuts, time calls were held back by rate limiting); the wall time. The target is
 at least 90 % of the allowed rate with no episode failed or missing. Each episode's calls are sequential,
@@ -90,6 +92,11 @@ def rate_limited_run(options: argparse.Namespace) -> None:
     print(
         f"  achieved: {limited.answered} successful requests in {span:.2f} s = {achieved:.2f} requests/s "
         f"= {achieved / options.rate:.1%} of the allowed rate"
+    )
+    allowed = options.rate * span + burst  # the bucket starts full: its burst is allowed on top
+    print(
+        f"  share of the requests the server would answer in that time (rate x time + burst): "
+        f"{limited.answered / allowed:.1%}"
     )
     share = limited.rejected / max(limited.answered, 1)
     print(f"  429s received: {limited.rejected} ({share:.1%} of the successful requests)")
