@@ -1,6 +1,10 @@
-"""The progress bar of ``pare run``: episodes done of all, successes so far, cost so far, time left."""
+"""The progress bar of ``pare run``: episodes done of all, successes so far, cost so far, time left, and
+whether a model endpoint is being throttled (rate limited) now.
+"""
 
 from __future__ import annotations
+
+from collections.abc import Sequence
 
 from rich.console import Console
 from rich.progress import (
@@ -13,7 +17,9 @@ from rich.progress import (
     TimeRemainingColumn,
 )
 
+from pare.agents.models.limiter import LimiterState
 from pare.bench.records import EpisodeRecord
+from pare.bench.throttling import throttling_status
 
 
 class RichProgress:
@@ -31,6 +37,7 @@ class RichProgress:
             TimeElapsedColumn(),
             TextColumn("ETA"),
             TimeRemainingColumn(),
+            TextColumn("[yellow]{task.fields[throttling]}"),
             console=self.console,
             transient=False,
         )
@@ -40,6 +47,7 @@ class RichProgress:
         self.known_cost = 0.0
         self.unpriced = False
         self.model_calls = 0
+        self.throttled = ""
 
     def started(self, total: int, done: int, label: str) -> None:
         """Show the bar; episodes finished in earlier sessions count as done."""
@@ -48,7 +56,13 @@ class RichProgress:
         self.progress.start()
         successes, failed, cost = self._fields()
         self.task = self.progress.add_task(
-            label, total=total, completed=done, successes=successes, failed=failed, cost=cost
+            label,
+            total=total,
+            completed=done,
+            successes=successes,
+            failed=failed,
+            cost=cost,
+            throttling=self.throttled,
         )
 
     def finished(self, record: EpisodeRecord) -> None:
@@ -63,8 +77,17 @@ class RichProgress:
             successes, failed, cost = self._fields()
             self.progress.update(self.task, advance=1, successes=successes, failed=failed, cost=cost)
 
+    def throttling(self, endpoints: Sequence[LimiterState]) -> None:
+        """Show which endpoints are held back by rate limiting now (nothing when none is)."""
+        status = throttling_status(endpoints)
+        if status != self.throttled:
+            self.throttled = status
+            if self.task is not None:
+                self.progress.update(self.task, throttling=status)
+
     def stopped(self) -> None:
-        """Leave the final state of the bar on screen."""
+        """Leave the final state of the bar on screen (without a throttling note that no longer holds)."""
+        self.throttling(())
         self.progress.stop()
 
     def _fields(self) -> tuple[str, str, str]:

@@ -37,6 +37,7 @@ from pare.agents.models.cache import ModelCallCache
 from pare.agents.models.client import ModelClient
 from pare.agents.models.config import ModelConfig
 from pare.agents.models.ledger import UsageLedger
+from pare.agents.models.limiter import EndpointLimiter, LimiterState
 from pare.agents.models.request_params import RequestParams
 from pare.agents.models.types import ChatMessage, Completion
 from pare.agents.policy import AssistantPolicy, UserPolicy
@@ -169,6 +170,8 @@ class RunModels:
     clients: dict[str, ModelClient] = field(default_factory=dict)
     requests: RunRequests = field(default_factory=RunRequests)
     """What each role's requests carry, shared by the role's clients."""
+    throttling: list[LimiterState] = field(default_factory=list)
+    """The endpoints' limiters as the run left them (set when the local backend finishes)."""
 
     @classmethod
     def create(cls, config: RunConfig, run_dir: Path, requests: RunRequests | None = None) -> RunModels:
@@ -186,6 +189,18 @@ class RunModels:
                 params = models.requests.params[role]
                 models.clients[role] = ModelClient(model, role, cache, models.ledger, params=params)
         return models
+
+    def limiters(self) -> list[EndpointLimiter]:
+        """The running loop's limiter of each endpoint the clients call (roles sharing one share it)."""
+        found: dict[int, EndpointLimiter] = {}
+        for client in self.clients.values():
+            limiter = client.limiter()
+            found.setdefault(id(limiter), limiter)
+        return list(found.values())
+
+    def limiter_states(self) -> list[LimiterState]:
+        """A snapshot of every endpoint's limiter (see :meth:`limiters`)."""
+        return [limiter.state() for limiter in self.limiters()]
 
     async def aclose(self) -> None:
         """Close every client's connections and the cache's."""
@@ -353,6 +368,9 @@ class ProgressSink(Protocol):
     def stopped(self) -> None:
         """The run ended (finished, failed or interrupted)."""
 
+    def throttling(self, endpoints: Sequence[LimiterState]) -> None:
+        """The model endpoints' limiters now (told a few times a second while models are called)."""
+
 
 class NoProgress:
     """A progress sink that shows nothing."""
@@ -364,6 +382,9 @@ class NoProgress:
         """Nothing to show."""
 
     def stopped(self) -> None:
+        """Nothing to show."""
+
+    def throttling(self, endpoints: Sequence[LimiterState]) -> None:
         """Nothing to show."""
 
 
@@ -443,6 +464,9 @@ class RunSummary:
     records: list[EpisodeRecord]
     """The records written in this session."""
     seconds: float
+    throttling: list[LimiterState] = field(default_factory=list)
+    """Each model endpoint's limiter at the end of the session: its rate-limit answers (429), the cuts of
+    its concurrency, and the time calls waited because of rate limiting (empty for oracle and Ray runs)."""
 
     @property
     def complete(self) -> int:
@@ -522,7 +546,11 @@ async def run_local(
         while True:
             await asyncio.sleep(REPORT_INTERVAL_S)
             report_written(store, progress, written)
+            if models.clients:
+                progress.throttling(models.limiter_states())
 
+    # every role's settings reach its endpoint's limiter before the first call (the strictest applies)
+    models.limiters()
     ticker = asyncio.create_task(reporter())
     try:
         async with asyncio.TaskGroup() as group:
@@ -534,6 +562,7 @@ async def run_local(
         raise first_error(errors) from None
     finally:
         ticker.cancel()
+        models.throttling = models.limiter_states()
         await models.aclose()
     return written
 
@@ -568,6 +597,7 @@ def run_benchmark(
             try:
                 requests = RunRequests.create(config, learned_refusals(store.manifest))
                 requests.record_in(store)
+                throttling: list[LimiterState] = []
                 if config.backend == "ray":
                     from pare.bench.ray_backend import run_ray
 
@@ -575,6 +605,7 @@ def run_benchmark(
                 else:
                     models = RunModels.create(config, run_dir, requests)
                     written = asyncio.run(run_local(todo, config, models, store, progress))
+                    throttling = models.throttling
             finally:
                 progress.stopped()
     return RunSummary(
@@ -584,4 +615,5 @@ def run_benchmark(
         skipped=len(plans) - len(todo),
         records=written,
         seconds=time.perf_counter() - started,
+        throttling=throttling,
     )

@@ -105,6 +105,7 @@ def progress_sink(show: bool) -> ProgressSink:
 def print_summary(summary: RunSummary, console: Console) -> None:
     """What the session did, the headline metrics, and where everything is."""
     from pare.bench.report import render_terminal
+    from pare.bench.throttling import throttling_summary
     from pare.cli.report_cmd import collect_metrics
 
     console.print(
@@ -112,6 +113,8 @@ def print_summary(summary: RunSummary, console: Console) -> None:
         + (f", {summary.skipped} already recorded" if summary.skipped else "")
         + (f", [red]{len(summary.failed)} failed (missing coverage)[/red]" if summary.failed else "")
     )
+    for line in throttling_summary(summary.throttling, summary.seconds):
+        console.print(f"[yellow]{line}[/yellow]", highlight=False)
     metrics = collect_metrics([summary.path])
     total = metrics[0].usage.get("total") if metrics else None
     used_models = total is not None and total.calls > 0

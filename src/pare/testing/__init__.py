@@ -6,6 +6,8 @@
   plausibly and deterministically, so ``pare run`` can go end to end without a real model;
 * :func:`thinking` — wraps a responder so that it answers like a thinking model (reasoning inline as a
   think block or in a separate field).
+* :class:`RateLimited` — wraps a responder to answer at most so many requests a second and 429 with
+  Retry-After beyond that, as a rate-limiting provider does:
 
 .. code-block:: python
 
@@ -42,6 +44,7 @@ from pare.testing.providers import (
     rate_limited,
     tool_calls_only,
 )
+from pare.testing.rate_limit import RateLimited
 
 __all__ = [
     "PROFILES",
@@ -49,6 +52,7 @@ __all__ = [
     "REPORT",
     "AnthropicChatServer",
     "ChatServer",
+    "RateLimited",
     "Reply",
     "Responder",
     "anthropic_messages",

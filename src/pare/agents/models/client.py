@@ -1,4 +1,4 @@
-"""The one way every actor calls its model: cache, concurrency limit, retries, errors, usage, cost."""
+"""The one way every actor calls its model: cache, rate limits, retries, errors, usage, cost."""
 
 from __future__ import annotations
 
@@ -33,6 +33,7 @@ from pare.agents.models.cache import ModelCallCache, cache_key, request_record
 from pare.agents.models.capabilities import Adjustment
 from pare.agents.models.config import ModelConfig
 from pare.agents.models.ledger import UsageLedger
+from pare.agents.models.limiter import EndpointLimiter, Permit, estimate_prompt_tokens
 from pare.agents.models.pricing import call_cost
 from pare.agents.models.refusals import refused_parameter
 from pare.agents.models.request_params import RequestParams
@@ -42,13 +43,13 @@ from pare.errors import CacheMiss, ModelRequestError, ProviderUnavailable
 
 logger = logging.getLogger("pare.models")
 
-_SEMAPHORES: weakref.WeakKeyDictionary[
-    asyncio.AbstractEventLoop, dict[tuple[str, str], asyncio.Semaphore]
-] = weakref.WeakKeyDictionary()
+_LIMITERS: weakref.WeakKeyDictionary[asyncio.AbstractEventLoop, dict[tuple[str, str], EndpointLimiter]] = (
+    weakref.WeakKeyDictionary()
+)
 
 
 def endpoint_key(config: ModelConfig) -> tuple[str, str]:
-    """Return the key under which calls to the same endpoint share one concurrency limit."""
+    """Return the key under which calls to the same endpoint share one limiter."""
     if config.api_base:
         return (config.backend, config.api_base.rstrip("/"))
     if config.backend == "litellm" and "/" in config.model:
@@ -56,19 +57,21 @@ def endpoint_key(config: ModelConfig) -> tuple[str, str]:
     return (config.backend, "default")
 
 
-def endpoint_semaphore(config: ModelConfig) -> asyncio.Semaphore:
-    """Return the running loop's semaphore for ``config``'s endpoint, sized by ``max_concurrency``.
+def endpoint_limiter(config: ModelConfig, role: str) -> EndpointLimiter:
+    """Return the running loop's limiter for ``config``'s endpoint, with ``role`` among its users.
 
-    The first configuration that reaches an endpoint in an event loop sets the limit for it; semaphores
-    belong to one loop, so each loop has its own registry.
+    Every role reaching the endpoint in this event loop shares it, and the strictest of their settings
+    applies (the lowest ``max_concurrency``, ``requests_per_minute`` and ``tokens_per_minute``). Limiters
+    wait on their loop, so each loop has its own registry.
     """
     loop = asyncio.get_running_loop()
-    registry = _SEMAPHORES.setdefault(loop, {})
+    registry = _LIMITERS.setdefault(loop, {})
     key = endpoint_key(config)
-    semaphore = registry.get(key)
-    if semaphore is None:
-        semaphore = registry[key] = asyncio.Semaphore(config.max_concurrency)
-    return semaphore
+    limiter = registry.get(key)
+    if limiter is None:
+        limiter = registry[key] = EndpointLimiter(config.endpoint(), config.max_concurrency)
+    limiter.adopt(role, config.max_concurrency, config.requests_per_minute, config.tokens_per_minute)
+    return limiter
 
 
 _IMPORTED: set[str] = set()
@@ -126,7 +129,8 @@ class ModelClient:
     """Calls one role's model: ``await client.complete(messages)`` returns a :class:`Completion`.
 
     Each call goes through the record/replay ``cache`` when one is given, waits for a slot of its
-    endpoint's concurrency limit, retries transient provider errors with backoff (raising
+    endpoint's limiter (:mod:`pare.agents.models.limiter`: adaptive concurrency, the provider's pauses,
+    budgets), retries transient provider errors with backoff (raising
     :class:`~pare.errors.ProviderUnavailable` when they persist), raises
     :class:`~pare.errors.ModelRequestError` at once for errors retrying cannot fix, and records tokens,
     latency and cost in the ``ledger``.
@@ -320,7 +324,11 @@ class ModelClient:
         backend = self._get_backend()  # resolves the key (litellm: checks the provider's own variable)
         await backend.prepare()
         payload = [message.to_openai() for message in messages]
-        semaphore = endpoint_semaphore(self.config)
+        limiter = self.limiter()
+        ticket = limiter.ticket()  # every attempt keeps the call's place in the endpoint's queue
+        tokens = 0
+        if limiter.counts_tokens:
+            tokens = estimate_prompt_tokens(payload, tools) + limiter.expected_completion_tokens()
         attempts = 0
         retrying = AsyncRetrying(
             stop=stop_after_attempt(self.config.max_retries + 1),
@@ -332,17 +340,38 @@ class ModelClient:
         try:
             async for attempt in retrying:
                 with attempt:
-                    async with semaphore:
+                    async with limiter.slot(tokens, ticket=ticket) as permit:
                         attempts += 1
                         started = time.perf_counter()
-                        response = await backend.complete(payload, tools, params)
+                        try:
+                            response = await backend.complete(payload, tools, params)
+                        except Exception as error:
+                            self._note_rate_limit(permit, error)
+                            raise
                         latency = time.perf_counter() - started
+                        usage = response.usage
+                        if response.usage_reported:
+                            permit.succeeded(usage.total_tokens, usage.completion_tokens)
+                        else:
+                            permit.succeeded()
         except Exception as error:
             failure = classify_error(error)
             if failure is None:
                 raise
             raise self._failure_error(self._scrubbed(failure), attempts, messages) from error
         return self._completion(response, latency)
+
+    def limiter(self) -> EndpointLimiter:
+        """The limiter of this client's endpoint in the running event loop (shared with other roles)."""
+        return endpoint_limiter(self.config, self.role)
+
+    def _note_rate_limit(self, permit: Permit, error: BaseException) -> None:
+        """Tell the endpoint's limiter about a rate-limit answer (429), with the pause it asked for."""
+        failure = classify_error(error)
+        if failure is None or not failure.transient or failure.status_code != 429:
+            return
+        pause = failure.retry_after_s
+        permit.rate_limited(min(pause, self.config.retry_max_s) if pause is not None else None)
 
     def _completion(self, response: BackendResponse, latency: float) -> Completion:
         return Completion(
@@ -370,7 +399,11 @@ class ModelClient:
         error = outcome.exception() if outcome is not None else None
         failure = classify_error(error) if error is not None else None
         wait = state.next_action.sleep if state.next_action is not None else 0.0
-        logger.warning(
+        # a rate-limit answer is expected when a run meets the provider's limits; the endpoint's limiter
+        # adapts and the progress bar shows it, so it is no warning
+        rate_limited = failure is not None and failure.transient and failure.status_code == 429
+        logger.log(
+            logging.INFO if rate_limited else logging.WARNING,
             "%s: attempt %d failed (%s); retrying in %.2fs",
             self._where(),
             state.attempt_number,
@@ -387,7 +420,8 @@ class ModelClient:
             hint = (
                 f"is the server running at {self.config.endpoint()}?"
                 if failure.status_code is None and failure.detail.startswith("cannot connect")
-                else "the provider is down or rate-limiting; try again later or lower max_concurrency"
+                else "the provider is down or rate-limiting; try again later, or lower max_concurrency or "
+                "set requests_per_minute / tokens_per_minute to the provider's limits"
             )
             return ProviderUnavailable(
                 f"{where}: still failing after {_count(attempts, 'attempt')} ({status}); "

@@ -49,6 +49,10 @@ RESERVED_REQUEST_KEYS = frozenset(
 """Request parameters a configuration sets through its own fields, never through ``extra``."""
 
 
+MAX_BUDGET_PER_MINUTE = 10**12
+"""The largest requests_per_minute or tokens_per_minute a configuration may set."""
+
+
 class Prices(BaseModel):
     """Prices of one model in US dollars per million tokens."""
 
@@ -121,7 +125,18 @@ class ModelConfig(BaseModel):
         default=16,
         ge=1,
         le=10_000,
-        description="Most requests in flight at once to this endpoint (from one process).",
+        description="Most requests in flight at once to this endpoint (from one process); rate-limit "
+        "answers (429) lower the limit for a while.",
+    )
+    requests_per_minute: int | None = Field(
+        default=None,
+        description="Most requests started in any minute at this endpoint (from one process), paced "
+        "evenly; None: no budget.",
+    )
+    tokens_per_minute: int | None = Field(
+        default=None,
+        description="Tokens (prompt and completion) per minute at this endpoint (from one process), paced "
+        "evenly from an estimate before each call and the usage reported after it; None: no budget.",
     )
     prices: Prices | None = Field(
         default=None, description="Prices to use instead of litellm's price table (USD per million tokens)."
@@ -157,6 +172,20 @@ class ModelConfig(BaseModel):
             raise ValueError(
                 f"{', '.join(clash)} cannot be set through 'extra': use the configuration's own fields"
             )
+        return value
+
+    @field_validator("requests_per_minute", "tokens_per_minute", mode="before")
+    @classmethod
+    def _budget_is_a_number(cls, value: Any) -> Any:
+        if isinstance(value, bool):  # YAML's yes/no would otherwise count as 1 and 0
+            raise ValueError(_budget_problem(value))
+        return value
+
+    @field_validator("requests_per_minute", "tokens_per_minute")
+    @classmethod
+    def _budget_in_range(cls, value: int | None) -> int | None:
+        if value is not None and not 1 <= value <= MAX_BUDGET_PER_MINUTE:
+            raise ValueError(_budget_problem(value))
         return value
 
     @model_validator(mode="after")
@@ -206,6 +235,13 @@ class ModelConfig(BaseModel):
         if self.api_base:
             data["api_base"] = redact_url(self.api_base)
         return data
+
+
+def _budget_problem(value: object) -> str:
+    return (
+        f"must be a whole number from 1 to {MAX_BUDGET_PER_MINUTE:,} (leave it unset, or null, for no "
+        f"budget), not {value!r}"
+    )
 
 
 def redact_url(url: str) -> str:
