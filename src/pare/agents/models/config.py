@@ -15,6 +15,7 @@ from pydantic import (
     model_validator,
 )
 
+from pare.agents.models.secrets import redact_secrets
 from pare.errors import UserInputError
 
 Backend = Literal["openai", "litellm"]
@@ -201,8 +202,10 @@ class ModelConfig(BaseModel):
         return params
 
     def public_dict(self) -> dict[str, Any]:
-        """Return the settings as JSON for provenance: no secret, credentials stripped from the URL."""
-        data = self.model_dump(mode="json")
+        """Return the settings as JSON for provenance: no secret (secret-looking ``extra`` entries and every
+        header value masked), credentials stripped from the URL.
+        """
+        data: dict[str, Any] = redact_secrets(self.model_dump(mode="json"))
         if self.api_base:
             data["api_base"] = redact_url(self.api_base)
         return data
