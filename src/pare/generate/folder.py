@@ -26,7 +26,7 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from pare import __version__
-from pare.bench.store import provenance
+from pare.bench.store import MAX_EPISODES_BYTES, MAX_MANIFEST_BYTES, provenance, read_run_file
 from pare.errors import UserInputError
 from pare.generate.config import GenerateConfig
 from pare.scenarios.schema import SCHEMA_FILE
@@ -113,9 +113,10 @@ class GenerationFolder:
         return folder
 
     def _check_same(self, manifest: Path) -> None:
+        text = read_run_file(manifest, "the generation manifest", max_bytes=MAX_MANIFEST_BYTES)
         try:
-            before = json.loads(manifest.read_text(encoding="utf-8")).get("identity")
-        except (OSError, json.JSONDecodeError, AttributeError) as error:
+            before = json.loads(text).get("identity")
+        except (json.JSONDecodeError, AttributeError) as error:
             raise UserInputError(f"{manifest}: not a generation manifest ({error})") from None
         now = json.loads(json.dumps(self.config.identity()))
         if before != now:
@@ -133,7 +134,7 @@ class GenerationFolder:
         if not file.exists():
             return []
         records = []
-        for line in file.read_text(encoding="utf-8").splitlines():
+        for line in read_run_file(file, "the outcomes file", max_bytes=MAX_EPISODES_BYTES).splitlines():
             try:
                 records.append(CandidateRecord.model_validate_json(line))
             except ValidationError:

@@ -16,7 +16,7 @@ from typing import Any
 
 from pare.bench.metrics import ConfigurationMetrics, compute_metrics
 from pare.bench.records import EpisodeRecord
-from pare.bench.store import EPISODES, MANIFEST, LoadedRun, load_run, run_folders
+from pare.bench.store import EPISODES, MANIFEST, LoadedRun, load_run, read_run_file, run_folders
 from pare.errors import UserInputError
 from pare.viewer._paths import OutsideRunError, confined, slug
 
@@ -107,12 +107,11 @@ class Configuration:
         if record.trajectory is None:
             return None
         file = confined(self.path, record.trajectory)
+        text = read_run_file(file, "the trajectory", max_bytes=MAX_TRAJECTORY_BYTES)
         try:
-            if file.stat().st_size > MAX_TRAJECTORY_BYTES:
-                raise UserInputError(f"{file}: larger than {MAX_TRAJECTORY_BYTES} bytes; not opened")
-            data = json.loads(file.read_bytes().decode("utf-8"))
-        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
-            raise UserInputError(f"{file}: cannot read the trajectory: {error}") from None
+            data = json.loads(text)
+        except (json.JSONDecodeError, RecursionError) as error:
+            raise UserInputError(f"{file}: not a trajectory: {error}") from None
         if not isinstance(data, dict) or not isinstance(data.get("steps"), list):
             raise UserInputError(f"{file}: not a PARE trajectory (no steps)")
         return data
