@@ -20,6 +20,8 @@ from pare.bench.store import EPISODES, MANIFEST, LoadedRun, load_run, read_run_f
 from pare.errors import UserInputError
 from pare.viewer._paths import OutsideRunError, confined, slug
 
+TRAJECTORY_FORMAT = 1
+"""The trajectory format this viewer shows (the ``format`` number ``pare run`` writes in each file)."""
 MAX_TRAJECTORY_BYTES = 64 * 1024 * 1024
 """The largest trajectory file the viewer opens."""
 
@@ -114,6 +116,12 @@ class Configuration:
             raise UserInputError(f"{file}: not a trajectory: {error}") from None
         if not isinstance(data, dict) or not isinstance(data.get("steps"), list):
             raise UserInputError(f"{file}: not a PARE trajectory (no steps)")
+        found = data.get("format", TRAJECTORY_FORMAT)  # files written before the number was kept are format 1
+        if found != TRAJECTORY_FORMAT:
+            raise UserInputError(
+                f"{file}: trajectory format {found!r}, but this PARE shows format {TRAJECTORY_FORMAT}; "
+                "view it with the PARE version that wrote it"
+            )
         return data
 
 

@@ -137,52 +137,44 @@ class Site:
         )
 
     def episode_page(self, configuration: Configuration, scenario_slug: str, run: int) -> str | None:
-        """One episode; ``None`` when the configuration has no such episode."""
+        """One episode; ``None`` when the configuration has no such episode.
+
+        A trajectory that cannot be shown (unreadable, of another format, or damaged so that some part
+        is missing or of the wrong type) gives the page with what is wrong in place of the episode: one
+        damaged file never takes down a page or an export.
+        """
         record = configuration.record(scenario_slug, run)
         if record is None:
             return None
+        keys = list(configuration.records)
+        position = keys.index(record.key)
+        page: dict[str, Any] = {
+            "title": f"{record.scenario_id} run {record.run}",
+            "configuration": configuration,
+            "record": record,
+            "others": [c for c in self.catalog.configurations if c is not configuration],
+            "neighbours": tuple(
+                configuration.records[keys[i]] if 0 <= i < len(keys) else None
+                for i in (position - 1, position + 1)
+            ),
+        }
         try:
             data = configuration.trajectory(record)
         except (OutsideRunError, UserInputError) as error:
-            return self._render(
-                "episode.html",
-                4,
-                title=record.scenario_id,
-                record=record,
-                episode=None,
-                problem=str(error),
-                configuration=configuration,
-                others=[],
-                neighbours=(None, None),
-            )
-        episode = None
-        if data is not None:
+            return self._render("episode.html", 4, **page, episode=None, problem=str(error))
+        if data is None:
+            problem = record.failure.message if record.failure is not None else "no trajectory was stored"
+            return self._render("episode.html", 4, **page, episode=None, problem=problem)
+        try:
             scenario = library_scenario(record.scenario_id, record.scenario_hash)
             matched = None
             if scenario is not None:
                 matched = {**matched_entries(scenario, episode_log(data)), **state_entries(scenario, data)}
             episode = build_episode(data, list(record.proposals), matched)
-        keys = list(configuration.records)
-        position = keys.index(record.key)
-        neighbours = tuple(
-            configuration.records[keys[i]] if 0 <= i < len(keys) else None
-            for i in (position - 1, position + 1)
-        )
-        others = [c for c in self.catalog.configurations if c is not configuration]
-        problem = None
-        if data is None:
-            problem = record.failure.message if record.failure is not None else "no trajectory was stored"
-        return self._render(
-            "episode.html",
-            4,
-            title=f"{record.scenario_id} run {record.run}",
-            configuration=configuration,
-            record=record,
-            episode=episode,
-            problem=problem,
-            others=others,
-            neighbours=neighbours,
-        )
+            return self._render("episode.html", 4, **page, episode=episode, problem=None)
+        except Exception as error:  # any part of a damaged file may be missing or of the wrong type
+            problem = f"{record.trajectory}: damaged, cannot be shown: {_describe(error)}"
+            return self._render("episode.html", 4, **page, episode=None, problem=problem)
 
     def compare_page(self) -> str:
         """Two configurations' runs of one episode side by side (chosen in the page)."""
@@ -190,6 +182,12 @@ class Site:
         return self._render(
             "compare.html", 0, title="Compare", configurations=json.dumps(listing, ensure_ascii=True)
         )
+
+
+def _describe(error: Exception) -> str:
+    """What went wrong reading a damaged trajectory, in one short line."""
+    text = short(str(error), 200)
+    return f"{type(error).__name__} {text}" if text else type(error).__name__
 
 
 def format_estimate(value: Estimate, percent: bool = True) -> str:
