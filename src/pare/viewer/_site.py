@@ -5,7 +5,8 @@ Paths::
 
     index.html                              the configurations with their headline metrics
     c/<config>/index.html                   one configuration: its metrics and the episodes table
-    c/<config>/rows.js                      the table's rows (loaded by that page)
+    c/<config>/rows.js                      the table's rows (loaded by that page; served only with the
+                                            site's data key, see :mod:`pare.viewer._server`)
     c/<config>/e/<scenario>/run-<r>.html    one episode
     compare.html                            two configurations' runs of one episode side by side
     static/viewer.css, static/viewer.js
@@ -50,8 +51,12 @@ class Page:
 class Site:
     """Renders the viewer's pages for the configurations of a :class:`Catalog`."""
 
-    def __init__(self, catalog: Catalog) -> None:
+    def __init__(self, catalog: Catalog, *, data_key: str | None = None) -> None:
         self.catalog = catalog
+        self.data_key = data_key
+        """The key a page adds to the data it loads (``rows.js?key=…``) when served: the server gives the
+        data only to requests that carry it, and only the viewer's own pages know it. ``None`` in an
+        export, which is opened from disk."""
         self.templates = Environment(
             loader=PackageLoader("pare.viewer", "templates"),
             autoescape=select_autoescape(default=True),
@@ -109,7 +114,8 @@ class Site:
         return Page(text.encode("utf-8"), _TYPES[".html"])
 
     def _render(self, template: str, depth: int, **values: Any) -> str:
-        return self.templates.get_template(template).render(root="../" * depth, **values)
+        query = f"?key={self.data_key}" if self.data_key else ""
+        return self.templates.get_template(template).render(root="../" * depth, data_query=query, **values)
 
     # -- the pages -------------------------------------------------------------------------------------
     def runs_page(self) -> str:
