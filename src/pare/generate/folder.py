@@ -71,10 +71,22 @@ def transcript_hash(messages: list[dict[str, Any]]) -> str:
 
 
 def _write_atomically(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
     temporary = path.with_name(path.name + ".tmp")
-    temporary.write_text(text, encoding="utf-8")
-    os.replace(temporary, path)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        temporary.write_text(text, encoding="utf-8")
+        os.replace(temporary, path)
+    except OSError as error:  # a full disk, a read-only folder: never a half-written file
+        temporary.unlink(missing_ok=True)
+        raise _write_failure(path, error) from None
+
+
+def _write_failure(path: Path, error: OSError) -> UserInputError:
+    """The one-line error for a write the system refused (a full disk, a read-only folder)."""
+    return UserInputError(
+        f"{path}: cannot write it: {error.strerror or error}. Every candidate reported as finished is "
+        "recorded; fix this and run the same command again to resume."
+    )
 
 
 class GenerationFolder:
@@ -148,8 +160,11 @@ class GenerationFolder:
     def record(self, record: CandidateRecord) -> None:
         """Append how one slot ended."""
         with self._lock:
-            with (self.path / OUTCOMES).open("a", encoding="utf-8") as handle:
-                handle.write(record.model_dump_json() + "\n")
+            try:
+                with (self.path / OUTCOMES).open("a", encoding="utf-8") as handle:
+                    handle.write(record.model_dump_json() + "\n")
+            except OSError as error:
+                raise _write_failure(self.path / OUTCOMES, error) from None
             self.records[record.slot] = record
 
     def write_transcript(self, slot: str, stage: str, messages: list[dict[str, Any]], **extra: Any) -> str:
