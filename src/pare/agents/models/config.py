@@ -29,6 +29,10 @@ DEFAULT_API_KEY_ENV: dict[str, str | None] = {"openai": "OPENAI_API_KEY", "litel
 """The variable read for the key when a configuration does not name one. litellm with ``None`` finds the
 provider's usual variable itself (``ANTHROPIC_API_KEY``, ``GEMINI_API_KEY``, ...)."""
 
+DEFAULT_MAX_ANSWER_CHARS = 65_536
+"""The longest answer kept by default: far above any action or scenario section (a few KB), far below what
+a runaway model writes (an answer of 1 MB made one episode write 1.3 GB: every later request repeats it)."""
+
 RESERVED_REQUEST_KEYS = frozenset(
     {
         "model",
@@ -129,6 +133,14 @@ class ModelConfig(BaseModel):
     )
     native_tools: bool = Field(
         default=False, description="Send tool schemas through the provider's function-calling API."
+    )
+    max_answer_chars: int = Field(
+        default=DEFAULT_MAX_ANSWER_CHARS,
+        ge=1,
+        le=100_000_000,
+        description="Longest answer kept, in characters (text plus tool-call arguments; reasoning apart): "
+        "a longer one is cut to this length in the records and the cache, and is a format error for the "
+        "model.",
     )
 
     @model_validator(mode="before")
