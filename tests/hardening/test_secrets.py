@@ -3,7 +3,9 @@ secret-looking ``extra`` request parameters (in the manifest's identity and conf
 
 from __future__ import annotations
 
+import base64
 import json
+import sqlite3
 from pathlib import Path
 from typing import Any
 
@@ -64,3 +66,76 @@ def test_a_provider_that_echoes_the_key_does_not_leak_it(tmp_path: Path, example
     written = every_file(output)
     for secret in (KEY, EXTRA_KEY, BEARER):
         assert secret not in written
+
+
+HEADER_SECRETS = {
+    "Helicone-Auth": "Bearer sk-helicone-5f0e1d2c3b4a5968",
+    "Cookie": "session=c00kie-a1b2c3d4e5f60718",
+    "X-Portkey-Virtual-Key": "pk-virtual-99aa88bb77cc66dd",
+}
+
+
+def header_argv(output: Path, scenario: Path, server: ChatServer) -> list[str]:
+    argv = ["run", "--output", str(output), "--no-progress", "--runs", "1", "--scenario-path", str(scenario)]
+    argv += ["--assistant-model", "a", "--assistant-endpoint", server.base_url]
+    argv += ["--user-model", "u", "--user-endpoint", server.base_url]
+    extras = json.dumps({"extra_headers": HEADER_SECRETS})
+    for role in ("user", "assistant"):
+        argv += [
+            "--set",
+            f"models.{role}.api_key_env={KEY_VARIABLE}",
+            "--set",
+            f"models.{role}.extra={extras}",
+        ]
+        argv += ["--set", f"models.{role}.retry_initial_s=0", "--set", f"models.{role}.max_retries=1"]
+    return [*argv, "--set", "episode_retries=0"]
+
+
+def header_secret_texts() -> list[str]:
+    """Each header's credential: the whole value and its token (what a leak would show)."""
+    return [part for value in HEADER_SECRETS.values() for part in (value, value.split()[-1])]
+
+
+def test_header_values_are_sent_as_headers_and_stored_nowhere(tmp_path: Path, example_scenario: Path) -> None:
+    with ChatServer(proactive_play()) as server:
+        output = tmp_path / "run"
+        assert main(header_argv(output, example_scenario, server)) == 0
+        received = server.headers
+        bodies = json.dumps(server.requests)
+    assert received and received[0]["helicone-auth"] == HEADER_SECRETS["Helicone-Auth"]
+    assert "extra_headers" not in bodies  # headers travel as headers, not as a body field
+    written = every_file(output)
+    for secret in header_secret_texts():
+        assert secret not in written
+    manifest = json.loads((output / "manifest.json").read_text(encoding="utf-8"))
+    stored = manifest["config"]["models"]["user"]["extra"]["extra_headers"]
+    assert stored == dict.fromkeys(HEADER_SECRETS, "***")
+    cache = (
+        sqlite3.connect(output / "model_calls.sqlite") if (output / "model_calls.sqlite").exists() else None
+    )
+    if cache is not None:
+        requests = " ".join(row[0] for row in cache.execute("SELECT request FROM completions"))
+        cache.close()
+        assert requests and all(secret not in requests for secret in header_secret_texts())
+
+
+def test_echoes_of_header_secrets_in_any_form_are_cut(tmp_path: Path, example_scenario: Path) -> None:
+    token = HEADER_SECRETS["Helicone-Auth"].split()[-1]
+    basic = base64.b64encode(f"user:{token}".encode()).decode()
+
+    def echo(request: dict[str, Any]) -> Reply:
+        return failure(
+            503,
+            f"refused {token.lower()} / {token.upper()} / basic {basic} / "
+            f"key starting {token[:12]}... / {HEADER_SECRETS['Cookie']}",
+        )
+
+    with ChatServer(echo) as server:
+        output = tmp_path / "run"
+        assert main(header_argv(output, example_scenario, server)) == 1  # missing coverage
+    record = json.loads((output / "episodes.jsonl").read_text(encoding="utf-8").splitlines()[0])
+    message = record["failure"]["message"]
+    assert "refused ***" in message
+    written = every_file(output).lower()
+    for leaked in (token, basic[8:], token[:12], HEADER_SECRETS["Cookie"].split("=")[1]):
+        assert leaked.lower() not in written

@@ -4,10 +4,13 @@ made by the tests, and the static export opened from disk. The browser may reach
 
 from __future__ import annotations
 
+import functools
+import http.server
 import os
 import re
 import subprocess
 import sys
+import threading
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -171,3 +174,32 @@ def test_the_state_diff_links_a_friends_reply_to_its_event(
     target = page.url.rsplit("#", 1)[1]
     expect(page.locator(f"#{target} td").nth(3)).to_have_text("env")
     expect(page.locator(f"#{target}")).to_contain_text("ana_tuesday")
+
+
+def test_a_page_of_another_site_cannot_read_the_episodes_table(
+    server: str, page: Page, tmp_path: Path
+) -> None:
+    """A page on another origin loads every way it can reach the table (with the key guessed, without
+    it); none gives it a row. The viewer's own page, loaded just before in the same browser, does.
+    """
+    page.goto(server + "c/models/index.html")
+    expect(page.locator("#episodes tbody tr")).to_have_count(4)
+    evil = tmp_path / "evil"
+    evil.mkdir()
+    target = server + "c/models/rows.js"
+    (evil / "index.html").write_text(
+        f'<!doctype html><script src="{target}"></script><script src="{target}?key=guess"></script>'
+        '<script src="read.js"></script>',
+        encoding="utf-8",
+    )
+    (evil / "read.js").write_text(
+        "document.title = JSON.stringify(window.PARE_ROWS || null);", encoding="utf-8"
+    )
+    handler = functools.partial(http.server.SimpleHTTPRequestHandler, directory=str(evil))
+    with http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler) as other:
+        threading.Thread(target=other.serve_forever, daemon=True).start()
+        try:
+            page.goto(f"http://127.0.0.1:{other.server_address[1]}/index.html")
+            expect(page).to_have_title("null")
+        finally:
+            other.shutdown()

@@ -85,6 +85,11 @@ class Conversation:
             raw, inline_reasoning = split_reasoning(completion.text or "")
             reasoning = join_reasoning(completion.reasoning, inline_reasoning)
             try:
+                if completion.cut_from is not None:
+                    raise ActionFormatError(
+                        f"Your answer was {completion.cut_from:,} characters long, more than this role may "
+                        "write, and was cut. Answer with one short action."
+                    )
                 tool, args = self._read(completion, raw, reasoning)
             except ActionFormatError as error:
                 errors.append(str(error))

@@ -48,6 +48,7 @@ from pare.bench.run_requests import REQUESTS
 from pare.bench.runconfig import RunConfig
 from pare.errors import UserInputError
 from pare.scenarios.model import Scenario
+from pare.yaml_source import UnreadableFile, read_text_file
 
 try:  # advisory locks exist on POSIX; elsewhere a run simply is not protected against a second writer
     import fcntl
@@ -58,6 +59,10 @@ MANIFEST = "manifest.json"
 EPISODES = "episodes.jsonl"
 TRAJECTORIES = "trajectories"
 CACHE_FILE = "model_calls.sqlite"
+MAX_EPISODES_BYTES = 2 * 1024**3
+"""The largest episodes file read (a record is a few KB: a million episodes fit)."""
+MAX_MANIFEST_BYTES = 64 * 1024 * 1024
+"""The largest manifest or sweep description read (a 10,000-scenario run's manifest is about 1 MB)."""
 LOCK = ".lock"
 SWEEP_FILE = "sweep.json"
 WRITER_PROCESS = True
@@ -109,17 +114,28 @@ def trajectory_path(scenario_id: str, run: int) -> str:
     return f"{TRAJECTORIES}/{scenario_id}/run-{run}.json"
 
 
+def read_run_file(file: Path, what: str, *, max_bytes: int) -> str:
+    """The UTF-8 text of one file of a run folder, read only when it is a regular file of at most
+    ``max_bytes`` (a FIFO would hang the reader, ``/dev/zero`` fill its memory).
+
+    Raises:
+        UserInputError: It is missing, not a regular file, too large or not UTF-8 (``what`` names it).
+    """
+    try:
+        return read_text_file(file, max_bytes=max_bytes)
+    except UnreadableFile as error:
+        reason = str(error).removeprefix("cannot read it: ")
+        raise UserInputError(f"{file}: cannot read {what}: {reason}") from None
+    except OSError as error:  # missing, or refused by the system
+        raise UserInputError(f"{file}: cannot read {what}: {error.strerror or error}") from None
+
+
 def read_records(path: Path) -> list[EpisodeRecord]:
     """Every well-formed line of an episodes file, in order; an unfinished last line is ignored."""
     if not path.exists():
         return []
     records: list[EpisodeRecord] = []
-    try:
-        lines = path.read_bytes().decode("utf-8").split("\n")
-    except UnicodeDecodeError as error:
-        raise UserInputError(f"{path}: not an episodes file (not UTF-8 text at byte {error.start})") from None
-    except OSError as error:
-        raise UserInputError(f"{path}: cannot read the episodes file: {error.strerror or error}") from None
+    lines = read_run_file(path, "the episodes file", max_bytes=MAX_EPISODES_BYTES).split("\n")
     for number, line in enumerate(lines, start=1):
         if not line.strip():
             continue
@@ -136,11 +152,11 @@ def read_records(path: Path) -> list[EpisodeRecord]:
 
 def read_manifest(file: Path) -> dict[str, Any]:
     """A run folder's manifest, or a :class:`UserInputError` that says what is wrong with it."""
+    text = read_run_file(file, "the manifest", max_bytes=MAX_MANIFEST_BYTES)
     try:
-        data = json.loads(file.read_bytes().decode("utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
-        reason = error.strerror if isinstance(error, OSError) and error.strerror else error
-        raise UserInputError(f"{file}: cannot read the manifest: {reason}") from None
+        data = json.loads(text)
+    except json.JSONDecodeError as error:
+        raise UserInputError(f"{file}: cannot read the manifest: {error}") from None
     if not isinstance(data, dict) or not isinstance(data.get("format"), int):
         raise UserInputError(f"{file}: not a PARE run manifest (a JSON object with a format number)")
     if data["format"] != MANIFEST_FORMAT:
@@ -640,10 +656,11 @@ def run_folders(paths: Iterable[Path]) -> list[Path]:
 
 def _sweep_order(file: Path) -> list[str]:
     """The point folders a sweep description lists, in the grid's order."""
+    text = read_run_file(file, "the sweep description", max_bytes=MAX_MANIFEST_BYTES)
     try:
-        points = json.loads(file.read_bytes().decode("utf-8"))["points"]
+        points = json.loads(text)["points"]
         return [str(point["folder"]) for point in points]
-    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError) as error:
+    except (ValueError, KeyError, TypeError) as error:
         raise UserInputError(
             f"{file}: not a PARE sweep description ({error!s}); the file is damaged"
         ) from None

@@ -26,7 +26,7 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from pare import __version__
-from pare.bench.store import provenance
+from pare.bench.store import MAX_EPISODES_BYTES, MAX_MANIFEST_BYTES, provenance, read_run_file
 from pare.errors import UserInputError
 from pare.generate.config import GenerateConfig
 from pare.scenarios.schema import SCHEMA_FILE
@@ -71,10 +71,22 @@ def transcript_hash(messages: list[dict[str, Any]]) -> str:
 
 
 def _write_atomically(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
     temporary = path.with_name(path.name + ".tmp")
-    temporary.write_text(text, encoding="utf-8")
-    os.replace(temporary, path)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        temporary.write_text(text, encoding="utf-8")
+        os.replace(temporary, path)
+    except OSError as error:  # a full disk, a read-only folder: never a half-written file
+        temporary.unlink(missing_ok=True)
+        raise _write_failure(path, error) from None
+
+
+def _write_failure(path: Path, error: OSError) -> UserInputError:
+    """The one-line error for a write the system refused (a full disk, a read-only folder)."""
+    return UserInputError(
+        f"{path}: cannot write it: {error.strerror or error}. Every candidate reported as finished is "
+        "recorded; fix this and run the same command again to resume."
+    )
 
 
 class GenerationFolder:
@@ -113,9 +125,10 @@ class GenerationFolder:
         return folder
 
     def _check_same(self, manifest: Path) -> None:
+        text = read_run_file(manifest, "the generation manifest", max_bytes=MAX_MANIFEST_BYTES)
         try:
-            before = json.loads(manifest.read_text(encoding="utf-8")).get("identity")
-        except (OSError, json.JSONDecodeError, AttributeError) as error:
+            before = json.loads(text).get("identity")
+        except (json.JSONDecodeError, AttributeError) as error:
             raise UserInputError(f"{manifest}: not a generation manifest ({error})") from None
         now = json.loads(json.dumps(self.config.identity()))
         if before != now:
@@ -133,7 +146,7 @@ class GenerationFolder:
         if not file.exists():
             return []
         records = []
-        for line in file.read_text(encoding="utf-8").splitlines():
+        for line in read_run_file(file, "the outcomes file", max_bytes=MAX_EPISODES_BYTES).splitlines():
             try:
                 records.append(CandidateRecord.model_validate_json(line))
             except ValidationError:
@@ -147,8 +160,11 @@ class GenerationFolder:
     def record(self, record: CandidateRecord) -> None:
         """Append how one slot ended."""
         with self._lock:
-            with (self.path / OUTCOMES).open("a", encoding="utf-8") as handle:
-                handle.write(record.model_dump_json() + "\n")
+            try:
+                with (self.path / OUTCOMES).open("a", encoding="utf-8") as handle:
+                    handle.write(record.model_dump_json() + "\n")
+            except OSError as error:
+                raise _write_failure(self.path / OUTCOMES, error) from None
             self.records[record.slot] = record
 
     def write_transcript(self, slot: str, stage: str, messages: list[dict[str, Any]], **extra: Any) -> str:

@@ -176,7 +176,12 @@ async def _stage(
         trial = {**work.sections, **split.sections}
         missing = [key for key in REQUIRED[stage] if key not in trial]
         played = False
-        if split.problems or missing:
+        if answer.cut_from is not None:  # a runaway answer: cut to the cap, never taken as sections
+            problems = [
+                f"your answer was {answer.cut_from:,} characters long, more than the generator may write, "
+                "and was cut: write only the sections asked for"
+            ]
+        elif split.problems or missing:
             problems = [*split.problems, *(f"the '{key}' section is missing: write it" for key in missing)]
         else:
             check = await asyncio.to_thread(

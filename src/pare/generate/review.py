@@ -16,6 +16,7 @@ from pare.generate.folder import read_provenance
 from pare.scenarios.loader import load_scenario
 from pare.scenarios.model import Scenario
 from pare.scenarios.schema import SCHEMA_FILE
+from pare.yaml_source import read_text_file
 
 REJECTED = "rejected"
 REVIEWS = "reviews.jsonl"
@@ -45,7 +46,11 @@ def pending(folder: Path) -> list[PendingCandidate]:
         raise UserInputError(f"{folder}: no such folder of generated candidates")
     found = []
     for path in sorted(folder.glob("*.yaml")):
-        text = path.read_text(encoding="utf-8")
+        try:
+            text = _read(path)
+        except UserInputError as problem:  # a FIFO, a device or bytes that are not text: listed, never read
+            found.append(PendingCandidate(path, None, str(problem), None))
+            continue
         try:
             scenario, error = load_scenario(path), None
         except UserInputError as problem:
@@ -54,9 +59,18 @@ def pending(folder: Path) -> list[PendingCandidate]:
     return found
 
 
+def _read(path: Path) -> str:
+    """A candidate's text, read only when it is a regular UTF-8 file of at most the size a scenario may be."""
+    try:
+        return read_text_file(path)
+    except OSError as error:  # UnreadableFile says why; a missing file is an OSError too
+        reason = str(error).removeprefix("cannot read it: ")
+        raise UserInputError(f"{path}: cannot read the candidate: {reason}") from None
+
+
 def _find(folder: Path, scenario_id: str) -> Path:
     path = folder / f"{scenario_id}.yaml"
-    if not path.is_file():
+    if not os.path.lexists(path):  # anything there is found; reading it says what is wrong with it
         waiting = [p.stem for p in folder.glob("*.yaml")]
         raise UserInputError(
             f"no candidate '{scenario_id}' waiting in {folder}.{did_you_mean(scenario_id, waiting)}"
@@ -77,7 +91,7 @@ def accept(folder: Path, scenario_id: str, library: Path, *, note: str = "") -> 
     if target.exists():
         raise UserInputError(f"{target} exists: the library already has a scenario '{scenario_id}'")
     schema = Path(os.path.relpath(SCHEMA_FILE.resolve(), library.resolve())).as_posix()
-    lines = source.read_text(encoding="utf-8").splitlines(keepends=True)
+    lines = _read(source).splitlines(keepends=True)
     lines = [f"{_SCHEMA_LINE}{schema}\n" if line.startswith(_SCHEMA_LINE) else line for line in lines]
     target.write_text("".join(lines), encoding="utf-8")
     source.unlink()
@@ -91,9 +105,10 @@ def reject(folder: Path, scenario_id: str, reason: str) -> Path:
         raise UserInputError("a rejection needs a reason (--reason)")
     source = _find(folder, scenario_id)
     target = folder / REJECTED / source.name
-    target.parent.mkdir(exist_ok=True)
     reason_line = "# rejected: " + " ".join(reason.split()) + "\n"
-    target.write_text(reason_line + source.read_text(encoding="utf-8"), encoding="utf-8")
+    text = _read(source)
+    target.parent.mkdir(exist_ok=True)
+    target.write_text(reason_line + text, encoding="utf-8")
     source.unlink()
     _log(folder, scenario_id, "rejected", reason, target)
     return target

@@ -117,6 +117,8 @@ def generate(config: GenerateConfig, *, progress: GenerationProgress | None = No
         )
         asyncio.run(_run(todo, batch, models, progress, summary))
     finally:
+        if cache is not None:
+            cache.close()  # folds the write-ahead log into model_calls.sqlite
         progress.stopped()
         summary.usage = ledger.summary()
         summary.seconds = time.perf_counter() - started

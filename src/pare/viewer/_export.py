@@ -13,7 +13,8 @@ def export_site(site: Site, folder: Path, progress: Callable[[int], None] | None
     """Write every page of ``site`` under ``folder`` and return how many files were written.
 
     Raises:
-        UserInputError: ``folder`` exists and is neither empty nor an earlier export.
+        UserInputError: ``folder`` exists and is neither empty nor an earlier export, or the system
+            refused a write (a full disk).
     """
     if folder.exists():
         if not folder.is_dir():
@@ -29,8 +30,14 @@ def export_site(site: Site, folder: Path, progress: Callable[[int], None] | None
         target = (base / path).resolve()
         if not target.is_relative_to(base):  # paths come from slugs, so this only guards against a bug
             raise UserInputError(f"refusing to write {path!r} outside {folder}")
-        target.parent.mkdir(parents=True, exist_ok=True)
-        target.write_bytes(page.body)
+        try:
+            target.parent.mkdir(parents=True, exist_ok=True)
+            target.write_bytes(page.body)
+        except OSError as error:  # a full disk, a read-only folder: say so in one line
+            raise UserInputError(
+                f"{target}: cannot write the site: {error.strerror or error} "
+                f"({written} of its files written; fix this and export again)"
+            ) from None
         written += 1
         if progress is not None:
             progress(written)

@@ -16,10 +16,12 @@ from typing import Any
 
 from pare.bench.metrics import ConfigurationMetrics, compute_metrics
 from pare.bench.records import EpisodeRecord
-from pare.bench.store import EPISODES, MANIFEST, LoadedRun, load_run, run_folders
+from pare.bench.store import EPISODES, MANIFEST, LoadedRun, load_run, read_run_file, run_folders
 from pare.errors import UserInputError
 from pare.viewer._paths import OutsideRunError, confined, slug
 
+TRAJECTORY_FORMAT = 1
+"""The trajectory format this viewer shows (the ``format`` number ``pare run`` writes in each file)."""
 MAX_TRAJECTORY_BYTES = 64 * 1024 * 1024
 """The largest trajectory file the viewer opens."""
 
@@ -107,14 +109,19 @@ class Configuration:
         if record.trajectory is None:
             return None
         file = confined(self.path, record.trajectory)
+        text = read_run_file(file, "the trajectory", max_bytes=MAX_TRAJECTORY_BYTES)
         try:
-            if file.stat().st_size > MAX_TRAJECTORY_BYTES:
-                raise UserInputError(f"{file}: larger than {MAX_TRAJECTORY_BYTES} bytes; not opened")
-            data = json.loads(file.read_bytes().decode("utf-8"))
-        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
-            raise UserInputError(f"{file}: cannot read the trajectory: {error}") from None
+            data = json.loads(text)
+        except (json.JSONDecodeError, RecursionError) as error:
+            raise UserInputError(f"{file}: not a trajectory: {error}") from None
         if not isinstance(data, dict) or not isinstance(data.get("steps"), list):
             raise UserInputError(f"{file}: not a PARE trajectory (no steps)")
+        found = data.get("format", TRAJECTORY_FORMAT)  # files written before the number was kept are format 1
+        if found != TRAJECTORY_FORMAT:
+            raise UserInputError(
+                f"{file}: trajectory format {found!r}, but this PARE shows format {TRAJECTORY_FORMAT}; "
+                "view it with the PARE version that wrote it"
+            )
         return data
 
 

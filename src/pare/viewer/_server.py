@@ -4,11 +4,18 @@ Only ``GET`` and ``HEAD`` exist; any other method is refused. Pages are looked u
 :mod:`pare.viewer._site`): no URL is ever turned into a file path. The ``Host`` header must name the
 loopback address, so a web page elsewhere cannot reach the viewer by rebinding its own domain name to
 127.0.0.1.
+
+Pages of other sites cannot read the runs either, though a browser lets any page load a script from
+anywhere: the episodes table (``rows.js``) is given only with the key this server made when it started,
+which only the viewer's own pages carry (another site cannot read them); a request the browser marks as
+coming from another site is refused, except a link followed to a page; and every answer says
+``Cross-Origin-Resource-Policy: same-origin``, so the browser itself keeps other sites from loading it.
 """
 
 from __future__ import annotations
 
 import ipaddress
+import secrets
 import socket
 
 from starlette.applications import Starlette
@@ -30,7 +37,12 @@ SECURITY_HEADERS = {
     "X-Content-Type-Options": "nosniff",
     "Referrer-Policy": "no-referrer",
     "Cache-Control": "no-store",
+    "Cross-Origin-Resource-Policy": "same-origin",
+    "Cross-Origin-Opener-Policy": "same-origin",
 }
+DATA_KEY_PARAMETER = "key"
+_OWN_SITE = ("same-origin", "none")
+"""``Sec-Fetch-Site`` values of requests made by the viewer's own pages or typed by the user."""
 
 
 def check_loopback(host: str) -> None:
@@ -56,8 +68,13 @@ def create_app(site: Site, bound: str = "127.0.0.1") -> Starlette:
     """The ASGI app serving ``site``; requests must name the loopback (or the address ``bound``) as
     their host.
     """
+    if site.data_key is None:  # served: the data needs a key that only the viewer's pages know
+        site.data_key = secrets.token_urlsafe(18)
+    key = site.data_key
 
     async def page(request: Request) -> Response:
+        if refusal := _cross_site_refusal(request, key):
+            return PlainTextResponse(refusal, status_code=403, headers=SECURITY_HEADERS)
         found = site.page(request.url.path)
         if found is None:
             return PlainTextResponse("not found", status_code=404, headers=SECURITY_HEADERS)
@@ -67,6 +84,21 @@ def create_app(site: Site, bound: str = "127.0.0.1") -> Starlette:
         routes=[Route("/{path:path}", page, methods=["GET", "HEAD"])],
         middleware=[Middleware(TrustedHostMiddleware, allowed_hosts=_host_names(bound))],
     )
+
+
+def _cross_site_refusal(request: Request, key: str) -> str | None:
+    """Why a request must not be answered (it comes from another site, or asks for data without the
+    key), or ``None``.
+    """
+    fetch_site = request.headers.get("sec-fetch-site")
+    navigating = request.headers.get("sec-fetch-mode") in (None, "navigate")
+    if fetch_site is not None and fetch_site not in _OWN_SITE and not navigating:
+        return "refused: the viewer's pages and data are for its own pages only"
+    if request.url.path.endswith("/rows.js"):
+        given = request.query_params.get(DATA_KEY_PARAMETER, "")
+        if not secrets.compare_digest(given.encode(), key.encode()):
+            return "refused: the viewer's data is given to its own pages only"
+    return None
 
 
 def _host_names(bound: str) -> list[str]:

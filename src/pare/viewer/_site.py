@@ -5,7 +5,8 @@ Paths::
 
     index.html                              the configurations with their headline metrics
     c/<config>/index.html                   one configuration: its metrics and the episodes table
-    c/<config>/rows.js                      the table's rows (loaded by that page)
+    c/<config>/rows.js                      the table's rows (loaded by that page; served only with the
+                                            site's data key, see :mod:`pare.viewer._server`)
     c/<config>/e/<scenario>/run-<r>.html    one episode
     compare.html                            two configurations' runs of one episode side by side
     static/viewer.css, static/viewer.js
@@ -50,8 +51,12 @@ class Page:
 class Site:
     """Renders the viewer's pages for the configurations of a :class:`Catalog`."""
 
-    def __init__(self, catalog: Catalog) -> None:
+    def __init__(self, catalog: Catalog, *, data_key: str | None = None) -> None:
         self.catalog = catalog
+        self.data_key = data_key
+        """The key a page adds to the data it loads (``rows.js?key=…``) when served: the server gives the
+        data only to requests that carry it, and only the viewer's own pages know it. ``None`` in an
+        export, which is opened from disk."""
         self.templates = Environment(
             loader=PackageLoader("pare.viewer", "templates"),
             autoescape=select_autoescape(default=True),
@@ -109,7 +114,8 @@ class Site:
         return Page(text.encode("utf-8"), _TYPES[".html"])
 
     def _render(self, template: str, depth: int, **values: Any) -> str:
-        return self.templates.get_template(template).render(root="../" * depth, **values)
+        query = f"?key={self.data_key}" if self.data_key else ""
+        return self.templates.get_template(template).render(root="../" * depth, data_query=query, **values)
 
     # -- the pages -------------------------------------------------------------------------------------
     def runs_page(self) -> str:
@@ -137,52 +143,44 @@ class Site:
         )
 
     def episode_page(self, configuration: Configuration, scenario_slug: str, run: int) -> str | None:
-        """One episode; ``None`` when the configuration has no such episode."""
+        """One episode; ``None`` when the configuration has no such episode.
+
+        A trajectory that cannot be shown (unreadable, of another format, or damaged so that some part
+        is missing or of the wrong type) gives the page with what is wrong in place of the episode: one
+        damaged file never takes down a page or an export.
+        """
         record = configuration.record(scenario_slug, run)
         if record is None:
             return None
+        keys = list(configuration.records)
+        position = keys.index(record.key)
+        page: dict[str, Any] = {
+            "title": f"{record.scenario_id} run {record.run}",
+            "configuration": configuration,
+            "record": record,
+            "others": [c for c in self.catalog.configurations if c is not configuration],
+            "neighbours": tuple(
+                configuration.records[keys[i]] if 0 <= i < len(keys) else None
+                for i in (position - 1, position + 1)
+            ),
+        }
         try:
             data = configuration.trajectory(record)
         except (OutsideRunError, UserInputError) as error:
-            return self._render(
-                "episode.html",
-                4,
-                title=record.scenario_id,
-                record=record,
-                episode=None,
-                problem=str(error),
-                configuration=configuration,
-                others=[],
-                neighbours=(None, None),
-            )
-        episode = None
-        if data is not None:
+            return self._render("episode.html", 4, **page, episode=None, problem=str(error))
+        if data is None:
+            problem = record.failure.message if record.failure is not None else "no trajectory was stored"
+            return self._render("episode.html", 4, **page, episode=None, problem=problem)
+        try:
             scenario = library_scenario(record.scenario_id, record.scenario_hash)
             matched = None
             if scenario is not None:
                 matched = {**matched_entries(scenario, episode_log(data)), **state_entries(scenario, data)}
             episode = build_episode(data, list(record.proposals), matched)
-        keys = list(configuration.records)
-        position = keys.index(record.key)
-        neighbours = tuple(
-            configuration.records[keys[i]] if 0 <= i < len(keys) else None
-            for i in (position - 1, position + 1)
-        )
-        others = [c for c in self.catalog.configurations if c is not configuration]
-        problem = None
-        if data is None:
-            problem = record.failure.message if record.failure is not None else "no trajectory was stored"
-        return self._render(
-            "episode.html",
-            4,
-            title=f"{record.scenario_id} run {record.run}",
-            configuration=configuration,
-            record=record,
-            episode=episode,
-            problem=problem,
-            others=others,
-            neighbours=neighbours,
-        )
+            return self._render("episode.html", 4, **page, episode=episode, problem=None)
+        except Exception as error:  # any part of a damaged file may be missing or of the wrong type
+            problem = f"{record.trajectory}: damaged, cannot be shown: {_describe(error)}"
+            return self._render("episode.html", 4, **page, episode=None, problem=problem)
 
     def compare_page(self) -> str:
         """Two configurations' runs of one episode side by side (chosen in the page)."""
@@ -190,6 +188,12 @@ class Site:
         return self._render(
             "compare.html", 0, title="Compare", configurations=json.dumps(listing, ensure_ascii=True)
         )
+
+
+def _describe(error: Exception) -> str:
+    """What went wrong reading a damaged trajectory, in one short line."""
+    text = short(str(error), 200)
+    return f"{type(error).__name__} {text}" if text else type(error).__name__
 
 
 def format_estimate(value: Estimate, percent: bool = True) -> str:

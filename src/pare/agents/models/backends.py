@@ -129,8 +129,15 @@ class OpenAIBackend:
         body: dict[str, Any] = {"model": self.config.model, "messages": messages, **body_params(sent)}
         if tools:
             body["tools"] = tools
+        # ``extra_headers`` (the SDK's name, as in litellm) are HTTP headers, never a body field.
+        headers = body.pop("extra_headers", None)
+        options: Any = (
+            {"headers": {str(k): str(v) for k, v in headers.items()}} if isinstance(headers, dict) else {}
+        )
         try:
-            response = await client.post("/chat/completions", body=body, cast_to=ChatCompletion)
+            response = await client.post(
+                "/chat/completions", body=body, cast_to=ChatCompletion, options=options
+            )
         except UNDECODABLE_BODY as error:
             raise MalformedResponse(f"the provider's response body is not valid JSON ({error})") from error
         return parse_response(response, self.config.model)

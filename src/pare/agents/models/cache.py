@@ -7,12 +7,19 @@ asyncio tasks and several processes may share one file: it is in WAL mode with a
 operation is one short autocommit transaction, and writes are ``INSERT OR IGNORE`` (the first answer
 stored for a key is the one kept). Each thread of each process keeps one open connection (opening one
 per call cost more than the lookup itself).
+
+A file that is not a cache, or is damaged, is a :class:`~pare.errors.UserInputError` that names it and
+says what is wrong, as is a write the disk refuses (full): the run stops cleanly and resumes once it is
+fixed. One stored answer that cannot be read is a miss (it is asked again and stored anew) or, when
+replaying, a :class:`~pare.errors.CacheMiss` that names its key. Closing the cache folds the write-ahead
+log into the file, so ``model_calls.sqlite`` alone holds every answer.
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
+import logging
 import os
 import sqlite3
 import threading
@@ -23,10 +30,14 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any, Literal
 
+from pydantic import ValidationError
+
 from pare.agents.models.config import ModelConfig
 from pare.agents.models.secrets import redact_secrets
 from pare.agents.models.types import ChatMessage, Completion
-from pare.errors import UserInputError, did_you_mean
+from pare.errors import CacheMiss, UserInputError, did_you_mean
+
+logger = logging.getLogger("pare.models")
 
 CacheMode = Literal["off", "read_write", "replay"]
 """``off``: always call. ``read_write``: replay what is stored, call and store the rest. ``replay``: replay
@@ -47,6 +58,9 @@ CREATE TABLE IF NOT EXISTS completions (
     completion TEXT NOT NULL
 )
 """
+_COLUMNS = frozenset({"key", "backend", "model", "role", "created_at", "request", "completion"})
+_BUSY = ("locked", "busy")
+"""Words of sqlite's messages for a file another connection holds for the moment: waited for, not fatal."""
 
 
 def canonical_json(value: Any) -> str:
@@ -138,12 +152,39 @@ class ModelCallCache:
         yield connection
 
     def close(self) -> None:
-        """Close every connection this cache opened (it reopens on the next use)."""
+        """Fold the write-ahead log into the file and close every connection this cache opened (it
+        reopens on the next use): after a clean exit, copying ``model_calls.sqlite`` alone copies it all.
+        """
         with self._opened_lock:
             opened, self._opened = self._opened, []
+        if opened and self.writes:
+            try:  # a process still writing keeps its part in the log; its own close folds it in
+                opened[0].execute("PRAGMA wal_checkpoint(TRUNCATE)")
+            except sqlite3.DatabaseError as error:
+                logger.warning(
+                    "the model-call cache %s: could not fold its log into the file: %s", self.path, error
+                )
         for connection in opened:  # each was used by one thread only; closing from here is safe
             connection.close()
         self._local = threading.local()
+
+    def _failure(self, error: sqlite3.DatabaseError, doing: str) -> UserInputError:
+        """The clear error for a database failure: the disk refused a write, or the file is damaged."""
+        text = str(error)
+        if isinstance(error, sqlite3.OperationalError) and any(word in text for word in _BUSY):
+            return UserInputError(
+                f"the model-call cache {self.path}: cannot {doing}: another process held it for more than "
+                f"{self.busy_timeout_s:g} s ({text})"
+            )
+        if "full" in text or (isinstance(error, sqlite3.OperationalError) and "disk" in text):
+            return UserInputError(
+                f"the model-call cache {self.path}: cannot {doing}: {text}. Free space (or move the cache) "
+                "and run the same command again to resume."
+            )
+        return UserInputError(
+            f"the model-call cache {self.path} is damaged or not a PARE cache ({text}); "
+            "move it aside to record a new one, or restore a sound copy"
+        )
 
     def _initialise(self) -> None:
         if self.mode == "replay" and not self.path.exists():
@@ -159,28 +200,71 @@ class ModelCallCache:
                     # WAL is a property of the file: once set by any process it stays set.
                     mode = connection.execute("PRAGMA journal_mode = WAL").fetchone()[0]
                     connection.execute(_SCHEMA)
+                    columns = {str(row[1]) for row in connection.execute("PRAGMA table_info(completions)")}
+                if not columns >= _COLUMNS:
+                    raise UserInputError(
+                        f"the model-call cache {self.path} is not a PARE cache: its table 'completions' "
+                        f"lacks {', '.join(sorted(_COLUMNS - columns))}; move it aside to record a new one"
+                    )
                 if str(mode).lower() == "wal" or time.monotonic() > deadline:
                     return
-            except sqlite3.OperationalError:
-                if time.monotonic() > deadline:
-                    raise
+            except sqlite3.DatabaseError as error:
+                busy = isinstance(error, sqlite3.OperationalError) and any(w in str(error) for w in _BUSY)
+                if not busy or time.monotonic() > deadline:
+                    self.close()
+                    raise self._failure(error, "open it") from None
             time.sleep(0.01)
 
     def get(self, key: str) -> Completion | None:
         """Return the stored completion for ``key`` (marked ``from_cache``), or ``None``."""
         if not self.reads:
             return None
-        with self._connect() as connection:
-            row = connection.execute("SELECT completion FROM completions WHERE key = ?", (key,)).fetchone()
+        try:
+            with self._connect() as connection:
+                row = connection.execute(
+                    "SELECT completion FROM completions WHERE key = ?", (key,)
+                ).fetchone()
+        except sqlite3.DatabaseError as error:
+            raise self._failure(error, "read it") from None
         if row is None:
             return None
-        return Completion.model_validate_json(row[0]).model_copy(update={"from_cache": True})
+        try:
+            return Completion.model_validate_json(row[0]).model_copy(update={"from_cache": True})
+        except (ValidationError, TypeError, ValueError) as error:
+            self._forget_damaged(key, error)
+            return None
+
+    def _forget_damaged(self, key: str, error: Exception) -> None:
+        """A stored answer that cannot be read: an error when replaying, else forgotten (asked again)."""
+        reason = " ".join(str(error).split())[:200]
+        if self.mode == "replay":
+            raise CacheMiss(
+                f"the model-call cache {self.path}: the answer stored under key {key} is damaged ({reason}); "
+                "a replay cannot ask the model again: record the run again with cache mode read_write"
+            )
+        logger.warning(
+            "the model-call cache %s: the answer stored under key %s is damaged (%s); asking the model again",
+            self.path,
+            key,
+            reason,
+        )
+        try:
+            with self._connect() as connection:
+                connection.execute("DELETE FROM completions WHERE key = ?", (key,))
+        except sqlite3.DatabaseError as failure:
+            raise self._failure(failure, "replace a damaged answer") from None
 
     def put(self, key: str, completion: Completion, *, request: dict[str, Any], role: str) -> bool:
         """Store ``completion`` under ``key`` unless an answer is already stored; return whether stored."""
         if not self.writes:
             return False
         stored = completion.model_copy(update={"from_cache": False}).model_dump_json()
+        try:
+            return self._insert(key, stored, request, role)
+        except sqlite3.DatabaseError as error:
+            raise self._failure(error, "store an answer") from None
+
+    def _insert(self, key: str, stored: str, request: dict[str, Any], role: str) -> bool:
         with self._connect() as connection:
             cursor = connection.execute(
                 "INSERT OR IGNORE INTO completions "

@@ -38,6 +38,7 @@ from pare.agents.models.pricing import call_cost
 from pare.agents.models.refusals import refused_parameter
 from pare.agents.models.request_params import RequestParams
 from pare.agents.models.secrets import scrub, secret_values
+from pare.agents.models.text import cap_answer
 from pare.agents.models.types import ChatMessage, Completion
 from pare.errors import CacheMiss, ModelRequestError, ProviderUnavailable
 
@@ -250,6 +251,7 @@ class ModelClient:
             key = cache_key(record)
             hit = await asyncio.to_thread(cache.get, key)
             if hit is not None:
+                hit = cap_answer(hit, self.config.max_answer_chars)  # recorded before the cap was set
                 for book in ledgers:
                     book.record(self.role, hit)
                 return hit
@@ -260,7 +262,9 @@ class ModelClient:
                     "(same prompts, model and sampling settings); record it with cache mode read_write."
                 )
         try:
-            completion = await self._call(messages, sent_tools)
+            # Capped before it is stored or sent on: a runaway answer must not fill the cache and every
+            # later request of the conversation.
+            completion = cap_answer(await self._call(messages, sent_tools), self.config.max_answer_chars)
         except (ModelRequestError, ProviderUnavailable):
             for book in ledgers:
                 book.record_failure(self.role)

@@ -15,6 +15,7 @@ from pydantic import (
     model_validator,
 )
 
+from pare.agents.models.secrets import redact_secrets
 from pare.errors import UserInputError
 
 Backend = Literal["openai", "litellm"]
@@ -27,6 +28,10 @@ ROLES: tuple[str, ...] = ("user", "observe", "execute", "judge", "generator")
 DEFAULT_API_KEY_ENV: dict[str, str | None] = {"openai": "OPENAI_API_KEY", "litellm": None}
 """The variable read for the key when a configuration does not name one. litellm with ``None`` finds the
 provider's usual variable itself (``ANTHROPIC_API_KEY``, ``GEMINI_API_KEY``, ...)."""
+
+DEFAULT_MAX_ANSWER_CHARS = 65_536
+"""The longest answer kept by default: far above any action or scenario section (a few KB), far below what
+a runaway model writes (an answer of 1 MB made one episode write 1.3 GB: every later request repeats it)."""
 
 RESERVED_REQUEST_KEYS = frozenset(
     {
@@ -144,6 +149,14 @@ class ModelConfig(BaseModel):
     native_tools: bool = Field(
         default=False, description="Send tool schemas through the provider's function-calling API."
     )
+    max_answer_chars: int = Field(
+        default=DEFAULT_MAX_ANSWER_CHARS,
+        ge=1,
+        le=100_000_000,
+        description="Longest answer kept, in characters (text plus tool-call arguments; reasoning apart): "
+        "a longer one is cut to this length in the records and the cache, and is a format error for the "
+        "model.",
+    )
 
     @model_validator(mode="before")
     @classmethod
@@ -230,8 +243,10 @@ class ModelConfig(BaseModel):
         return params
 
     def public_dict(self) -> dict[str, Any]:
-        """Return the settings as JSON for provenance: no secret, credentials stripped from the URL."""
-        data = self.model_dump(mode="json")
+        """Return the settings as JSON for provenance: no secret (secret-looking ``extra`` entries and every
+        header value masked), credentials stripped from the URL.
+        """
+        data: dict[str, Any] = redact_secrets(self.model_dump(mode="json"))
         if self.api_base:
             data["api_base"] = redact_url(self.api_base)
         return data

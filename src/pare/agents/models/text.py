@@ -9,7 +9,10 @@ so whatever the model wrote is still judged as its behaviour.
 from __future__ import annotations
 
 import re
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from pare.agents.models.types import Completion
 
 _LONE_SURROGATE = re.compile("[\ud800-\udfff]")
 REPLACEMENT = "\ufffd"
@@ -38,3 +41,15 @@ def valid_json_value(value: Any) -> Any:
     if isinstance(value, list):
         return [valid_json_value(item) for item in value]
     return value
+
+
+def cap_answer(completion: Completion, limit: int) -> Completion:
+    """``completion`` within ``limit`` characters of answer (text plus tool-call arguments): a longer one
+    has its text cut to ``limit``, its tool calls dropped and its length kept in ``cut_from``.
+    """
+    length = len(completion.text) + sum(len(call.arguments) for call in completion.tool_calls)
+    if length <= limit or completion.cut_from is not None:
+        return completion
+    return completion.model_copy(
+        update={"text": completion.text[:limit], "tool_calls": (), "cut_from": length}
+    )

@@ -115,6 +115,13 @@ class Completion(BaseModel):
         "its tokens count in ``usage.completion_tokens``.",
     )
     from_cache: bool = Field(default=False, description="Replayed from the record/replay cache, not called.")
+    cut_from: int | None = Field(
+        default=None,
+        ge=0,
+        description="The answer's length in characters (text and tool-call arguments) when it was longer "
+        "than its role's ``max_answer_chars``: the text is then cut to that many and the tool calls "
+        "dropped, and the actor treats the answer as a format error.",
+    )
 
     def message(self) -> ChatMessage:
         """Return the assistant message to append to the conversation.

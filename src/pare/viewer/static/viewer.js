@@ -3,6 +3,9 @@
 (function () {
   const script = document.currentScript;
   const ROOT = script ? script.getAttribute("src").replace(/static\/viewer\.js$/, "") : "";
+  // Served, the data is given only with the server's key, which only the viewer's own pages carry.
+  const KEYED = document.querySelector('meta[name="pare-data-query"]');
+  const DATA_QUERY = KEYED ? KEYED.getAttribute("content") : "";
   const PAGE = 50;
   const LISTS = { app: "apps", tag: "tags", decision: "decisions", failures: "failures" };
 
@@ -28,7 +31,7 @@
     const all = window.PARE_ROWS || {};
     if (all[cid]) return done(all[cid]);
     const tag = document.createElement("script");
-    tag.src = ROOT + "c/" + encodeURIComponent(cid) + "/rows.js";
+    tag.src = ROOT + "c/" + encodeURIComponent(cid) + "/rows.js" + DATA_QUERY;
     tag.onload = () => done((window.PARE_ROWS || {})[cid] || []);
     tag.onerror = () => done([]);
     document.head.appendChild(tag);
