@@ -165,6 +165,19 @@ class SlowUser(OracleUser):
         return action
 
 
+class BusyUser(OracleUser):
+    """The oracle user who never waits: whenever the oracle user would wait (between its scripted steps
+    and after the last one), it does something harmless on the phone instead (looks at the clock).
+    """
+
+    name = "busy_user"
+
+    async def step(self, view: UserView, previous: ToolResult | None) -> Action:
+        """The oracle user's action, with every wait replaced by a look at the clock."""
+        action = await super().step(view, previous)
+        return Action(HARMLESS_STEP) if action.tool == WAIT else action
+
+
 def _transient_failure(result: ToolResult | None) -> bool:
     """Whether ``result`` is an injected tool failure: the same call may well succeed next time."""
     return result is not None and result.entry is not None and result.entry.injected_failure
