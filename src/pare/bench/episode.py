@@ -371,9 +371,9 @@ class _Episode:
             user_waited = await self._user_turn(turn)
             self._expire_stale(turn)
             assistant_waited = await self._assistant_turn(turn)
-            if user_waited and assistant_waited and env.agent_ui.pending is None:
-                if env.next_event_time() is None or self._settled():
-                    return "idle"
+            everyone_waited = user_waited and assistant_waited and env.agent_ui.pending is None
+            if everyone_waited and (env.next_event_time() is None or self._settled()):
+                return "idle"
             active_until, resume_at = self._next_time(turn, user_waited, assistant_waited)
         return "max_turns"
 
@@ -391,12 +391,11 @@ class _Episode:
         now = env.clock.now
         active = now + self.settings.turn_duration
         upcoming = env.next_event_time()
-        idle_world = assistant_waited and env.agent_ui.pending is None and upcoming is not None
-        if idle_world and user_waited:
-            assert upcoming is not None
+        if upcoming is None or not assistant_waited or env.agent_ui.pending is not None:
+            return active, active
+        if user_waited:
             return now, max(upcoming, now)
-        if idle_world and turn - self.last_arrival + 1 > self.settings.attention_turns:
-            assert upcoming is not None
+        if turn - self.last_arrival + 1 > self.settings.attention_turns:
             return active, max(upcoming, active)
         return active, active
 
