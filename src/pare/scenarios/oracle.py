@@ -8,7 +8,9 @@ play a :class:`~pare.scenarios.model.Solution`: the oracle's by default, or a de
 
 The slow user is the oracle user taking one harmless extra step (looking at the clock) before each
 scripted step and before answering a proposal, as real users do: the gate demands the oracle still
-succeeds with it, so every scenario leaves turns to spare.
+succeeds with it, so every scenario leaves turns to spare. The busy user never waits: whenever the oracle
+user would, it looks at the clock instead, as a user model that keeps using the phone does; the gate
+demands the oracle still succeeds with it too, so no scenario's timeline depends on the user idling.
 """
 
 from __future__ import annotations
