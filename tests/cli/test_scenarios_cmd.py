@@ -30,6 +30,7 @@ def test_check_passes_a_sound_scenario(
     assert main(["scenarios", "check", str(tmp_path)]) == 0
     out = capsys.readouterr().out
     assert "tiny_reply" in out and "all 1 scenarios pass the gate" in out
+    assert "busy user" in out
     assert main(["scenarios", "check", "-v", str(tmp_path)]) == 0
     out = capsys.readouterr().out
     assert "variant:declines" in out and "Saying Thursday does not work is not a yes." in out
@@ -278,3 +279,6 @@ def test_check_lists_the_events_each_run_set_off_and_the_branch_each_reaction_to
     otherwise = '09:12 ann_confirms (otherwise: "Which day?", after #8 assistant email.reply_to_email)'
     assert f"  [variant:declines] events: 09:05 ann_asks; {otherwise}" in lines
     assert "  [nothing] events: 09:05 ann_asks" in lines
+    # the busy user never waits: the clock still reaches Ann's email and her answer
+    assert any(line.startswith("  [busy_user] events: 09:05 ann_asks; ") for line in lines)
+    assert any(line.startswith("│ busy_user ") and "pass" in line for line in lines)

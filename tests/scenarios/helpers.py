@@ -216,3 +216,44 @@ def fair() -> dict[str, Any]:
         },
     ]
     return data
+
+
+THANKS = {
+    "email_id": "e_thanks",
+    "sender": "ann@x.example",
+    "subject": "Re: Thursday?",
+    "content": "Thanks, see you Thursday!",
+}
+
+
+def replying(delay: str = "20m") -> dict[str, Any]:
+    """The base scenario where Ann thanks the user ``delay`` after the reply, a note from her follows 5
+    minutes after that, and the goal needs her thanks; a newsletter is due hours later.
+    """
+    data = base()
+    data["events"] += [
+        {
+            "id": "ann_thanks",
+            "when": {"tool": "email__reply_to_email", "args": {"email_id": "e_ann"}},
+            "delay": delay,
+            "tool": "email__receive_email",
+            "args": THANKS,
+        },
+        {
+            "id": "ann_ps",
+            "after": "ann_thanks",
+            "delay": "5m",
+            "tool": "email__receive_email",
+            "args": {**THANKS, "email_id": "e_ps", "content": "PS: bring the slides."},
+        },
+        {
+            "id": "newsletter",
+            "at": "+6h",
+            "tool": "email__receive_email",
+            "args": {**THANKS, "email_id": "e_news", "sender": "news@x.example", "content": "News."},
+        },
+    ]
+    data["goals"][0]["checks"].append(
+        {"action": {"actor": "env", "tool": "email__receive_email", "args": {"email_id": "e_thanks"}}}
+    )
+    return data

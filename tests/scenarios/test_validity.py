@@ -22,6 +22,7 @@ def test_a_fair_scenario_passes_every_run_of_the_gate() -> None:
     assert list(runs) == [
         "oracle",
         "slow_user",
+        "busy_user",
         "nothing",
         "user_alone",
         "by_hand",
@@ -272,9 +273,10 @@ def test_a_no_proposal_scenario_turns_the_gate_round() -> None:
     assert [run.run for run in verdict.runs] == [
         "oracle",
         "slow_user",
+        "busy_user",
         "unrelated",
         "variant:user_reads_more",
         "variant:eager_reply",
         "variant:eager_event",
     ]
-    assert [run.expected_success for run in verdict.runs] == [True, True, False, True, False, False]
+    assert [run.expected_success for run in verdict.runs] == [True, True, True, False, True, False, False]

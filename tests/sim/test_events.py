@@ -146,3 +146,23 @@ def test_app_wakeups_fire_at_their_time_through_the_logged_door() -> None:
     ]
     assert env.next_event_time() is None
     assert len(env.user_view().notifications) == 2
+
+
+def test_delivering_reactions_fires_what_the_log_set_off_and_nothing_else() -> None:
+    env = make_env([NotebookApp()])
+    ping = WhenLogged(lambda entry: entry.tool == "add_item" and entry.args.get("text") == "ping")
+    env.schedule(ScheduledEvent("story", AtTime(START + timedelta(minutes=5)), arrive("story")))
+    env.schedule(ScheduledEvent("pong", WhenLogged(ping.condition, timedelta(minutes=20)), arrive("pong")))
+    env.schedule(ScheduledEvent("after-pong", AfterEvent("pong", timedelta(minutes=1)), arrive("pong2")))
+    env.schedule(ScheduledEvent("far", WhenLogged(ping.condition, timedelta(days=2)), arrive("far")))
+    env.schedule(ScheduledEvent("unset", WhenLogged(lambda entry: False), arrive("never")))
+    ok(env.call("assistant", "notebook__add_item", {"text": "ping"}, mode="execute"))
+    assert env.scheduler.scheduled_reactions() == ["pong", "far"]
+    assert not env.scheduler.is_reaction("story") and not env.scheduler.is_reaction("unset")
+
+    delivered = env.deliver_reactions(START + timedelta(hours=1))
+    assert delivered == ["pong", "after-pong"]  # in time order, a reaction's dependent too
+    assert fired(env) == [("pong", "09:20"), ("after-pong", "09:21")]  # not the story event due at 09:05
+    assert env.clock.now == START + timedelta(minutes=21)
+    assert env.scheduler.scheduled_reactions() == ["far"]  # beyond the bound: still due
+    assert env.scheduler.next_time() == START + timedelta(minutes=5)  # the story event stays scheduled

@@ -223,3 +223,20 @@ def test_trajectory_size_and_shape_are_checked(runs: Runs, tmp_path: Path) -> No
             configuration.trajectory(record)
     finally:
         file.write_bytes(original)
+
+
+def test_the_replies_after_the_last_turn_are_a_phase_of_their_own() -> None:
+    from pare.bench import EpisodeSettings, run_episode
+    from pare.scenarios import OracleAssistant, OracleUser
+    from tests.scenarios.helpers import parse, replying
+
+    scenario = parse(replying())
+    data = run_episode(
+        scenario, OracleUser(scenario), OracleAssistant(scenario), EpisodeSettings(max_turns=4)
+    ).to_dict()
+    episode = build_episode(json.loads(json.dumps(data)), [])
+    *played, after = episode.turns
+    assert [turn.number for turn in played] == [1, 2, 3, 4] and not any(turn.after_last for turn in played)
+    assert after.after_last and after.number == 5
+    assert [entry["event_id"] for entry in after.world] == ["ann_thanks", "ann_ps"]
+    assert after.user == [] and after.assistant == []

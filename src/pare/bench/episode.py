@@ -4,18 +4,24 @@ Each turn: events due by now are delivered, the user acts (``user_steps`` action
 acts: in observe mode up to ``observe_steps`` actions, ending at ``wait`` or a proposal; while a proposal
 waits for an answer it holds back (the proposal expires after ``proposal_ttl_turns`` turns); once the user
 accepts, execute mode runs up to ``execute_steps`` actions, ending with a report. Then simulated time
-moves on: by ``turn_duration``, or straight to the next scheduled event when everyone waited (no noise
-arrives across such a jump: distractors come while someone is active). The episode
-ends after ``max_turns`` turns, or earlier when nothing can happen any more (no event to come, no proposal
-pending, both actors waiting), or, for a scenario marked ``end_when_met``, when both actors wait with every
-goal met.
+moves on (:meth:`_Episode._next_time`): by ``turn_duration``, or straight to the next scheduled event when
+the assistant has nothing in hand (it waited, no proposal pending) and the user either waited too or has
+kept using the phone for ``attention_turns`` turns since anything last arrived: the world's timeline does
+not wait on how much a user idles. No noise arrives across a jump (distractors come while someone is
+active). The episode ends after ``max_turns`` turns, or earlier when nothing can happen any more (no event
+to come, no proposal pending, both actors waiting), or, for a scenario marked ``end_when_met``, when both
+actors wait with every goal met.
+
+After the last turn the world's replies already set in motion (a reply due 20 minutes after the
+assistant's email) are delivered, up to ``reaction_horizon`` after the end, with no actor acting any more
+(:class:`AfterLastTurn`); then the final state is taken and the checks run.
 """
 
 from __future__ import annotations
 
 import asyncio
 from dataclasses import dataclass, field
-from datetime import timedelta
+from datetime import datetime, timedelta
 from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
@@ -36,7 +42,8 @@ from pare.errors import ModelRequestError
 from pare.scenarios.build import build_environment
 from pare.scenarios.checks import Judge, Outcome, evaluate, goals_met
 from pare.scenarios.model import Scenario
-from pare.sim.log import AssistantMode
+from pare.sim.log import AssistantMode, LogEntry
+from pare.sim.noise import NOISE_EVENT_PREFIX
 
 EndReason = Literal["max_turns", "idle", "context_limit"]
 """Why an episode ended: its turn limit, nothing left to happen, or a prompt beyond a model's context."""
@@ -48,6 +55,7 @@ MAX_TURNS = 1_000
 MAX_STEPS = 200
 """The most actions one actor may be given per turn, or to carry out a task."""
 MAX_TURN_DURATION = timedelta(days=1)
+MAX_REACTION_HORIZON = timedelta(days=30)
 
 
 class EpisodeSettings(BaseModel):
@@ -76,6 +84,21 @@ class EpisodeSettings(BaseModel):
         gt=timedelta(0),
         le=MAX_TURN_DURATION,
         description="Simulated time one turn takes when someone acted.",
+    )
+    attention_turns: int = Field(
+        default=3,
+        ge=1,
+        le=MAX_TURNS,
+        description="Turns the world's timeline waits, after anything arrived (or the start), for a user "
+        "who keeps using the phone while the assistant has nothing in hand; then it moves on to its next "
+        "event whatever the user does.",
+    )
+    reaction_horizon: timedelta = Field(
+        default=timedelta(days=1),
+        ge=timedelta(0),
+        le=MAX_REACTION_HORIZON,
+        description="After the last turn, reactions already set in motion are delivered if due within "
+        "this much simulated time of its end.",
     )
     env: EnvConfig = Field(
         default_factory=EnvConfig, description="Seed, tool failures, noise, notifications."
@@ -139,6 +162,34 @@ def view_record(view: UserView) -> dict[str, Any]:
     }
 
 
+@dataclass(frozen=True, slots=True)
+class AfterLastTurn:
+    """What the world delivered after the last turn: the replies already set in motion (events whose
+    log condition held, and events waiting on those), fired in time order within the reaction horizon.
+    Their log entries carry the turn number ``turn`` (one past the last turn played).
+    """
+
+    turn: int
+    start: datetime
+    """The clock when the last turn ended."""
+    until: datetime
+    """The horizon: reactions due later are not delivered."""
+    delivered: tuple[str, ...]
+    """The event ids delivered, in the order they fired."""
+    beyond: tuple[str, ...]
+    """Reactions set in motion but due after the horizon: never delivered."""
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready form."""
+        return {
+            "turn": self.turn,
+            "from": self.start.isoformat(),
+            "until": self.until.isoformat(),
+            "delivered": list(self.delivered),
+            "beyond": list(self.beyond),
+        }
+
+
 @dataclass
 class EpisodeResult:
     """Everything an episode produced: its steps, the action log, the final state and the verdict."""
@@ -156,6 +207,8 @@ class EpisodeResult:
     """The turn in which each expired proposal expired (after the user's step of that turn)."""
     state_diff: list[dict[str, Any]] = field(default_factory=list)
     """The apps' data from start to end as JSON Patch operations."""
+    after_last_turn: AfterLastTurn | None = None
+    """The replies delivered after the last turn; ``None`` when none was set in motion."""
 
     @property
     def success(self) -> bool:
@@ -163,8 +216,10 @@ class EpisodeResult:
         return self.outcome.success
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready form: settings-independent facts, the steps, the log and the verdict."""
-        return {
+        """JSON-ready form: settings-independent facts, the steps, the log and the verdict
+        (``after_last_turn`` only when replies were set in motion by then).
+        """
+        data: dict[str, Any] = {
             "scenario_id": self.scenario_id,
             "user": self.user,
             "assistant": self.assistant,
@@ -177,6 +232,9 @@ class EpisodeResult:
             "outcome": self.outcome.to_dict(),
             "state_diff": self.state_diff,
         }
+        if self.after_last_turn is not None:
+            data["after_last_turn"] = self.after_last_turn.to_dict()
+        return data
 
 
 async def arun_episode(
@@ -214,6 +272,13 @@ def run_episode(
     return played[0]
 
 
+def _from_the_story(entry: LogEntry) -> bool:
+    """Whether ``entry`` is the world acting on the scenario's timeline: a scheduled event or an app's
+    wakeup (a reminder falling due), not a distractor.
+    """
+    return entry.actor == "env" and not (entry.event_id or "").startswith(NOISE_EVENT_PREFIX)
+
+
 class _Episode:
     def __init__(
         self, scenario: Scenario, user: UserPolicy, assistant: AssistantPolicy, settings: EpisodeSettings
@@ -231,6 +296,8 @@ class _Episode:
         self.expired: list[str] = []
         self.expired_at: dict[str, int] = {}
         self.turn = 0
+        self.last_arrival = 1
+        """The last turn in which something arrived from the world (the start counts as turn 1)."""
         self.user_previous: ToolResult | None = None
         self.assistant_previous: ToolResult | None = None
 
@@ -245,6 +312,8 @@ class _Episode:
             if error.kind != "context_length":
                 raise
             ended = "context_limit"  # the model cannot take the episode further: judge what it achieved
+        # The order matters: the world's pending replies first, then the final state, then the checks.
+        after = self._after_last_turn()
         final = env.snapshot(shared=True)  # read only: evaluated and diffed
         if judge is None:
             outcome = evaluate(self.scenario, env.log.entries, final, attribution=env.attribution)
@@ -269,31 +338,66 @@ class _Episode:
             expired_proposals=self.expired,
             expired_at=self.expired_at,
             state_diff=state_changes(self.start_state, final),
+            after_last_turn=after,
         )
+
+    def _after_last_turn(self) -> AfterLastTurn | None:
+        """Deliver the replies already set in motion and due within the horizon, as a phase of its own
+        (its log entries are numbered one turn past the last); ``None`` when nothing was set in motion.
+        """
+        env = self.env
+        if not env.scheduler.scheduled_reactions():
+            return None
+        start = env.clock.now
+        until = start + self.settings.reaction_horizon
+        turn = env.begin_turn()
+        delivered = env.deliver_reactions(until)
+        return AfterLastTurn(turn, start, until, tuple(delivered), tuple(env.scheduler.scheduled_reactions()))
 
     async def _turns(self) -> EndReason:
         """Play turns until the limit or until nothing can happen any more."""
         env = self.env
-        resume_at = env.clock.now
-        jumped = False
+        active_until = resume_at = env.clock.now
         for turn in range(1, self.settings.max_turns + 1):
             self.turn = turn
             env.begin_turn()
-            # time passes at the start of the turn, so what it brings is logged under the turn that sees it
-            env.advance_to(resume_at, quiet=jumped)
+            before = len(env.log)
+            # time passes at the start of the turn, so what it brings is logged under the turn that sees it;
+            # noise arrives only while someone was active, the rest of a jump is quiet
+            env.advance_to(active_until)
+            env.advance_to(resume_at, quiet=True)
+            if any(_from_the_story(entry) for entry in env.log.since(before)):
+                self.last_arrival = turn
             user_waited = await self._user_turn(turn)
             self._expire_stale(turn)
             assistant_waited = await self._assistant_turn(turn)
-            if user_waited and assistant_waited and env.agent_ui.pending is None:
-                upcoming = env.next_event_time()
-                if upcoming is None or self._settled():
-                    return "idle"
-                resume_at = max(upcoming, env.clock.now)
-                jumped = True
-            else:
-                resume_at = env.clock.now + self.settings.turn_duration
-                jumped = False
+            everyone_waited = user_waited and assistant_waited and env.agent_ui.pending is None
+            if everyone_waited and (env.next_event_time() is None or self._settled()):
+                return "idle"
+            active_until, resume_at = self._next_time(turn, user_waited, assistant_waited)
         return "max_turns"
+
+    def _next_time(self, turn: int, user_waited: bool, assistant_waited: bool) -> tuple[datetime, datetime]:
+        """Where the clock goes before the next turn: (until when distractors may arrive, when it starts).
+
+        Someone acted: ``turn_duration`` later. The assistant has nothing in hand (it waited, no proposal
+        pending) and the user waited too: straight to the next scheduled event, quietly. The assistant has
+        nothing in hand and the user kept using the phone for ``attention_turns`` turns since anything
+        last arrived: the user's turn takes its ``turn_duration``, then the clock goes on to the next
+        scheduled event; so a user who never waits still sees the scenario's whole timeline, and one who
+        is reading what just arrived is not hurried past it.
+        """
+        env = self.env
+        now = env.clock.now
+        active = now + self.settings.turn_duration
+        upcoming = env.next_event_time()
+        if upcoming is None or not assistant_waited or env.agent_ui.pending is not None:
+            return active, active
+        if user_waited:
+            return now, max(upcoming, now)
+        if turn - self.last_arrival + 1 > self.settings.attention_turns:
+            return active, max(upcoming, active)
+        return active, active
 
     def _settled(self) -> bool:
         """For a scenario that ends when met: every goal is met now, so what is still to come cannot

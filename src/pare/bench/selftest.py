@@ -8,6 +8,10 @@ Deterministic runs per scenario, through the same turn loop as a real run:
   branch (the correction for a wrong question);
 * ``slow_user`` — the same with a user that takes a harmless extra step before each of its steps and
   before answering: must still succeed within the turn limit (the scenario leaves slack);
+* ``busy_user`` — the same with a user that never waits: between and after its steps it keeps doing
+  something harmless on the phone. Must still succeed, with every reactive event the oracle sets off
+  delivered: the scenario's timeline reaches its end whatever the user does (the clock does not wait
+  on an idle user; replies due after the last turn arrive before the checks);
 * ``nothing`` — a silent user and a silent assistant: must fail;
 * ``user_alone`` — the oracle user's own steps with a silent assistant: must fail;
 * ``by_hand`` — the user doing the task through the screens (``oracle.by_hand``) with a silent
@@ -36,7 +40,7 @@ from pare.bench.reactions import WorldEvent, corrected_solution, unused_excuses,
 from pare.errors import UserInputError
 from pare.scenarios.matchers import OPERATORS, TEXT_OPERATORS, compile_matcher
 from pare.scenarios.model import Scenario, Solution
-from pare.scenarios.oracle import OracleAssistant, OracleUser, SlowUser, UnrelatedAssistant
+from pare.scenarios.oracle import BusyUser, OracleAssistant, OracleUser, SlowUser, UnrelatedAssistant
 from pare.scenarios.stats import FREE_TEXT_FIELDS
 
 PolicyPair = Callable[[Scenario], tuple[UserPolicy, AssistantPolicy]]
@@ -44,6 +48,7 @@ PolicyPair = Callable[[Scenario], tuple[UserPolicy, AssistantPolicy]]
 RUNS: dict[str, tuple[PolicyPair, bool]] = {
     "oracle": (lambda s: (OracleUser(s), OracleAssistant(s)), True),
     "slow_user": (lambda s: (SlowUser(s), OracleAssistant(s)), True),
+    "busy_user": (lambda s: (BusyUser(s), OracleAssistant(s)), True),
     "nothing": (lambda s: (SilentUser(), SilentAssistant()), False),
     "user_alone": (lambda s: (OracleUser(s), SilentAssistant()), False),
     "by_hand": (lambda s: (OracleUser(s, s.by_hand()), SilentAssistant()), False),
@@ -51,15 +56,18 @@ RUNS: dict[str, tuple[PolicyPair, bool]] = {
 }
 """The fixed self-test runs: how to make their two policies, and whether the scenario must succeed."""
 
-NO_PROPOSAL_RUNS = ("oracle", "slow_user", "unrelated")
+NO_PROPOSAL_RUNS = ("oracle", "slow_user", "busy_user", "unrelated")
 """The runs of a scenario where the right move is not to propose: the watchful silent assistant (the
-oracle's, which has nothing to propose) must pass, also with a slow user, and an eager one must fail. Doing
-nothing, the user alone and the user by hand are the oracle itself there."""
+oracle's, which has nothing to propose) must pass, also with a slow or a busy user, and an eager one must
+fail. Doing nothing, the user alone and the user by hand are the oracle itself there."""
 
 MIN_PASSING_VARIANTS = 1
 MIN_FAILING_VARIANTS = 2
-_SOLUTION_RUNS = ("oracle", "slow_user")
+_SOLUTION_RUNS = ("oracle", "slow_user", "busy_user")
 """Runs that play a solution as written: every call they make must succeed."""
+_REACTION_RUNS = ("oracle", "busy_user")
+"""Runs in which every reactive event must fire: the oracle's (a trigger that cannot match is an
+authoring error) and the busy user's (the world's replies must not depend on the user idling)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -79,6 +87,8 @@ class RunVerdict:
     """The scenario's events that fired in the run, each reactive one with the branch it took."""
     warnings: tuple[str, ...] = ()
     """What does not fail the run but should be looked at (an ``otherwise_ok`` the run never needed)."""
+    after_last_turn: tuple[str, ...] = ()
+    """The events the world delivered after the run's last turn (replies set off by then)."""
 
     @property
     def ok(self) -> bool:
@@ -178,7 +188,10 @@ def _with_reactions(
         problems.extend(corrected_solution(scenario, verdict.run, events, excused))
     if excused:
         warnings.extend(unused_excuses(verdict.run, excused, events))
-    return replace(verdict, problems=tuple(problems), events=events, warnings=tuple(warnings))
+    late = result.after_last_turn.delivered if result.after_last_turn is not None else ()
+    return replace(
+        verdict, problems=tuple(problems), events=events, warnings=tuple(warnings), after_last_turn=late
+    )
 
 
 async def _kept(episode: Awaitable[EpisodeResult], into: list[EpisodeResult]) -> None:
@@ -252,8 +265,8 @@ def _problems(name: str, scenario: Scenario, result: EpisodeResult) -> list[str]
         problems = _solution_problems(
             result, proposing=bool(scenario.solution(_variant_id(name)).interventions)
         )
-        if name == "oracle":
-            problems.extend(_unfired_reactions(scenario, result))
+        if name in _REACTION_RUNS:
+            problems.extend(_unfired_reactions(scenario, name, result))
         return problems
     if name == "by_hand":
         return [
@@ -290,16 +303,24 @@ def _solution_problems(result: EpisodeResult, *, proposing: bool) -> list[str]:
     return problems
 
 
-def _unfired_reactions(scenario: Scenario, result: EpisodeResult) -> list[str]:
-    """Reactive events the oracle never set off: a trigger that cannot match is a silent authoring error."""
-    fired = result.env.scheduler.completed
-    return [
-        f"reactive event '{event.id}' never fired in the oracle run: its 'when' "
-        + ("or 'if_args' " if event.if_args else "")
-        + "matched none of the oracle's actions"
-        for event in scenario.events
-        if event.when is not None and event.id not in fired
-    ]
+def _unfired_reactions(scenario: Scenario, run: str, result: EpisodeResult) -> list[str]:
+    """Reactive events that never fired: in the oracle run a trigger that cannot match is a silent
+    authoring error; in the busy user's, a reply set off but never delivered.
+    """
+    scheduler = result.env.scheduler
+    problems = []
+    for event in scenario.events:
+        if event.when is None or event.id in scheduler.completed:
+            continue
+        if event.id in scheduler.set_off:
+            problems.append(f"reactive event '{event.id}' was set off in the {run} run but never delivered")
+        else:
+            problems.append(
+                f"reactive event '{event.id}' never fired in the {run} run: its 'when' "
+                + ("or 'if_args' " if event.if_args else "")
+                + "matched none of the oracle's actions"
+            )
+    return problems
 
 
 def _declaration_problems(scenario: Scenario) -> Iterator[str]:

@@ -165,7 +165,8 @@ def check(
         ),
     ] = 0,
 ) -> None:
-    """Self-test scenarios: the oracle must pass, also with a slow user; doing nothing, the user alone, the
+    """Self-test scenarios: the oracle must pass, also with a slow user and with a busy user who never waits
+    (every reply it sets off delivered, after the last turn if need be); doing nothing, the user alone, the
     user doing the task by hand and an unrelated proposal must fail; every variant must get its declared
     verdict, and neither the oracle nor a variant that passes may get a reactive event's otherwise reply
     (unless the variant's otherwise_ok says why). Exits 1 on any breach.
@@ -189,6 +190,7 @@ def check(
     table.add_column("scenario", overflow="fold")
     table.add_column("oracle\n(must pass;\nturns)", justify="center")
     table.add_column("slow user\n(must pass;\nturns)", justify="center")
+    table.add_column("busy user\n(must pass;\nturns)", justify="center")
     table.add_column(f"must fail\n({', '.join(_failing_runs())})", justify="center")
     table.add_column("variants\n(as declared)", justify="center")
     table.add_column("ms", justify="right")
@@ -206,6 +208,7 @@ def check(
                 scenario.id,
                 _cell(verdict.run("oracle")),
                 _cell(verdict.run("slow_user")),
+                _cell(verdict.run("busy_user")),
                 _mark(all(run.ok for run in failing), f"{sum(run.ok for run in failing)}/{len(failing)}"),
                 _mark(
                     all(run.ok for run in variants) and not verdict.problems,
@@ -278,6 +281,9 @@ def _print_details(
     for run in verdict.runs:
         happened = "; ".join(event.describe(scenario.start) for event in run.events) or "none"
         console.print(f"  [{run.run}] events: {happened}", markup=False, highlight=False)
+        if run.after_last_turn:
+            late = ", ".join(run.after_last_turn)
+            console.print(f"  [{run.run}] after the last turn: {late}", markup=False, highlight=False)
     for name, outcome in outcomes.items():
         for goal in outcome.goals:
             for item in goal.checks:

@@ -26,7 +26,7 @@ from pare.sim.clock import SimClock
 from pare.sim.events import EventAction, EventScheduler, ScheduledEvent
 from pare.sim.faults import ToolFailureInjector
 from pare.sim.log import ActionLog, Actor, AssistantMode, LogEntry, ToolKind
-from pare.sim.noise import NoiseStream
+from pare.sim.noise import NOISE_EVENT_PREFIX, NoiseStream
 from pare.sim.notifications import NotificationCenter
 from pare.sim.rng import UNUSED_STREAM, EpisodeRandom
 
@@ -666,6 +666,20 @@ class Environment:
                 self._fire(arrival.action, arrival.event_id)
         self.clock.advance_to(moment)
 
+    def deliver_reactions(self, until: datetime) -> list[str]:
+        """Fire, in time order, the reactions already set in motion (:meth:`EventScheduler.is_reaction`)
+        that are due by ``until``, moving the clock to each; a reaction they set off in turn is delivered
+        too. Nothing else happens on the way: no other scheduled event, app wakeup or noise (for after
+        the last turn, when no one is left to see what is new). Returns the event ids delivered.
+        """
+        delivered: list[str] = []
+        while (due := self.scheduler.pop_reaction(until)) is not None:
+            self.clock.advance_to(due.time)
+            self._fire(due.event.action, due.event.event_id)
+            self.scheduler.complete(due.event.event_id, self.clock.now)
+            delivered.append(due.event.event_id)
+        return delivered
+
     def _wake(self, app: App, due: datetime) -> None:
         tool = cast(str, app.wakeup_tool)
         self._fire(EventAction(app.name, tool, {}), f"{app.name}:{tool}")
@@ -681,7 +695,7 @@ class Environment:
             if entry.actor == "env"
             and not entry.ok
             and entry.event_id
-            and not entry.event_id.startswith("noise-")
+            and not entry.event_id.startswith(NOISE_EVENT_PREFIX)
         ]
 
     def deliver_due_events(self) -> None:

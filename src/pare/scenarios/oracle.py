@@ -8,7 +8,9 @@ play a :class:`~pare.scenarios.model.Solution`: the oracle's by default, or a de
 
 The slow user is the oracle user taking one harmless extra step (looking at the clock) before each
 scripted step and before answering a proposal, as real users do: the gate demands the oracle still
-succeeds with it, so every scenario leaves turns to spare.
+succeeds with it, so every scenario leaves turns to spare. The busy user never waits: whenever the oracle
+user would, it looks at the clock instead, as a user model that keeps using the phone does; the gate
+demands the oracle still succeeds with it too, so no scenario's timeline depends on the user idling.
 """
 
 from __future__ import annotations
@@ -163,6 +165,19 @@ class SlowUser(OracleUser):
             return Action(HARMLESS_STEP)
         self._dawdled = False
         return action
+
+
+class BusyUser(OracleUser):
+    """The oracle user who never waits: whenever the oracle user would wait (between its scripted steps
+    and after the last one), it does something harmless on the phone instead (looks at the clock).
+    """
+
+    name = "busy_user"
+
+    async def step(self, view: UserView, previous: ToolResult | None) -> Action:
+        """The oracle user's action, with every wait replaced by a look at the clock."""
+        action = await super().step(view, previous)
+        return Action(HARMLESS_STEP) if action.tool == WAIT else action
 
 
 def _transient_failure(result: ToolResult | None) -> bool:

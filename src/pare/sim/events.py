@@ -172,6 +172,36 @@ class EventScheduler:
             return DueEvent(time, self._events[event_id])
         return None
 
+    def is_reaction(self, event_id: str) -> bool:
+        """Whether ``event_id`` was set in motion by something logged: its log condition held, or it
+        waits on an event (at any remove) whose condition held.
+        """
+        current: str | None = event_id
+        while current is not None:
+            if current in self.set_off:
+                return True
+            trigger = self._events[current].trigger
+            current = trigger.event_id if isinstance(trigger, AfterEvent) else None
+        return False
+
+    def scheduled_reactions(self) -> list[str]:
+        """Reactions set in motion and not yet fired, in the order they are due."""
+        return [event_id for _, _, event_id in sorted(self._heap) if self.is_reaction(event_id)]
+
+    def pop_reaction(self, until: datetime) -> DueEvent | None:
+        """Remove and return the earliest reaction due at or before ``until``, passing over every other
+        event (those stay scheduled).
+        """
+        for item in sorted(self._heap):
+            time, _, event_id = item
+            if time > until:
+                return None
+            if self.is_reaction(event_id):
+                self._heap.remove(item)
+                heapq.heapify(self._heap)
+                return DueEvent(time, self._events[event_id])
+        return None
+
     def complete(self, event_id: str, at: datetime) -> None:
         """Record that ``event_id`` completed at ``at`` and schedule the events waiting for it."""
         self.completed[event_id] = at

@@ -25,6 +25,9 @@ from pydantic import BaseModel, ConfigDict, Field
 from pare.errors import SimulationBug
 from pare.sim.events import EventAction
 
+NOISE_EVENT_PREFIX = "noise-"
+"""How a distractor's event id begins (``noise-00003``): what tells the world's noise from its story."""
+
 NOISE_TOOLS: dict[str, str] = {"email": "receive_email", "messaging": "receive_message"}
 """For each app that can receive noise, the env method a noise item calls."""
 
@@ -130,7 +133,7 @@ class NoiseStream:
             raise SimulationBug("no noise is scheduled")
         app, template, args = self._draw()
         arrival = NoiseArrival(
-            event_id=f"noise-{self._count:05d}",
+            event_id=f"{NOISE_EVENT_PREFIX}{self._count:05d}",
             time=self._next,
             action=EventAction(app=app, tool=NOISE_TOOLS[app], args=args),
             kind=template.kind,

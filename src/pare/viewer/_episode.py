@@ -133,6 +133,8 @@ class Turn:
     world: list[dict[str, Any]]
     user: list[StepView]
     assistant: list[StepView | ExecuteGroup]
+    after_last: bool = False
+    """The world's replies delivered after the last turn, before the checks (no actor acts in it)."""
 
 
 @dataclass
@@ -271,7 +273,7 @@ def build_episode(
         goal_rate=float(outcome.get("goal_rate", 0.0)),
         seed=data.get("seed") if isinstance(data.get("seed"), int) else None,
         goals=goals,
-        turns=_turns(steps, log, proposals),
+        turns=_turns(steps, log, proposals, _after_last_turn(data)),
         changes=None if not isinstance(diff, list) else _changes(diff, Credits(log, attribution)),
         log=log,
         proposals=proposals,
@@ -383,13 +385,25 @@ def _revealed(step: dict[str, Any], entry: dict[str, Any] | None) -> Any:
     return result if isinstance(result, dict | list) else None
 
 
-def _turns(steps: list[StepView], log: list[dict[str, Any]], proposals: list[ProposalRecord]) -> list[Turn]:
+def _after_last_turn(data: dict[str, Any]) -> int | None:
+    """The number the log gives the phase after the last turn, if the trajectory has one."""
+    after = data.get("after_last_turn")
+    turn = after.get("turn") if isinstance(after, dict) else None
+    return turn if isinstance(turn, int) else None
+
+
+def _turns(
+    steps: list[StepView],
+    log: list[dict[str, Any]],
+    proposals: list[ProposalRecord],
+    after_last: int | None = None,
+) -> list[Turn]:
     numbers = sorted({step.turn for step in steps} | {int(e.get("turn", 0)) for e in log if e.get("turn")})
     turns: dict[int, Turn] = {}
     for number in numbers:
         world = [e for e in log if e.get("turn") == number and e.get("actor") == "env"]
         times = [str(e.get("time", "")) for e in log if e.get("turn") == number]
-        turns[number] = Turn(number, times[0] if times else "", world, [], [])
+        turns[number] = Turn(number, times[0] if times else "", world, [], [], number == after_last)
     for step in steps:
         turn = turns[step.turn]
         if step.actor == "user":
