@@ -119,9 +119,10 @@ def evaluate(
     """Evaluate every goal of ``scenario`` on ``log`` and the final ``state`` snapshot.
 
     Judge checks use ``judge`` when given, else their deterministic fallback. ``attribution`` (the
-    environment's) says who made each item, for state checks with ``by``; without it nothing counts as
-    anyone's work. A failing check on the assistant's work is evaluated again with the user's work
-    credited to the assistant, to tell whether the user did it by hand (:attr:`CheckResult.user_made`).
+    environment's) says who last set each field of each item, for state checks with ``by``: an item is an
+    actor's work when it wrote a value the check reads; without it nothing counts as anyone's work. A
+    failing check on the assistant's work is evaluated again with the user's work credited to the
+    assistant, to tell whether the user did it by hand (:attr:`CheckResult.user_made`).
     """
     view = _StateView(state)
     context = _Context(scenario.start, log, view, attribution or Attribution(), judge)
@@ -346,6 +347,8 @@ class _StateRule(_Rule):
         self.condition = self.where.describe() if state.where else "(any)"
         self.count = as_count(state.count, _AT_LEAST_ONE)
         self.counted = self.count.describe()
+        self.read = self.where.read()
+        """The item fields the check reads: what an actor must have written for an item to be its work."""
 
     def verdict(self, context: _Context, *, explain: bool = True) -> tuple[bool, str]:
         check, start, view = self.state, context.start, context.state
@@ -362,7 +365,7 @@ class _StateRule(_Rule):
                 detail += f": {explaining.explain(self.value, value, start)}"
             if makers is not None:
                 place = view.place(check.path)
-                made = place is not None and context.attribution.credits(place, makers)
+                made = place is not None and _wrote(context.attribution, place, value, makers)
                 detail += f"; {'made' if made else 'not made'} by the {check.by}"
                 passed = passed and made
             return passed, detail
@@ -373,15 +376,45 @@ class _StateRule(_Rule):
                 f"{check.path} is not a collection (it is {type(value).__name__}); use 'value' to match it",
             )
         test = self.where.test
-        matching = [(key, item) for key, item, record in items if test(record, key, start)]
+        matching = [(key, record) for key, _, record in items if test(record, key, start)]
         detail = f"{check.path}: {len(matching)} of {len(items)} items match {self.condition}"
-        if makers is not None:
-            place = view.place(check.path) or ()
-            credits = context.attribution.credits
-            matching = [(key, item) for key, item in matching if credits((*place, key), makers)]
-            detail += f", {len(matching)} of them made by the {check.by}"
-        passed = self.count.allows(len(matching))
+        if makers is None:
+            return self.count.allows(len(matching)), f"{detail}; wanted {self.counted}"
+        made, touched = self._made(context, view.place(check.path) or (), matching, makers)
+        detail += f", {made} of them made by the {check.by}"
+        if touched > made:
+            detail += f" ({touched - made} more only changed by it)"
+        count = self.count
+        # The wanted work must be the actor's own (a value the check reads); a limit counts every item the
+        # actor had a hand in, so a stray change to one it may not touch is not excused by who came after.
+        passed = (count.min is None or made >= count.min) and (count.max is None or touched <= count.max)
         return passed, f"{detail}; wanted {self.counted}"
+
+    def _made(
+        self,
+        context: _Context,
+        place: StatePath,
+        matching: list[tuple[str, Mapping[str, Any]]],
+        makers: frozenset[Actor],
+    ) -> tuple[int, int]:
+        """Of the ``matching`` items, how many ``makers`` made (:meth:`_ItemCondition.made`; with no field
+        read, any of the item's) and how many they had a hand in at all.
+        """
+        attribution, where, start = context.attribution, self.where, context.start
+        made = touched = 0
+        for key, record in matching:
+            item = (*place, key)
+            if where.fields or where.alternatives:
+                written = attribution.written_by(item, self.read, makers)
+                own = bool(written) and where.made(record, key, start, written)
+            else:
+                own = _wrote(attribution, item, record, makers)
+            if own:
+                made += 1
+                touched += 1
+            elif not makers.isdisjoint(attribution.hands(item)):
+                touched += 1
+        return made, touched
 
     def places(self, view: _StateView, start: datetime) -> list[StatePath]:
         """Where the check found what it counted: the items its ``where`` matches (before ``by``), or
@@ -526,6 +559,16 @@ MISSING = _Missing()
 _NO_FIELDS: Mapping[str, Any] = MappingProxyType({})
 
 
+def _wrote(attribution: Attribution, place: StatePath, value: Any, makers: frozenset[Actor]) -> bool:
+    """Whether ``makers`` wrote ``value`` (at ``place``), read as a whole: one of its fields if it is a
+    record, else the value itself (who last set it).
+    """
+    if isinstance(value, Mapping) and value:
+        return bool(attribution.written_by(place, [str(name) for name in value], makers))
+    writer = attribution.writer(place)
+    return writer is not None and writer in makers
+
+
 def _record(item: Any) -> Mapping[str, Any]:
     """What an item's fields are read from: the item if it is a mapping, else nothing."""
     return item if type(item) is dict or isinstance(item, Mapping) else _NO_FIELDS
@@ -550,6 +593,25 @@ class _ItemCondition:
             if not test(key if name is None else record.get(name), start):
                 return False
         return not self.alternatives or any(option.test(record, key, start) for option in self.alternatives)
+
+    def read(self) -> tuple[str, ...]:
+        """The field names the condition reads, its ``any_of`` alternatives' included (``_key``, the
+        item's identity, is set by whoever created the item).
+        """
+        names = dict.fromkeys(name for name, _ in self.fields)
+        for option in self.alternatives:
+            names.update(dict.fromkeys(option.read()))
+        return tuple(names)
+
+    def made(self, record: Mapping[str, Any], key: str, start: datetime, written: frozenset[str]) -> bool:
+        """Whether an item that meets the condition meets it by what an actor wrote (its ``written``
+        fields): one of the fields it reads, or in each ``any_of`` alternative that holds, since one that
+        holds without the actor's values would have held had it written nothing.
+        """
+        if any(name in written for name, _ in self.fields):
+            return True
+        holding = [option for option in self.alternatives if option.test(record, key, start)]
+        return bool(holding) and all(option.made(record, key, start, written) for option in holding)
 
     def describe(self) -> str:
         parts = [f"{name}: {matcher.describe()}" for name, matcher in self.fields]

@@ -238,8 +238,9 @@ class StateCheck(_Strict):
     ``path`` names a place in the state snapshot (``calendar.events``, ``shopping.cart``,
     ``apartment.saved``). Either ``value`` is a matcher for what is there, or the place is a collection
     whose items are filtered by ``where`` (field name to matcher) and counted against ``count``. With
-    ``by``, only what that actor made counts: items it created or changed last (the value's place, for
-    ``value``), so the user's own work is never credited to the assistant.
+    ``by``, only what that actor made counts: items where it set a field the check reads (the value, for
+    ``value``), so the user's own work is never credited to the assistant; a limit on the count counts
+    every item it had a hand in.
     """
 
     path: str = Field(description="Dotted path into the final state, starting with an app: calendar.events.")
@@ -254,8 +255,8 @@ class StateCheck(_Strict):
     value: Matcher | None = Field(default=None, description="A matcher for the value at the path itself.")
     by: Maker | None = Field(
         default=None,
-        description="Count only what this actor made: items it created or was the last to change. "
-        "Default: anyone (seed data and the world included).",
+        description="Count only what this actor made: items where it set a field the check reads (a "
+        "limit counts every item it changed at all). Default: anyone (seed data and the world included).",
     )
 
     @field_validator("where")
