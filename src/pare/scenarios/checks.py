@@ -380,14 +380,14 @@ class _StateRule(_Rule):
         detail = f"{check.path}: {len(matching)} of {len(items)} items match {self.condition}"
         if makers is None:
             return self.count.allows(len(matching)), f"{detail}; wanted {self.counted}"
-        made, touched = self._made(context, view.place(check.path) or (), matching, makers)
-        detail += f", {made} of them made by the {check.by}"
-        if touched > made:
-            detail += f" ({touched - made} more only changed by it)"
+        owned, touched = self._made(context, view.place(check.path) or (), matching, makers)
+        detail += f", {owned} of them made by the {check.by}"
+        if touched > owned:
+            detail += f" ({touched - owned} more only changed by it)"
         count = self.count
         # The wanted work must be the actor's own (a value the check reads); a limit counts every item the
         # actor had a hand in, so a stray change to one it may not touch is not excused by who came after.
-        passed = (count.min is None or made >= count.min) and (count.max is None or touched <= count.max)
+        passed = (count.min is None or owned >= count.min) and (count.max is None or touched <= count.max)
         return passed, f"{detail}; wanted {self.counted}"
 
     def _made(
