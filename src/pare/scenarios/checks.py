@@ -12,7 +12,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, fields
 from datetime import datetime
 from types import MappingProxyType
-from typing import Any
+from typing import Any, Protocol
 
 from pare.env.attribution import Attribution, StatePath, item_key, place_of
 from pare.scenarios import explain as explaining
@@ -32,8 +32,24 @@ from pare.scenarios.model import (
 from pare.scenarios.patterns import CompiledPattern
 from pare.sim.log import Actor, LogEntry
 
-Judge = Callable[[str, str], bool]
-"""A model-judged condition: ``judge(criterion, text)`` says whether ``text`` meets ``criterion``."""
+
+@dataclass(frozen=True, slots=True)
+class JudgeVerdict:
+    """A judge's verdict on one text, and its one-sentence reason (empty when it gave none)."""
+
+    passed: bool
+    reason: str = ""
+
+
+class Judge(Protocol):
+    """A model-judged condition: ``judge(criterion, text, facts)`` says whether ``text`` meets
+    ``criterion``, given what the scenario says is true (``facts``, maybe none), and why.
+    """
+
+    def __call__(self, criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
+        """The verdict on ``text``."""
+        ...
+
 
 _AT_LEAST_ONE = Count(min=1)
 
@@ -453,9 +469,17 @@ class _JudgeRule(_Rule):
         texts = f"{len(candidates)} text(s) ({', '.join(f'#{entry.index}' for entry in read)})"
         judge = context.judge
         if judge is not None:
-            passed = any(judge(check.criterion, text) for text in candidates)
-            verdict = "accepted" if passed else "rejected"
-            return passed, f"judge {verdict} {texts} for: {check.criterion}"
+            verdicts = []
+            for text in candidates:  # one accepted text is enough: the rest are not sent
+                verdicts.append(judge(check.criterion, text, check.facts))
+                if verdicts[-1].passed:
+                    break
+            passed = verdicts[-1].passed
+            said = verdicts[-1:] if passed else verdicts  # why it accepted, or why it refused each text
+            reasons = [verdict.reason for verdict in said if verdict.reason]
+            more = f" and {len(reasons) - _EXPLAINED} more" if len(reasons) > _EXPLAINED else ""
+            detail = f"judge {'accepted' if passed else 'rejected'} {texts} for: {check.criterion}"
+            return passed, detail + "".join(f"{JUDGE_SAID}{reason}" for reason in reasons[:_EXPLAINED]) + more
         passed = any(self.fallback.test(text, context.start) for text in candidates)
         verdict = "holds" if passed else "fails"
         detail = f"no judge model; fallback {self.fallback_text} {verdict} on {texts}"
@@ -522,6 +546,10 @@ def _on_the_assistant(check: Check) -> bool:
 
 _EXPLAINED = 3
 """How many of a failing judge check's texts are explained one by one."""
+
+JUDGE_SAID = " | the judge: "
+"""What precedes each of the judge's reasons in a judge check's sentence (pages that show the reasons
+apart split the sentence there)."""
 
 
 def _why_not(pattern: CompiledPattern, entry: LogEntry) -> str:

@@ -291,11 +291,28 @@ class JudgeCheck(_Strict):
         "answer that may be split over several messages; by default each is judged alone and one must pass.",
     )
     fallback: Matcher = Field(description="A matcher on the text, used when no judge model is configured.")
+    facts: list[str] = Field(
+        default_factory=list,
+        description="What is true in the scenario, given to the judge model with the text, so it can tell "
+        "an invented detail (a time, place or number these contradict or lack) from a right one.",
+    )
 
     @field_validator("fallback")
     @classmethod
     def _check_fallback(cls, value: Any) -> Any:
         return _valid_matcher(value)
+
+    @field_validator("facts")
+    @classmethod
+    def _check_facts(cls, value: list[str]) -> list[str]:
+        seen: set[str] = set()
+        for index, fact in enumerate(value):
+            if not fact.strip():
+                raise ValueError(f"facts[{index}] is empty: write each fact as a sentence")
+            if fact.strip().casefold() in seen:
+                raise ValueError(f"facts[{index}] repeats an earlier fact: {fact.strip()!r}")
+            seen.add(fact.strip().casefold())
+        return [fact.strip() for fact in value]
 
 
 class Check(_Strict):
