@@ -305,14 +305,19 @@ class JudgeCheck(_Strict):
     @field_validator("facts")
     @classmethod
     def _check_facts(cls, value: list[str]) -> list[str]:
-        seen: set[str] = set()
-        for index, fact in enumerate(value):
-            if not fact.strip():
-                raise ValueError(f"facts[{index}] is empty: write each fact as a sentence")
-            if fact.strip().casefold() in seen:
-                raise ValueError(f"facts[{index}] repeats an earlier fact: {fact.strip()!r}")
-            seen.add(fact.strip().casefold())
-        return [fact.strip() for fact in value]
+        return _checked_facts(value)
+
+
+def _checked_facts(value: list[str]) -> list[str]:
+    """A judge's facts, trimmed: each a non-empty sentence, none said twice."""
+    seen: set[str] = set()
+    for index, fact in enumerate(value):
+        if not fact.strip():
+            raise ValueError(f"facts[{index}] is empty: write each fact as a sentence")
+        if fact.strip().casefold() in seen:
+            raise ValueError(f"facts[{index}] repeats an earlier fact: {fact.strip()!r}")
+        seen.add(fact.strip().casefold())
+    return [fact.strip() for fact in value]
 
 
 class Check(_Strict):
@@ -388,6 +393,24 @@ class Reaction(_Strict):
         return value
 
 
+class EventJudge(_Strict):
+    """What a reactive event's triggering text must mean, asked of the run's judge model."""
+
+    criterion: str = Field(
+        min_length=1, description="What the triggering text must say for the event to fire, for the judge."
+    )
+    field: str = Field(
+        default="content",
+        description="The argument holding the text; 'if_args' tests it too (the rule used without a judge).",
+    )
+    facts: list[str] = Field(default_factory=list, description="What is true, as for a judge check.")
+
+    @field_validator("facts")
+    @classmethod
+    def _check_facts(cls, value: list[str]) -> list[str]:
+        return _checked_facts(value)
+
+
 class Event(_Strict):
     """A call the world makes (an email arriving), and when.
 
@@ -410,6 +433,11 @@ class Event(_Strict):
     otherwise: Reaction | None = Field(
         default=None,
         description="With 'if_args': what the world does when a triggering action does not meet them.",
+    )
+    judge: EventJudge | None = Field(
+        default=None,
+        description="With 'if_args': when the run has a judge model, it reads the triggering text against "
+        "this criterion in place of the if_args matcher on that field; without one, the matcher decides.",
     )
     delay: DurationText = "0"
     tool: str = Field(description="The tool as app__tool, e.g. email__receive_email.")
@@ -458,6 +486,12 @@ class Event(_Strict):
             raise ValueError("'delay' goes with 'after' or 'when'; with 'at', write the time itself")
         if self.if_args and self.when is None:
             raise ValueError("'if_args' goes with 'when': it tests the action that triggers the event")
+        if self.judge is not None and self.judge.field not in self.if_args:
+            field = self.judge.field
+            raise ValueError(
+                f"'judge' reads '{field}', which 'if_args' does not test: give if_args a matcher on "
+                f"'{field}', the rule used when the run has no judge model"
+            )
         if self.otherwise is not None and not self.if_args:
             raise ValueError("'otherwise' goes with 'if_args': it is what happens when they are not met")
         return self
