@@ -110,3 +110,11 @@ def test_facts_are_trimmed() -> None:
     scenario = parse(_judged(facts=["  Dinner is at 19:00. "]))
     judge = scenario.goals[0].checks[0].judge
     assert judge is not None and judge.facts == ["Dinner is at 19:00."]
+
+
+def test_unused_facts_leave_the_dump_and_so_the_content_hash_as_before() -> None:
+    plain, told = parse(_judged()), parse(_judged(facts=FACTS))
+    assert "facts" not in plain.model_dump()["goals"][0]["checks"][0]["judge"]
+    assert told.model_dump()["goals"][0]["checks"][0]["judge"]["facts"] == FACTS
+    assert "judge" not in plain.model_dump()["events"][0]
+    assert plain.content_hash() != told.content_hash()

@@ -21,9 +21,11 @@ from pydantic import (
     BaseModel,
     ConfigDict,
     Field,
+    SerializerFunctionWrapHandler,
     TypeAdapter,
     WithJsonSchema,
     field_validator,
+    model_serializer,
     model_validator,
 )
 
@@ -307,6 +309,19 @@ class JudgeCheck(_Strict):
     def _check_facts(cls, value: list[str]) -> list[str]:
         return _checked_facts(value)
 
+    @model_serializer(mode="wrap")
+    def _dump(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        return _without_unused(handler(self), "facts", self.facts)
+
+
+def _without_unused(data: dict[str, Any], name: str, value: object) -> dict[str, Any]:
+    """``data`` without the field ``name`` when it is unused (``value`` empty): a scenario that does not
+    use a newer field dumps as before, so its content hash, which run folders keep, stays the same.
+    """
+    if not value:
+        data.pop(name, None)
+    return data
+
 
 def _checked_facts(value: list[str]) -> list[str]:
     """A judge's facts, trimmed: each a non-empty sentence, none said twice."""
@@ -447,6 +462,10 @@ class Event(_Strict):
     @classmethod
     def _check_if_args(cls, value: dict[str, Any]) -> dict[str, Any]:
         return _check_matchers(value)
+
+    @model_serializer(mode="wrap")
+    def _dump(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        return _without_unused(handler(self), "judge", self.judge)
 
     @property
     def otherwise_id(self) -> str | None:
