@@ -65,3 +65,41 @@ def test_the_environment_marks_actor_writes_and_not_the_worlds() -> None:
     assert mark is not None and mark.created_by == "assistant" and mark.created_at == made.entry.index  # type: ignore[union-attr]
     failed = env.call("assistant", "calendar__delete_calendar_event", {"event_id": "nope"}, mode="execute")
     assert not failed.ok and env.attribution.mark(("calendar", "events", "nope")) is None
+
+
+def test_who_last_set_each_field() -> None:
+    marks = Attribution()
+    made = {"events": {"e": {"title": "Dentist", "start": "10:00"}}}
+    noted = {"events": {"e": {"title": "Dentist", "start": "10:00", "note": "letter"}}}
+    marks.record("user", 3, "calendar", {"events": {}}, made)
+    marks.record("assistant", 7, "calendar", made, noted)
+    item, both = ("calendar", "events", "e"), frozenset({"assistant", "user"})
+    assert marks.written_by(item, ["title", "start", "note"], frozenset({"assistant"})) == {"note"}
+    assert marks.written_by(item, ["title", "start", "note"], frozenset({"user"})) == {"title", "start"}
+    assert marks.written_by(item, ["title", "place"], both) == {"title", "place"}  # absent: the creator's
+    assert marks.writer((*item, "title")) == "user" and marks.writer((*item, "note")) == "assistant"
+    assert marks.writer(item) == "assistant"  # the item as a whole: its latest change
+    assert marks.hands(item) == both
+    assert marks.credits(item, frozenset({"assistant"}))  # the older reading, kept: created or last changed
+
+
+def test_a_seeded_field_is_no_ones_and_a_recreated_item_forgets_the_old_ones_changes() -> None:
+    marks = Attribution()
+    seeded = {"events": {"e": {"title": "Dentist", "start": "10:00"}}}
+    moved = {"events": {"e": {"title": "Dentist", "start": "11:00"}}}
+    marks.record("assistant", 4, "calendar", seeded, moved)
+    item = ("calendar", "events", "e")
+    assert marks.written_by(item, ["title", "start"], frozenset({"assistant", "user"})) == {"start"}
+    assert marks.writer((*item, "title")) is None
+    marks.record("user", 6, "calendar", moved, {"events": {}})
+    marks.record("user", 9, "calendar", {"events": {}}, moved)  # the same id again, by the user
+    assert marks.written_by(item, ["start"], frozenset({"assistant"})) == frozenset()
+    assert marks.writer((*item, "start")) == "user" and marks.hands(item) == {"user"}
+
+
+def test_what_a_new_holder_holds_is_its_creators() -> None:
+    marks = Attribution()
+    chat = {"conversations": {"c": {"messages": [{"message_id": "m1", "content": "hi"}]}}}
+    marks.record("assistant", 2, "messaging", {"conversations": {}}, chat)
+    message = ("messaging", "conversations", "c", "messages", "m1")
+    assert marks.writer((*message, "content")) == "assistant" and marks.hands(message) == {"assistant"}

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 from typing import Any
 
 from pare.agents import SilentAssistant, SilentUser
 from pare.bench import run_episode
 from pare.scenarios import OracleAssistant, OracleUser, evaluate
+from pare.scenarios.checks import JudgeVerdict
 from tests.scenarios.helpers import base, parse
 
 
@@ -122,14 +124,15 @@ def test_judge_uses_the_model_when_given_and_the_fallback_otherwise() -> None:
     scenario, result = _oracle_run(data)
     assert result.success
     assert "no judge model; fallback" in result.outcome.goals[0].checks[-1].detail
-    seen: list[tuple[str, str]] = []
+    seen: list[tuple[str, str, Sequence[str]]] = []
 
-    def strict_judge(criterion: str, text: str) -> bool:
-        seen.append((criterion, text))
-        return False
+    def strict_judge(criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
+        seen.append((criterion, text, facts))
+        return JudgeVerdict(False, "It does not name a time.")
 
     outcome = evaluate(scenario, result.env.log.entries, result.env.snapshot(), judge=strict_judge)
-    assert not outcome.success and seen == [("says yes to Thursday", "Thursday works!")]
+    assert not outcome.success and seen == [("says yes to Thursday", "Thursday works!", [])]
+    assert outcome.failures()[0].detail.endswith(" | the judge: It does not name a time.")
 
 
 def test_per_goal_results_and_goal_rate() -> None:

@@ -1,28 +1,59 @@
 """A model as the judge of free-text checks (``judge`` checks in scenarios).
 
-The judge reads one criterion and one text and answers YES or NO. Anything else counts as NO: a check
-passes only on a clear yes. Scenarios always carry a deterministic fallback, used when no judge is
-configured.
+The judge reads one criterion, one text and the scenario's facts, if it gives any, and answers YES or NO
+with one sentence saying why. The verdict is the answer's first word: anything but a clear yes counts as
+NO, so a check passes only on a clear yes. The reason is kept with the check's verdict. Scenarios always
+carry a deterministic fallback, used when no judge is configured.
 """
 
 from __future__ import annotations
 
 import asyncio
 import re
+from collections.abc import Sequence
 
 from pare.agents.llm import ChatModel
 from pare.agents.models.types import ChatMessage
+from pare.scenarios.checks import JudgeVerdict
 
 JUDGE_PROMPT = (
     "You check whether a text written by an assistant on a user's behalf meets a criterion. Read the "
-    "criterion and the text, then answer with one word: YES if the text clearly meets the criterion, NO "
-    "otherwise. Do not explain."
+    "criterion and the text, then answer YES if the text clearly meets the criterion, NO otherwise, as the "
+    "first word of your answer, followed by one sentence saying why. When facts are given, they are what "
+    "is true: a text that states a detail (a time, a date, a place, a name, a number, a price) that the "
+    "facts contradict or do not contain has invented it, and does not meet the criterion."
 )
 _VERDICT = re.compile(r"^\W*(yes|no)\b", re.IGNORECASE)
+_REASON_LENGTH = 300
+"""The longest reason kept (a model that ignores "one sentence" does not fill the trajectory)."""
+
+
+def judge_request(criterion: str, text: str, facts: Sequence[str] = ()) -> list[ChatMessage]:
+    """The conversation that asks the judge about one ``text``."""
+    question = f"Criterion: {criterion}\n\n"
+    if facts:
+        question += "Facts:\n" + "".join(f"- {fact}\n" for fact in facts) + "\n"
+    return [
+        ChatMessage(role="system", content=JUDGE_PROMPT),
+        ChatMessage(role="user", content=f"{question}Text:\n{text}"),
+    ]
+
+
+def read_verdict(answer: str) -> JudgeVerdict:
+    """The verdict in a judge's ``answer``: a pass only when its first word is yes; the reason is what
+    follows it, on one line (empty when the answer gives none).
+    """
+    found = _VERDICT.match(answer)
+    passed = found is not None and found.group(1).lower() == "yes"
+    rest = answer[found.end() :] if found is not None else answer
+    reason = " ".join(rest.split()).lstrip(" .,:;-\u2013\u2014")
+    if len(reason) > _REASON_LENGTH:
+        reason = reason[: _REASON_LENGTH - 3].rstrip() + "..."
+    return JudgeVerdict(passed, reason)
 
 
 class ModelJudge:
-    """A :data:`pare.scenarios.checks.Judge` backed by a model (any :class:`ChatModel`).
+    """A :class:`pare.scenarios.checks.Judge` backed by a model (any :class:`ChatModel`).
 
     Called synchronously by the checks; the episode loop evaluates checks in a worker thread when a judge
     is set, so the model call runs in its own event loop there.
@@ -33,15 +64,10 @@ class ModelJudge:
         self.verdicts: list[tuple[str, str, bool]] = []
         """Every (criterion, answer, verdict), for reports."""
 
-    def __call__(self, criterion: str, text: str) -> bool:
-        """Whether ``text`` meets ``criterion``, in the model's opinion."""
-        messages = [
-            ChatMessage(role="system", content=JUDGE_PROMPT),
-            ChatMessage(role="user", content=f"Criterion: {criterion}\n\nText:\n{text}"),
-        ]
-        completion = asyncio.run(self.model.complete(messages))
+    def __call__(self, criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
+        """Whether ``text`` meets ``criterion`` given ``facts``, in the model's opinion, and why."""
+        completion = asyncio.run(self.model.complete(judge_request(criterion, text, facts)))
         answer = (completion.text or "").strip()
-        found = _VERDICT.match(answer)
-        verdict = found is not None and found.group(1).lower() == "yes"
-        self.verdicts.append((criterion, answer, verdict))
+        verdict = read_verdict(answer)
+        self.verdicts.append((criterion, answer, verdict.passed))
         return verdict

@@ -246,9 +246,10 @@ async def arun_episode(
     judge: Judge | None = None,
 ) -> EpisodeResult:
     """Play ``scenario`` with ``user`` and ``assistant`` and evaluate its goals (in a running event loop,
-    so many episodes can wait on model calls at once).
+    so many episodes can wait on model calls at once). ``judge`` reads the free-text checks, and the
+    triggering texts of reactive events that have a ``judge``.
     """
-    return await _Episode(scenario, user, assistant, settings or EpisodeSettings()).run(judge)
+    return await _Episode(scenario, user, assistant, settings or EpisodeSettings(), judge).run(judge)
 
 
 def run_episode(
@@ -281,13 +282,18 @@ def _from_the_story(entry: LogEntry) -> bool:
 
 class _Episode:
     def __init__(
-        self, scenario: Scenario, user: UserPolicy, assistant: AssistantPolicy, settings: EpisodeSettings
+        self,
+        scenario: Scenario,
+        user: UserPolicy,
+        assistant: AssistantPolicy,
+        settings: EpisodeSettings,
+        judge: Judge | None = None,
     ) -> None:
         self.scenario = scenario
         self.user = user
         self.assistant = assistant
         self.settings = settings
-        self.env = build_environment(scenario, settings.env)
+        self.env = build_environment(scenario, settings.env, judge=judge)  # the world reads text by it too
         self.start_state = self.env.snapshot(shared=True)  # read only: diffed at the end
         self.steps: list[Step] = []
         self.handled: set[str] = set()

@@ -65,8 +65,8 @@ THOUGHT_CHARS = len(THOUGHT)
 JUDGED_TEXT_CHARS = 1_000
 """Length assumed for a text the judge reads (an email or message the assistant wrote)."""
 
-JUDGE_ANSWER_TOKENS = 2
-"""The judge answers YES or NO."""
+JUDGE_ANSWER_TOKENS = 30
+"""The judge answers YES or NO and one sentence saying why."""
 
 
 # -- roles and keys ----------------------------------------------------------------------------------------
@@ -269,7 +269,7 @@ class ScenarioShape:
     answers: dict[str, list[int]]
     """Per actor role, each answer's length."""
     judge_criteria: list[int]
-    """The length of each judge check's criterion."""
+    """The length of each judge check's criterion, with its facts."""
     first_prompt: dict[str, int]
     """Per actor role, the first call's prompt (system prompt and first observation)."""
 
@@ -364,7 +364,10 @@ async def measure_scenario(scenario: Scenario, config: RunConfig, seed: int) -> 
         prompts={role: m.prompts for role, m in measured.items()},
         answers={role: m.answers for role, m in measured.items()},
         judge_criteria=[
-            len(check.judge.criterion) for goal in scenario.goals for check in goal.checks if check.judge
+            len(check.judge.criterion) + sum(len(f"- {fact}\n") for fact in check.judge.facts)
+            for goal in scenario.goals
+            for check in goal.checks
+            if check.judge
         ],
         first_prompt=first_prompt,
     )

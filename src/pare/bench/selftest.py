@@ -23,14 +23,15 @@ Deterministic runs per scenario, through the same turn loop as a real run:
   ``otherwise_ok`` says why that correction is part of the solution.
 
 Warnings do not fail the gate: a reactive reply that restates what the assistant was meant to find, an
-``otherwise_ok`` that the variant's run never needed.
+``otherwise_ok`` that the variant's run never needed and, given a judge model, a triggering text that a
+reactive event's rule and the judge read apart.
 """
 
 from __future__ import annotations
 
 import asyncio
 import time
-from collections.abc import Awaitable, Callable, Collection, Iterable, Iterator, Mapping
+from collections.abc import Awaitable, Callable, Collection, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -38,6 +39,8 @@ from pare.agents.policy import AssistantPolicy, SilentAssistant, SilentUser, Use
 from pare.bench.episode import EpisodeResult, EpisodeSettings, arun_episode
 from pare.bench.reactions import WorldEvent, corrected_solution, unused_excuses, world_events
 from pare.errors import UserInputError
+from pare.scenarios.build import disagreements
+from pare.scenarios.checks import Judge, JudgeVerdict
 from pare.scenarios.matchers import OPERATORS, TEXT_OPERATORS, compile_matcher
 from pare.scenarios.model import Scenario, Solution
 from pare.scenarios.oracle import BusyUser, OracleAssistant, OracleUser, SlowUser, UnrelatedAssistant
@@ -132,9 +135,11 @@ def check_scenario(
     *,
     runs: Collection[str] | None = None,
     variants: bool = True,
+    judge: Judge | None = None,
 ) -> ScenarioVerdict:
     """Run every self-test run (or only ``runs``) and every declared variant (unless ``variants`` is
-    false) on ``scenario``.
+    false) on ``scenario``. The runs read text by the rules; with ``judge`` (a judge model), the warnings
+    also name each triggering action whose text a reactive event's rule and the judge read apart.
     """
     began = time.perf_counter()
     verdicts = []
@@ -164,13 +169,16 @@ def check_scenario(
             details[name] = result = played[0]
             verdict = _verdict(name, scenario, user, result, expected, why, fails.get(name, []))
             verdicts.append(_with_reactions(verdict, scenario, result, excused.get(name, frozenset())))
+    warnings = [*restated_answers(scenario), *(line for run in verdicts for line in run.warnings)]
+    if judge is not None:
+        warnings.extend(_readings_apart(scenario, details, judge))
     return ScenarioVerdict(
         scenario.id,
         tuple(verdicts),
         time.perf_counter() - began,
         details,
         tuple(_declaration_problems(scenario)),
-        (*restated_answers(scenario), *(line for run in verdicts for line in run.warnings)),
+        tuple(warnings),
     )
 
 
@@ -192,6 +200,26 @@ def _with_reactions(
     return replace(
         verdict, problems=tuple(problems), events=events, warnings=tuple(warnings), after_last_turn=late
     )
+
+
+def _readings_apart(scenario: Scenario, played: Mapping[str, EpisodeResult], judge: Judge) -> Iterator[str]:
+    """Where a reactive event's rule and the judge read a triggering text apart, in the runs ``played``:
+    once per event and text (the oracle and the slow user write the same), each text judged once.
+    """
+    verdicts: dict[tuple[str, str, tuple[str, ...]], JudgeVerdict] = {}
+
+    def remembered(criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
+        key = (criterion, text, tuple(facts))
+        if key not in verdicts:
+            verdicts[key] = judge(criterion, text, facts)
+        return verdicts[key]
+
+    seen: set[tuple[str, str]] = set()
+    for name, result in played.items():
+        for found in disagreements(scenario, result.env.log.entries, remembered):
+            if (found.event_id, found.text) not in seen:
+                seen.add((found.event_id, found.text))
+                yield f"[{name}] {found.describe()}"
 
 
 async def _kept(episode: Awaitable[EpisodeResult], into: list[EpisodeResult]) -> None:

@@ -11,6 +11,7 @@ import typer
 if TYPE_CHECKING:  # the library and the gate are imported by the commands: `pare --help` stays fast
     from rich.console import Console
 
+    from pare.agents.models.config import ModelConfig
     from pare.bench.selftest import RunVerdict, ScenarioVerdict
     from pare.scenarios.checks import Outcome
     from pare.scenarios.model import Scenario
@@ -164,6 +165,30 @@ def check(
             "1 only this process.",
         ),
     ] = 0,
+    judge_model: Annotated[
+        str | None,
+        typer.Option(
+            "--judge-model",
+            help="Also ask this model how reactive events with a 'judge' read each triggering text, and "
+            "warn where it and the event's if_args rule disagree (the runs still use the rules).",
+            show_default=False,
+        ),
+    ] = None,
+    judge_provider: Annotated[
+        str, typer.Option("--judge-provider", help="The judge's client: openai or litellm.")
+    ] = "openai",
+    judge_endpoint: Annotated[
+        str | None, typer.Option("--judge-endpoint", help="The judge's base URL.", show_default=False)
+    ] = None,
+    judge_key_env: Annotated[
+        str | None,
+        typer.Option(
+            "--judge-key-env",
+            help="The variable holding the judge's API key ('none': no key, for a local server). "
+            "Default: the provider's usual one.",
+            show_default=False,
+        ),
+    ] = None,
 ) -> None:
     """Self-test scenarios: the oracle must pass, also with a slow user and with a busy user who never waits
     (every reply it sets off delivered, after the last turn if need be); doing nothing, the user alone, the
@@ -171,6 +196,7 @@ def check(
     verdict, and neither the oracle nor a variant that passes may get a reactive event's otherwise reply
     (unless the variant's otherwise_ok says why). Exits 1 on any breach.
     """
+    import functools
     import time
 
     from rich.console import Console
@@ -180,6 +206,11 @@ def check(
     from pare.bench.processes import map_in_processes, resolve_jobs
 
     workers = resolve_jobs(jobs)
+    judge = (
+        None
+        if judge_model is None
+        else _judge_config(judge_model, judge_provider, judge_endpoint, judge_key_env)
+    )
     began = time.perf_counter()
     with collector.paused():  # the library: long-lived objects only (see pare.bench.collector)
         scenarios = _chosen(paths, split, app_name, tag, difficulty)
@@ -199,7 +230,9 @@ def check(
     total = 0.0
     with collector.long_lived_frozen():
         for scenario, (verdict, outcomes) in zip(
-            scenarios, map_in_processes(self_test, scenarios, workers), strict=True
+            scenarios,
+            map_in_processes(functools.partial(self_test, judge=judge), scenarios, workers),
+            strict=True,
         ):
             total += verdict.seconds
             failing = [run for run in verdict.runs if run.run in _failing_runs()]
@@ -235,16 +268,43 @@ def check(
     )
 
 
-def self_test(scenario: Scenario) -> tuple[ScenarioVerdict, dict[str, Outcome]]:
+def _judge_config(model: str, provider: str, endpoint: str | None, key_env: str | None) -> ModelConfig:
+    """The gate's judge model from its flags (a mistake in them stops the gate with the reason)."""
+    from pydantic import ValidationError
+
+    from pare.agents.models.config import ModelConfig
+    from pare.errors import UserInputError
+
+    fields: dict[str, object] = {"model": model, "backend": provider, "api_base": endpoint}
+    if key_env is not None:
+        fields["api_key_env"] = None if key_env.lower() == "none" else key_env
+    try:
+        return ModelConfig.model_validate(fields)
+    except ValidationError as error:
+        problems = "; ".join(f"{'.'.join(map(str, e['loc']))}: {e['msg']}" for e in error.errors())
+        raise UserInputError(f"--judge-* flags: {problems}") from None
+
+
+def self_test(
+    scenario: Scenario, judge: ModelConfig | None = None
+) -> tuple[ScenarioVerdict, dict[str, Outcome]]:
     """The gate's verdict on ``scenario`` and each run's outcome, in a form that crosses processes (an
-    episode's environment does not: its tools' argument models are made at run time).
+    episode's environment does not: its tools' argument models are made at run time). With ``judge``,
+    the model that reads reactive events' texts beside their rules (calls go uncached).
     """
     from dataclasses import replace
 
     from pare.bench.collector import settle
     from pare.bench.selftest import check_scenario
 
-    verdict = check_scenario(scenario)
+    model_judge = None
+    if judge is not None:
+        from pare.agents.judge import ModelJudge
+        from pare.agents.models.ledger import UsageLedger
+        from pare.bench.runner import JudgeModel
+
+        model_judge = ModelJudge(JudgeModel(judge, None, f"gate/{scenario.id}", UsageLedger()))
+    verdict = check_scenario(scenario, judge=model_judge)
     outcomes = {name: result.outcome for name, result in verdict.details.items()}
     result = replace(verdict, details={}), outcomes
     del verdict

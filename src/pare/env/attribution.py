@@ -8,12 +8,17 @@ value), so ``("calendar", "events", "ev-3")`` is one calendar event wherever it 
 
 Writes by the world (``env``: scheduled events, noise, wakeups) are not attributed: what the world
 makes is like seed data, and an email arriving does not take credit from the assistant for work it did.
+
+Credit is by field: :meth:`Attribution.written_by` says which of an item's fields an actor last set, so
+a note the assistant appends to an event the user made by hand does not make the event's time the
+assistant's work; :meth:`Attribution.hands` says who had a hand in an item at all, for limits on what an
+actor may make.
 """
 
 from __future__ import annotations
 
 import json
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -94,6 +99,9 @@ class Attribution:
 
     def __init__(self) -> None:
         self._marks: dict[StatePath, Mark] = {}
+        self._hands: dict[StatePath, dict[Actor, int]] = {}
+        """Per place, every actor that created or changed it (or something in it), with its latest call:
+        the marks keep only the creator and the last changer."""
 
     def record(self, actor: Actor, entry_index: int, app: str, before: Any, after: Any) -> None:
         """Mark what ``actor``'s call (log entry ``entry_index``) changed in ``app``'s data."""
@@ -103,6 +111,11 @@ class Attribution:
                 self._mark(place[:depth], actor, entry_index, False)
 
     def _mark(self, place: StatePath, actor: Actor, index: int, created: bool) -> None:
+        hands = self._hands.get(place)
+        if hands is None:
+            self._hands[place] = {actor: index}
+        else:
+            hands[actor] = index
         previous = self._marks.get(place)
         if created or previous is None:
             creator = actor if created else None
@@ -118,6 +131,56 @@ class Attribution:
         """Whether one of ``actors`` made ``place`` (created it, or made its latest change)."""
         found = self._marks.get(place)
         return found is not None and any(found.credits(actor) for actor in actors)
+
+    def writer(self, place: StatePath) -> Actor | None:
+        """The actor who last set what ``place`` holds: its latest change, unless it (or what holds it) was
+        created since, by whom; ``None`` when no attributed actor set it (seeded, or made by the world).
+        """
+        since, creator = self._origin(place)
+        own = self._marks.get(place)
+        if own is not None and own.changed_at >= since:
+            return own.changed_by
+        return creator
+
+    def written_by(self, item: StatePath, fields: Iterable[str], actors: frozenset[Actor]) -> frozenset[str]:
+        """Those of ``fields`` of ``item`` that one of ``actors`` last set: by changing the field, or by
+        creating the item (or what holds it) since. A field nobody set (seeded, or made by the world) is
+        no one's; a field the item lacks is its creator's.
+        """
+        since, creator = self._origin(item)
+        marks = self._marks
+        found = []
+        for name in fields:
+            mark = marks.get((*item, name))
+            who = mark.changed_by if mark is not None and mark.changed_at >= since else creator
+            if who is not None and who in actors:
+                found.append(name)
+        return frozenset(found)
+
+    def hands(self, place: StatePath) -> frozenset[Actor]:
+        """Every actor that had a hand in what ``place`` holds now: created it (or what holds it, with it),
+        or changed it or anything in it since. Wider than :meth:`credits`, which names only the creator
+        and the last changer: what an actor may not make counts whatever came after it.
+        """
+        since, creator = self._origin(place)
+        found = {actor for actor, index in self._hands.get(place, {}).items() if index >= since}
+        if creator is not None:
+            found.add(creator)
+        return frozenset(found)
+
+    def _origin(self, place: StatePath) -> tuple[int, Actor | None]:
+        """When what ``place`` holds came to be, and by whom: the latest creation by an attributed actor of
+        the place or of what holds it (``(-1, None)`` when it was seeded or made by the world). Changes
+        before it were made to an earlier item of the same identity, since removed.
+        """
+        since: int = -1
+        creator: Actor | None = None
+        marks = self._marks
+        for depth in range(len(place), 0, -1):
+            mark = marks.get(place[:depth])
+            if mark is not None and mark.created_at is not None and mark.created_at > since:
+                since, creator = mark.created_at, mark.created_by
+        return since, creator
 
     def to_dict(self) -> dict[str, dict[str, Any]]:
         """JSON-ready form, keyed by the dotted place."""

@@ -10,6 +10,8 @@ are shared between episodes.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from datetime import timedelta
 from typing import Any
@@ -17,7 +19,8 @@ from typing import Any
 from pare.apps.base import SeedState
 from pare.apps.registry import CORE_APPS
 from pare.env import EnvConfig, Environment
-from pare.scenarios.model import ActionPattern, Event, Scenario
+from pare.scenarios.checks import Judge, JudgeVerdict
+from pare.scenarios.model import ActionPattern, Event, EventJudge, Scenario
 from pare.scenarios.patterns import CompiledPattern, event_positions
 from pare.scenarios.seed import prepare_seed
 from pare.scenarios.times import parse_duration, parse_time, resolve_relative_times
@@ -25,11 +28,14 @@ from pare.sim.events import AfterEvent, AtTime, EventAction, ScheduledEvent, Tri
 from pare.sim.log import ActionLog, LogEntry
 
 
-def build_environment(scenario: Scenario, config: EnvConfig | None = None) -> Environment:
+def build_environment(
+    scenario: Scenario, config: EnvConfig | None = None, *, judge: Judge | None = None
+) -> Environment:
     """An environment for ``scenario``: its apps (plus the core ones), seed data and scheduled events.
 
     The episode starts at the scenario's start time whatever ``config`` says; everything else (seed,
-    tool failures, noise, notifications) comes from ``config``.
+    tool failures, noise, notifications) comes from ``config``. With ``judge`` (the run's judge model),
+    reactive events with a ``judge`` read the triggering text through it; without, by their ``if_args``.
     """
     settings = (config or EnvConfig()).model_copy(update={"start_time": scenario.start})
     blueprint = _known_blueprint(scenario)
@@ -43,7 +49,7 @@ def build_environment(scenario: Scenario, config: EnvConfig | None = None) -> En
         env = Environment(blueprint.apps, settings)
         blueprint.seed(env)
     for plan in blueprint.events:
-        for scheduled in plan.scheduled(env):
+        for scheduled in plan.scheduled(env, judge):
             env.schedule(scheduled)
     env.scheduler.validate()
     return env
@@ -56,7 +62,7 @@ class _Timed:
 
     event: ScheduledEvent
 
-    def scheduled(self, env: Environment) -> list[ScheduledEvent]:
+    def scheduled(self, env: Environment, judge: Judge | None) -> list[ScheduledEvent]:
         event = self.event
         action = EventAction(event.action.app, event.action.tool, _fresh(event.action.args))
         return [ScheduledEvent(event.event_id, event.trigger, action)]
@@ -76,9 +82,13 @@ class _Reactive:
     action: EventAction
     description: str
     otherwise: _Otherwise | None
+    judged: EventJudge | None
+    """What the triggering text must mean, for a judge model (:class:`~pare.scenarios.model.EventJudge`)."""
+    unjudged: CompiledPattern
+    """``if_args`` without the judged field: what the judge's verdict is combined with."""
 
-    def scheduled(self, env: Environment) -> list[ScheduledEvent]:
-        trigger = _Trigger(self, env.log)
+    def scheduled(self, env: Environment, judge: Judge | None) -> list[ScheduledEvent]:
+        trigger = _Trigger(self, env.log, judge if self.judged is not None else None)
         action = EventAction(self.action.app, self.action.tool, _fresh(self.action.args))
         condition = WhenLogged(trigger.meets, self.delay, self.description)
         events = [ScheduledEvent(self.event_id, condition, action)]
@@ -169,6 +179,10 @@ def _plan(event: Event, scenario: Scenario) -> _Timed | _Reactive:
     delay = parse_duration(event.delay)
     pattern = CompiledPattern.of(event.when, scenario.start)
     if_args = CompiledPattern.of(ActionPattern(actor="any", ok=None, args=event.if_args), scenario.start)
+    unjudged = if_args
+    if event.judge is not None:
+        rest = {name: matcher for name, matcher in event.if_args.items() if name != event.judge.field}
+        unjudged = CompiledPattern.of(ActionPattern(actor="any", ok=None, args=rest), scenario.start)
     otherwise, otherwise_id, reaction = event.otherwise, event.otherwise_id, None
     if otherwise is not None and otherwise_id is not None:
         app, _, tool = otherwise.tool.partition("__")
@@ -179,7 +193,66 @@ def _plan(event: Event, scenario: Scenario) -> _Timed | _Reactive:
             action=EventAction(app, tool, resolve_relative_times(otherwise.args, scenario.start)),
             description=f"{pattern.describe()} but not {wanted}",
         )
-    return _Reactive(event.id, delay, pattern, if_args, action, pattern.describe(), reaction)
+    return _Reactive(
+        event.id, delay, pattern, if_args, action, pattern.describe(), reaction, event.judge, unjudged
+    )
+
+
+def ask_judge(judge: Judge, judged: EventJudge, text: str) -> JudgeVerdict:
+    """The judge's verdict on a triggering ``text``. Events are tested as the action is logged, inside the
+    episode's event loop, where a model judge cannot run its own: it runs in a thread of its own while the
+    episode waits for the world's answer.
+    """
+    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="pare-event-judge") as pool:
+        return pool.submit(judge, judged.criterion, text, judged.facts).result()
+
+
+@dataclass(frozen=True, slots=True)
+class Disagreement:
+    """A triggering action that a reactive event's rule (``if_args``) and the judge model read apart."""
+
+    event_id: str
+    entry: int
+    """The log index of the triggering action."""
+    text: str
+    """What it wrote."""
+    rule: bool
+    """Whether ``if_args`` holds."""
+    judge: bool
+    """Whether the judge's reading (with the rest of ``if_args``) holds."""
+    reason: str
+
+    def describe(self) -> str:
+        """One line: which event, which action, who says what."""
+        said = f" ({self.reason})" if self.reason else ""
+        text = self.text if len(self.text) <= 80 else self.text[:77] + "..."
+        rule, judge = ("yes" if verdict else "no" for verdict in (self.rule, self.judge))
+        where = f"event '{self.event_id}' on #{self.entry} {text!r}"
+        return f"{where}: the rule says {rule}, the judge {judge}{said}"
+
+
+def disagreements(scenario: Scenario, log: Sequence[LogEntry], judge: Judge) -> list[Disagreement]:
+    """Where the rule and the judge read the triggering actions in ``log`` apart, for each reactive event of
+    ``scenario`` with a ``judge`` (every triggering action, whether or not the event had fired by then).
+    """
+    found = []
+    positions = event_positions(log)
+    for event in scenario.events:
+        judged = event.judge
+        if judged is None:
+            continue
+        plan = _plan(event, scenario)
+        assert isinstance(plan, _Reactive)
+        for entry in log:
+            text = entry.args.get(judged.field)
+            if not isinstance(text, str) or not plan.pattern.matches(entry, positions):
+                continue
+            rule = plan.if_args.matches_args(entry)
+            verdict = ask_judge(judge, judged, text)
+            reading = verdict.passed and plan.unjudged.matches_args(entry)
+            if reading != rule:
+                found.append(Disagreement(event.id, entry.index, text, rule, reading, verdict.reason))
+    return found
 
 
 def _timed_trigger(event: Event, scenario: Scenario) -> Trigger:
@@ -197,9 +270,11 @@ class _Trigger:
     world in memory until the cyclic garbage collector runs.
     """
 
-    def __init__(self, plan: _Reactive, log: ActionLog) -> None:
+    def __init__(self, plan: _Reactive, log: ActionLog, judge: Judge | None = None) -> None:
         self.plan = plan
         self.log = log
+        self.judge = judge
+        """The run's judge model, for an event whose ``if_args`` on free text it reads instead."""
         self.met = False
         """Whether the event's condition has been met: the scheduler stops waiting (and schedules the
         event) on the first entry it :meth:`meets`."""
@@ -215,9 +290,19 @@ class _Trigger:
         triggers = pattern.matches_call(entry) and pattern.matches(
             entry, event_positions(self.log) if pattern.needs_event_positions else None
         )
-        meets_if = triggers and self.plan.if_args.matches_args(entry)
+        meets_if = triggers and self._meets_if(entry)
         self._last = (entry, triggers, meets_if)
         return triggers, meets_if
+
+    def _meets_if(self, entry: LogEntry) -> bool:
+        """Whether a triggering ``entry`` says what ``if_args`` wants: by the judge model where the event
+        has one and the text is there, else by the matchers.
+        """
+        plan, judge = self.plan, self.judge
+        judged = plan.judged
+        if judge is None or judged is None or not isinstance(text := entry.args.get(judged.field), str):
+            return plan.if_args.matches_args(entry)
+        return plan.unjudged.matches_args(entry) and ask_judge(judge, judged, text).passed
 
     def meets(self, entry: LogEntry) -> bool:
         triggers, meets_if = self._verdicts(entry)

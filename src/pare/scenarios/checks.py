@@ -12,7 +12,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, fields
 from datetime import datetime
 from types import MappingProxyType
-from typing import Any
+from typing import Any, Protocol
 
 from pare.env.attribution import Attribution, StatePath, item_key, place_of
 from pare.scenarios import explain as explaining
@@ -32,8 +32,24 @@ from pare.scenarios.model import (
 from pare.scenarios.patterns import CompiledPattern
 from pare.sim.log import Actor, LogEntry
 
-Judge = Callable[[str, str], bool]
-"""A model-judged condition: ``judge(criterion, text)`` says whether ``text`` meets ``criterion``."""
+
+@dataclass(frozen=True, slots=True)
+class JudgeVerdict:
+    """A judge's verdict on one text, and its one-sentence reason (empty when it gave none)."""
+
+    passed: bool
+    reason: str = ""
+
+
+class Judge(Protocol):
+    """A model-judged condition: ``judge(criterion, text, facts)`` says whether ``text`` meets
+    ``criterion``, given what the scenario says is true (``facts``, maybe none), and why.
+    """
+
+    def __call__(self, criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
+        """The verdict on ``text``."""
+        ...
+
 
 _AT_LEAST_ONE = Count(min=1)
 
@@ -119,9 +135,10 @@ def evaluate(
     """Evaluate every goal of ``scenario`` on ``log`` and the final ``state`` snapshot.
 
     Judge checks use ``judge`` when given, else their deterministic fallback. ``attribution`` (the
-    environment's) says who made each item, for state checks with ``by``; without it nothing counts as
-    anyone's work. A failing check on the assistant's work is evaluated again with the user's work
-    credited to the assistant, to tell whether the user did it by hand (:attr:`CheckResult.user_made`).
+    environment's) says who last set each field of each item, for state checks with ``by``: an item is an
+    actor's work when it wrote a value the check reads; without it nothing counts as anyone's work. A
+    failing check on the assistant's work is evaluated again with the user's work credited to the
+    assistant, to tell whether the user did it by hand (:attr:`CheckResult.user_made`).
     """
     view = _StateView(state)
     context = _Context(scenario.start, log, view, attribution or Attribution(), judge)
@@ -346,6 +363,8 @@ class _StateRule(_Rule):
         self.condition = self.where.describe() if state.where else "(any)"
         self.count = as_count(state.count, _AT_LEAST_ONE)
         self.counted = self.count.describe()
+        self.read = self.where.read()
+        """The item fields the check reads: what an actor must have written for an item to be its work."""
 
     def verdict(self, context: _Context, *, explain: bool = True) -> tuple[bool, str]:
         check, start, view = self.state, context.start, context.state
@@ -362,7 +381,7 @@ class _StateRule(_Rule):
                 detail += f": {explaining.explain(self.value, value, start)}"
             if makers is not None:
                 place = view.place(check.path)
-                made = place is not None and context.attribution.credits(place, makers)
+                made = place is not None and _wrote(context.attribution, place, value, makers)
                 detail += f"; {'made' if made else 'not made'} by the {check.by}"
                 passed = passed and made
             return passed, detail
@@ -373,15 +392,45 @@ class _StateRule(_Rule):
                 f"{check.path} is not a collection (it is {type(value).__name__}); use 'value' to match it",
             )
         test = self.where.test
-        matching = [(key, item) for key, item, record in items if test(record, key, start)]
+        matching = [(key, record) for key, _, record in items if test(record, key, start)]
         detail = f"{check.path}: {len(matching)} of {len(items)} items match {self.condition}"
-        if makers is not None:
-            place = view.place(check.path) or ()
-            credits = context.attribution.credits
-            matching = [(key, item) for key, item in matching if credits((*place, key), makers)]
-            detail += f", {len(matching)} of them made by the {check.by}"
-        passed = self.count.allows(len(matching))
+        if makers is None:
+            return self.count.allows(len(matching)), f"{detail}; wanted {self.counted}"
+        owned, touched = self._made(context, view.place(check.path) or (), matching, makers)
+        detail += f", {owned} of them made by the {check.by}"
+        if touched > owned:
+            detail += f" ({touched - owned} more only changed by it)"
+        count = self.count
+        # The wanted work must be the actor's own (a value the check reads); a limit counts every item the
+        # actor had a hand in, so a stray change to one it may not touch is not excused by who came after.
+        passed = (count.min is None or owned >= count.min) and (count.max is None or touched <= count.max)
         return passed, f"{detail}; wanted {self.counted}"
+
+    def _made(
+        self,
+        context: _Context,
+        place: StatePath,
+        matching: list[tuple[str, Mapping[str, Any]]],
+        makers: frozenset[Actor],
+    ) -> tuple[int, int]:
+        """Of the ``matching`` items, how many ``makers`` made (:meth:`_ItemCondition.made`; with no field
+        read, any of the item's) and how many they had a hand in at all.
+        """
+        attribution, where, start = context.attribution, self.where, context.start
+        made = touched = 0
+        for key, record in matching:
+            item = (*place, key)
+            if where.fields or where.alternatives:
+                written = attribution.written_by(item, self.read, makers)
+                own = bool(written) and where.made(record, key, start, written)
+            else:
+                own = _wrote(attribution, item, record, makers)
+            if own:
+                made += 1
+                touched += 1
+            elif not makers.isdisjoint(attribution.hands(item)):
+                touched += 1
+        return made, touched
 
     def places(self, view: _StateView, start: datetime) -> list[StatePath]:
         """Where the check found what it counted: the items its ``where`` matches (before ``by``), or
@@ -420,9 +469,17 @@ class _JudgeRule(_Rule):
         texts = f"{len(candidates)} text(s) ({', '.join(f'#{entry.index}' for entry in read)})"
         judge = context.judge
         if judge is not None:
-            passed = any(judge(check.criterion, text) for text in candidates)
-            verdict = "accepted" if passed else "rejected"
-            return passed, f"judge {verdict} {texts} for: {check.criterion}"
+            verdicts = []
+            for text in candidates:  # one accepted text is enough: the rest are not sent
+                verdicts.append(judge(check.criterion, text, check.facts))
+                if verdicts[-1].passed:
+                    break
+            passed = verdicts[-1].passed
+            said = verdicts[-1:] if passed else verdicts  # why it accepted, or why it refused each text
+            reasons = [verdict.reason for verdict in said if verdict.reason]
+            more = f" and {len(reasons) - _EXPLAINED} more" if len(reasons) > _EXPLAINED else ""
+            detail = f"judge {'accepted' if passed else 'rejected'} {texts} for: {check.criterion}"
+            return passed, detail + "".join(f"{JUDGE_SAID}{reason}" for reason in reasons[:_EXPLAINED]) + more
         passed = any(self.fallback.test(text, context.start) for text in candidates)
         verdict = "holds" if passed else "fails"
         detail = f"no judge model; fallback {self.fallback_text} {verdict} on {texts}"
@@ -490,6 +547,10 @@ def _on_the_assistant(check: Check) -> bool:
 _EXPLAINED = 3
 """How many of a failing judge check's texts are explained one by one."""
 
+JUDGE_SAID = " | the judge: "
+"""What precedes each of the judge's reasons in a judge check's sentence (pages that show the reasons
+apart split the sentence there)."""
+
 
 def _why_not(pattern: CompiledPattern, entry: LogEntry) -> str:
     """Why the call ``entry`` (of the right tool) does not match ``pattern``: its arguments' reasons."""
@@ -526,6 +587,16 @@ MISSING = _Missing()
 _NO_FIELDS: Mapping[str, Any] = MappingProxyType({})
 
 
+def _wrote(attribution: Attribution, place: StatePath, value: Any, makers: frozenset[Actor]) -> bool:
+    """Whether ``makers`` wrote ``value`` (at ``place``), read as a whole: one of its fields if it is a
+    record, else the value itself (who last set it).
+    """
+    if isinstance(value, Mapping) and value:
+        return bool(attribution.written_by(place, [str(name) for name in value], makers))
+    writer = attribution.writer(place)
+    return writer is not None and writer in makers
+
+
 def _record(item: Any) -> Mapping[str, Any]:
     """What an item's fields are read from: the item if it is a mapping, else nothing."""
     return item if type(item) is dict or isinstance(item, Mapping) else _NO_FIELDS
@@ -550,6 +621,25 @@ class _ItemCondition:
             if not test(key if name is None else record.get(name), start):
                 return False
         return not self.alternatives or any(option.test(record, key, start) for option in self.alternatives)
+
+    def read(self) -> tuple[str, ...]:
+        """The field names the condition reads, its ``any_of`` alternatives' included (``_key``, the
+        item's identity, is set by whoever created the item).
+        """
+        names = dict.fromkeys(name for name, _ in self.fields)
+        for option in self.alternatives:
+            names.update(dict.fromkeys(option.read()))
+        return tuple(names)
+
+    def made(self, record: Mapping[str, Any], key: str, start: datetime, written: frozenset[str]) -> bool:
+        """Whether an item that meets the condition meets it by what an actor wrote (its ``written``
+        fields): one of the fields it reads, or in each ``any_of`` alternative that holds, since one that
+        holds without the actor's values would have held had it written nothing.
+        """
+        if any(name in written for name, _ in self.fields):
+            return True
+        holding = [option for option in self.alternatives if option.test(record, key, start)]
+        return bool(holding) and all(option.made(record, key, start, written) for option in holding)
 
     def describe(self) -> str:
         parts = [f"{name}: {matcher.describe()}" for name, matcher in self.fields]

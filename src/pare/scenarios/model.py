@@ -21,9 +21,11 @@ from pydantic import (
     BaseModel,
     ConfigDict,
     Field,
+    SerializerFunctionWrapHandler,
     TypeAdapter,
     WithJsonSchema,
     field_validator,
+    model_serializer,
     model_validator,
 )
 
@@ -238,8 +240,9 @@ class StateCheck(_Strict):
     ``path`` names a place in the state snapshot (``calendar.events``, ``shopping.cart``,
     ``apartment.saved``). Either ``value`` is a matcher for what is there, or the place is a collection
     whose items are filtered by ``where`` (field name to matcher) and counted against ``count``. With
-    ``by``, only what that actor made counts: items it created or changed last (the value's place, for
-    ``value``), so the user's own work is never credited to the assistant.
+    ``by``, only what that actor made counts: items where it set a field the check reads (the value, for
+    ``value``), so the user's own work is never credited to the assistant; a limit on the count counts
+    every item it had a hand in.
     """
 
     path: str = Field(description="Dotted path into the final state, starting with an app: calendar.events.")
@@ -254,8 +257,8 @@ class StateCheck(_Strict):
     value: Matcher | None = Field(default=None, description="A matcher for the value at the path itself.")
     by: Maker | None = Field(
         default=None,
-        description="Count only what this actor made: items it created or was the last to change. "
-        "Default: anyone (seed data and the world included).",
+        description="Count only what this actor made: items where it set a field the check reads (a "
+        "limit counts every item it changed at all). Default: anyone (seed data and the world included).",
     )
 
     @field_validator("where")
@@ -290,11 +293,46 @@ class JudgeCheck(_Strict):
         "answer that may be split over several messages; by default each is judged alone and one must pass.",
     )
     fallback: Matcher = Field(description="A matcher on the text, used when no judge model is configured.")
+    facts: list[str] = Field(
+        default_factory=list,
+        description="What is true in the scenario, given to the judge model with the text, so it can tell "
+        "an invented detail (a time, place or number these contradict or lack) from a right one.",
+    )
 
     @field_validator("fallback")
     @classmethod
     def _check_fallback(cls, value: Any) -> Any:
         return _valid_matcher(value)
+
+    @field_validator("facts")
+    @classmethod
+    def _check_facts(cls, value: list[str]) -> list[str]:
+        return _checked_facts(value)
+
+    @model_serializer(mode="wrap")
+    def _dump(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        return _without_unused(handler(self), "facts", self.facts)
+
+
+def _without_unused(data: dict[str, Any], name: str, value: object) -> dict[str, Any]:
+    """``data`` without the field ``name`` when it is unused (``value`` empty): a scenario that does not
+    use a newer field dumps as before, so its content hash, which run folders keep, stays the same.
+    """
+    if not value:
+        data.pop(name, None)
+    return data
+
+
+def _checked_facts(value: list[str]) -> list[str]:
+    """A judge's facts, trimmed: each a non-empty sentence, none said twice."""
+    seen: set[str] = set()
+    for index, fact in enumerate(value):
+        if not fact.strip():
+            raise ValueError(f"facts[{index}] is empty: write each fact as a sentence")
+        if fact.strip().casefold() in seen:
+            raise ValueError(f"facts[{index}] repeats an earlier fact: {fact.strip()!r}")
+        seen.add(fact.strip().casefold())
+    return [fact.strip() for fact in value]
 
 
 class Check(_Strict):
@@ -370,6 +408,24 @@ class Reaction(_Strict):
         return value
 
 
+class EventJudge(_Strict):
+    """What a reactive event's triggering text must mean, asked of the run's judge model."""
+
+    criterion: str = Field(
+        min_length=1, description="What the triggering text must say for the event to fire, for the judge."
+    )
+    field: str = Field(
+        default="content",
+        description="The argument holding the text; 'if_args' tests it too (the rule used without a judge).",
+    )
+    facts: list[str] = Field(default_factory=list, description="What is true, as for a judge check.")
+
+    @field_validator("facts")
+    @classmethod
+    def _check_facts(cls, value: list[str]) -> list[str]:
+        return _checked_facts(value)
+
+
 class Event(_Strict):
     """A call the world makes (an email arriving), and when.
 
@@ -393,6 +449,11 @@ class Event(_Strict):
         default=None,
         description="With 'if_args': what the world does when a triggering action does not meet them.",
     )
+    judge: EventJudge | None = Field(
+        default=None,
+        description="With 'if_args': when the run has a judge model, it reads the triggering text against "
+        "this criterion in place of the if_args matcher on that field; without one, the matcher decides.",
+    )
     delay: DurationText = "0"
     tool: str = Field(description="The tool as app__tool, e.g. email__receive_email.")
     args: dict[str, Any] = Field(default_factory=dict)
@@ -401,6 +462,10 @@ class Event(_Strict):
     @classmethod
     def _check_if_args(cls, value: dict[str, Any]) -> dict[str, Any]:
         return _check_matchers(value)
+
+    @model_serializer(mode="wrap")
+    def _dump(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        return _without_unused(handler(self), "judge", self.judge)
 
     @property
     def otherwise_id(self) -> str | None:
@@ -440,6 +505,12 @@ class Event(_Strict):
             raise ValueError("'delay' goes with 'after' or 'when'; with 'at', write the time itself")
         if self.if_args and self.when is None:
             raise ValueError("'if_args' goes with 'when': it tests the action that triggers the event")
+        if self.judge is not None and self.judge.field not in self.if_args:
+            field = self.judge.field
+            raise ValueError(
+                f"'judge' reads '{field}', which 'if_args' does not test: give if_args a matcher on "
+                f"'{field}', the rule used when the run has no judge model"
+            )
         if self.otherwise is not None and not self.if_args:
             raise ValueError("'otherwise' goes with 'if_args': it is what happens when they are not met")
         return self

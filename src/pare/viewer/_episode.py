@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from pare.bench.records import ProposalRecord
+from pare.scenarios.checks import JUDGE_SAID
 from pare.viewer._credit import Credit, Credits, pointer_parts
 
 SEND_MESSAGE = "agent_ui__send_message_to_user"
@@ -148,6 +149,8 @@ class CheckView:
     detail: str
     user_made: bool
     evidence: list[int]
+    judge_said: list[str] = field(default_factory=list)
+    """A judge check's reasons, from the judge model (cut from the end of its detail)."""
 
 
 @dataclass
@@ -430,18 +433,21 @@ def _goal(
     matched: dict[tuple[str, int], list[int]],
 ) -> GoalView:
     goal_id = str(goal.get("id", ""))
-    checks = [
-        CheckView(
-            index=int(check.get("index", 0)),
-            form=str(check.get("form", "")),
-            passed=bool(check.get("passed", False)),
-            description=str(check.get("description", "")),
-            detail=str(check.get("detail", "")),
-            user_made=bool(check.get("user_made", False)),
-            evidence=_evidence_of(goal_id, check, log, attribution, matched),
+    checks = []
+    for check in goal.get("checks", []):
+        detail, *said = str(check.get("detail", "")).split(JUDGE_SAID)
+        checks.append(
+            CheckView(
+                index=int(check.get("index", 0)),
+                form=str(check.get("form", "")),
+                passed=bool(check.get("passed", False)),
+                description=str(check.get("description", "")),
+                detail=detail,
+                user_made=bool(check.get("user_made", False)),
+                evidence=_evidence_of(goal_id, check, log, attribution, matched),
+                judge_said=said,
+            )
         )
-        for check in goal.get("checks", [])
-    ]
     return GoalView(goal_id, str(goal.get("description", "")), bool(goal.get("passed")), checks)
 
 
