@@ -17,8 +17,10 @@ from typing import Any
 from pare.apps.base import SeedState
 from pare.apps.registry import CORE_APPS
 from pare.env import EnvConfig, Environment
+from pare.scenarios.file_identity import FileIdentity
 from pare.scenarios.model import ActionPattern, Event, Scenario
 from pare.scenarios.patterns import CompiledPattern, event_positions
+from pare.scenarios.reading import CallReader, register_live
 from pare.scenarios.seed import prepare_seed
 from pare.scenarios.times import parse_duration, parse_time, resolve_relative_times
 from pare.sim.events import AfterEvent, AtTime, EventAction, ScheduledEvent, Trigger, WhenLogged
@@ -42,8 +44,9 @@ def build_environment(scenario: Scenario, config: EnvConfig | None = None) -> En
     else:
         env = Environment(blueprint.apps, settings)
         blueprint.seed(env)
+    reader = register_live(env, blueprint.files)
     for plan in blueprint.events:
-        for scheduled in plan.scheduled(env):
+        for scheduled in plan.scheduled(env, reader):
             env.schedule(scheduled)
     env.scheduler.validate()
     return env
@@ -56,7 +59,7 @@ class _Timed:
 
     event: ScheduledEvent
 
-    def scheduled(self, env: Environment) -> list[ScheduledEvent]:
+    def scheduled(self, env: Environment, reader: CallReader) -> list[ScheduledEvent]:
         event = self.event
         action = EventAction(event.action.app, event.action.tool, _fresh(event.action.args))
         return [ScheduledEvent(event.event_id, event.trigger, action)]
@@ -77,8 +80,8 @@ class _Reactive:
     description: str
     otherwise: _Otherwise | None
 
-    def scheduled(self, env: Environment) -> list[ScheduledEvent]:
-        trigger = _Trigger(self, env.log)
+    def scheduled(self, env: Environment, reader: CallReader) -> list[ScheduledEvent]:
+        trigger = _Trigger(self, env.log, reader)
         action = EventAction(self.action.app, self.action.tool, _fresh(self.action.args))
         condition = WhenLogged(trigger.meets, self.delay, self.description)
         events = [ScheduledEvent(self.event_id, condition, action)]
@@ -115,6 +118,8 @@ class _Blueprint:
     the app's data at all; with the snapshot it gives, for the apps it never reads."""
     events: tuple[_Timed | _Reactive, ...]
     """The scenario's events in its order (which decides the order of events due at the same time)."""
+    files: FileIdentity
+    """The scenario's world files, by which the world reads attached paths (a file is its content)."""
 
     @classmethod
     def of(cls, scenario: Scenario, env: Environment) -> _Blueprint:
@@ -124,6 +129,7 @@ class _Blueprint:
             apps=tuple(app for app in scenario.all_apps if app not in CORE_APPS),
             states=tuple((app, SeedState.of(env.apps[app].state)) for app in scenario.seed),
             events=tuple(_plan(event, scenario) for event in scenario.events),
+            files=FileIdentity.of(scenario),
         )
 
     def seed(self, env: Environment) -> None:
@@ -197,9 +203,11 @@ class _Trigger:
     world in memory until the cyclic garbage collector runs.
     """
 
-    def __init__(self, plan: _Reactive, log: ActionLog) -> None:
+    def __init__(self, plan: _Reactive, log: ActionLog, reader: CallReader) -> None:
         self.plan = plan
         self.log = log
+        self.reader = reader
+        """Reads what a triggering call told whom, and its attached files, from the apps just after it."""
         self.met = False
         """Whether the event's condition has been met: the scheduler stops waiting (and schedules the
         event) on the first entry it :meth:`meets`."""
@@ -211,11 +219,12 @@ class _Trigger:
         last = self._last
         if last is not None and last[0] is entry:  # entries are immutable and the log only grows
             return last[1], last[2]
-        pattern = self.plan.pattern
+        pattern, reader = self.plan.pattern, self.reader
         triggers = pattern.matches_call(entry) and pattern.matches(
-            entry, event_positions(self.log) if pattern.needs_event_positions else None
+            entry, event_positions(self.log) if pattern.needs_event_positions else None, reader
         )
-        meets_if = triggers and self.plan.if_args.matches_args(entry)
+        # with 'to', the reply reads what the person got: a forward's text is the forwarded email
+        meets_if = triggers and self.plan.if_args.matches_args(entry, reader, told=pattern.people is not None)
         self._last = (entry, triggers, meets_if)
         return triggers, meets_if
 

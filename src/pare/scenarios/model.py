@@ -31,6 +31,7 @@ from pare.apps.registry import phone_apps
 from pare.errors import did_you_mean
 from pare.scenarios.matchers import OPERATORS, MatcherError, compile_matcher
 from pare.scenarios.times import TimeFormatError, parse_duration, parse_time
+from pare.scenarios.told import CHANNELS, Channel
 from pare.sim.log import AssistantMode, ToolKind
 
 FORMAT_VERSION = 1
@@ -156,6 +157,19 @@ class ActionPattern(_Strict):
     before_event: str | None = Field(
         default=None, description="Only calls made before this event fired (or if it never did)."
     )
+    to: str | list[str] | None = Field(
+        default=None,
+        description="Only calls that told this person something (an email address or a messaging user "
+        "id; a list: any of them): an email to, CC, a reply or a forward reaching them, a message in a "
+        "one-to-one or group conversation that includes them. Arguments 'content' and 'attachments' "
+        "then read what they got (a forward's text is the forwarded email).",
+    )
+    via: list[Channel] | None = Field(
+        default=None,
+        description="With 'to': only through these channels ("
+        + "; ".join(f"{name}: {text}" for name, text in CHANNELS.items())
+        + "). Default: any.",
+    )
 
     @field_validator("tool")
     @classmethod
@@ -163,6 +177,33 @@ class ActionPattern(_Strict):
         if isinstance(value, list) and (not value or len(set(value)) != len(value)):
             raise ValueError("a list of tools names each tool once, and at least one")
         return value
+
+    @field_validator("to")
+    @classmethod
+    def _people_named(cls, value: str | list[str] | None) -> str | list[str] | None:
+        named = [value] if isinstance(value, str) else value
+        if named is not None and (not named or not all(person.strip() for person in named)):
+            raise ValueError(
+                "'to' names a person by an email address or a messaging user id (or a list of them)"
+            )
+        return value
+
+    @model_validator(mode="after")
+    def _via_with_to(self) -> ActionPattern:
+        if self.via is not None and self.to is None:
+            raise ValueError("'via' narrows 'to': give the person it tells about")
+        if self.via is not None and not self.via:
+            raise ValueError("'via' lists at least one channel (or leave it out for any)")
+        return self
+
+    @property
+    def people(self) -> frozenset[str] | None:
+        """Who a matching call must have told (lowercase handles), or ``None`` for no one in particular."""
+        if self.to is None:
+            return None
+        return frozenset(
+            person.strip().lower() for person in ([self.to] if isinstance(self.to, str) else self.to)
+        )
 
     @property
     def tools(self) -> tuple[str, ...] | None:
