@@ -17,10 +17,12 @@ from typing import Any
 from pare.env.attribution import Attribution, StatePath, item_key, place_of
 from pare.scenarios import explain as explaining
 from pare.scenarios.file_identity import ATTACHMENT_FIELDS, FileIdentity
+from pare.scenarios.item_text import item_text
 from pare.scenarios.matchers import compile_matcher
 from pare.scenarios.model import (
     WHERE_ANY,
     WHERE_KEY,
+    WHERE_TEXT,
     ActionCheck,
     ActionPattern,
     Check,
@@ -578,7 +580,7 @@ class _ItemCondition:
         ``reader``, attached files are read by their content (:mod:`~pare.scenarios.file_identity`).
         """
         for name, test in self.tests:  # a loop, not all(): it runs for every item of every check
-            value = key if name is None else record.get(name)
+            value = key if name is None else item_text(record) if name == WHERE_TEXT else record.get(name)
             if reader is not None and name in ATTACHMENT_FIELDS:
                 value = reader.attached(value)
             if not test(value, start):

@@ -103,6 +103,9 @@ def _valid_matcher(raw: Any, label: str = "") -> Any:
 
 WHERE_KEY = "_key"
 """In a state check's ``where``: the item's key in a keyed collection (a file's path in ``files.files``)."""
+WHERE_TEXT = "_text"
+"""In a state check's ``where``: all of an item's text fields read together (its title, description, ...;
+see :mod:`pare.scenarios.item_text`), for words that may be written in any of them."""
 WHERE_ANY = "any_of"
 """In a state check's ``where``: a list of field conditions, of which an item must meet one (a name in
 the first or the last name field)."""
@@ -287,6 +290,7 @@ class StateCheck(_Strict):
     where: dict[str, Any] = Field(
         default_factory=dict,
         description="Item field to matcher; '_key': the item's key in a keyed collection (a file's path); "
+        "'_text': all of the item's text fields read together (title, description, content, ...); "
         "'any_of': a list of such mappings, of which one must hold.",
     )
     count: int | Count | None = Field(

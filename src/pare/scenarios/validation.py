@@ -19,10 +19,12 @@ from pare.apps.registry import CORE_APPS, get_app_class
 from pare.apps.tools import ToolSpec, describe_argument_errors
 from pare.errors import did_you_mean
 from pare.scenarios.annotations import item_type, model_fields
+from pare.scenarios.item_text import TEXT_FIELDS, has_text_fields
 from pare.scenarios.kinds import matcher_problems
 from pare.scenarios.model import (
     WHERE_ANY,
     WHERE_KEY,
+    WHERE_TEXT,
     ActionPattern,
     Check,
     Condition,
@@ -549,6 +551,14 @@ class _Validator:
                     yield from self._where_fields(path, alternative, item_fields, (*where, name, number))
             elif name == WHERE_KEY:
                 continue  # the item's key: text, matched as such
+            elif name == WHERE_TEXT:
+                if not has_text_fields(item_fields):
+                    yield Problem(
+                        (*where, name),
+                        f"items of {path} have no text fields for '{WHERE_TEXT}' to read "
+                        f"({', '.join(TEXT_FIELDS)}); name a field",
+                    )
+                yield from self._fits(raw, str, (*where, name))
             elif name not in item_fields:
                 hint = did_you_mean(name, item_fields)
                 yield Problem(
