@@ -335,3 +335,23 @@ def test_probe_renamed_payslips_are_the_payslips_and_a_namesake_is_not() -> None
     )
     assert runs["renamed"].ok, runs["renamed"].problems
     assert runs["namesake"].ok, runs["namesake"].problems
+
+
+def test_the_users_own_sends_on_the_screens_tell_too() -> None:
+    by_user = {"action": {"actor": "user", "to": [ANN, "user-ann"], "args": {"content": {"contains": "hi"}}}}
+    scenario = _scenario(by_user, TOLD_ANN)
+    env = build_environment(scenario)
+    env.advance_to(scenario.start.replace(minute=10))
+    steps = [
+        ("open_app", {"app_name": "email"}),
+        ("open_email", {"email_id": "e_ann"}),
+        ("reply", {"content": "Hi Ann"}),
+        ("go_home", {}),
+        ("open_app", {"app_name": "messaging"}),
+        ("open_conversation", {"conversation_id": "conv-team"}),
+        ("send_message", {"content": "Hi all"}),
+    ]
+    for tool, args in steps:
+        assert env.call("user", tool, args).ok, tool
+    outcome = evaluate(scenario, env.log.entries, env.snapshot(shared=True))
+    assert outcome.goals[0].checks[0].detail.endswith("found 2")
