@@ -355,3 +355,12 @@ def test_the_users_own_sends_on_the_screens_tell_too() -> None:
         assert env.call("user", tool, args).ok, tool
     outcome = evaluate(scenario, env.log.entries, env.snapshot(shared=True))
     assert outcome.goals[0].checks[0].detail.endswith("found 2")
+
+
+def test_a_scenario_without_to_hashes_as_before_the_field_existed() -> None:
+    # run folders made before 'to' and 'via' stay valid for scenarios that do not use them
+    pattern = _scenario({"action": {"tool": "email__send_email"}}).goals[0].checks[0].action
+    assert pattern is not None
+    assert "to" not in pattern.model_dump() and "via" not in pattern.model_dump()
+    told = _scenario({"action": {"to": ANN, "via": ["reply"]}}).goals[0].checks[0].action
+    assert told is not None and told.model_dump()["via"] == ["reply"]

@@ -21,9 +21,11 @@ from pydantic import (
     BaseModel,
     ConfigDict,
     Field,
+    SerializerFunctionWrapHandler,
     TypeAdapter,
     WithJsonSchema,
     field_validator,
+    model_serializer,
     model_validator,
 )
 
@@ -198,6 +200,16 @@ class ActionPattern(_Strict):
         if self.via is not None and not self.via:
             raise ValueError("'via' lists at least one channel (or leave it out for any)")
         return self
+
+    @model_serializer(mode="wrap")
+    def _without_unused_recipients(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        # 'to' and 'via' came after the scenarios: left out when unused, a pattern dumps (and so a
+        # scenario hashes, see Scenario.content_hash) as it did before them, and run folders stay valid
+        data: dict[str, Any] = handler(self)
+        for name in ("to", "via"):
+            if data.get(name) is None:
+                data.pop(name, None)
+        return data
 
     @property
     def people(self) -> frozenset[str] | None:
