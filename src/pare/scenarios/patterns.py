@@ -172,6 +172,8 @@ class CompiledPattern:
             qualifiers.append("failed")
         if pattern.to is not None:
             people = pattern.to if isinstance(pattern.to, str) else " or ".join(pattern.to)
-            what = f"{what} telling {people}" + (f" via {' or '.join(pattern.via)}" if pattern.via else "")
+            sent = "email or message" if tools is None and pattern.app is None else what
+            channels = f" via {' or '.join(pattern.via)}" if pattern.via else ""
+            what = f"{sent} telling {people}{channels}"
         text = f"{who} {what}({', '.join(extras)})"
         return text + (f" [{', '.join(qualifiers)}]" if qualifiers else "")
