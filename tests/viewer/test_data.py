@@ -10,7 +10,7 @@ import pytest
 from pare.errors import UserInputError
 from pare.viewer import Catalog, Site, build_episode, export_site, slug
 from pare.viewer._episode import ExecuteGroup, split_observation, thought_of
-from pare.viewer._evidence import library_scenario, matched_entries
+from pare.viewer._evidence import final_state, library_scenario, matched_entries
 from pare.viewer._rows import filter_choices, rows
 from tests.viewer.runs import SCENARIOS, Runs
 
@@ -162,8 +162,9 @@ def test_checks_link_the_entries_their_patterns_match(runs: Runs) -> None:
     assert data is not None
     scenario = library_scenario(record.scenario_id, record.scenario_hash)
     assert scenario is not None
-    matched = matched_entries(scenario, data["log"])
+    matched = matched_entries(scenario, data["log"], final_state(scenario, data))  # whom each call told
     episode = build_episode(data, list(record.proposals), matched)
+    assert not matched_entries(scenario, data["log"])[("practice_told", 0)]  # 'to' needs the final state
     (told,) = [g for g in episode.goals if g.id == "practice_told"]
     replies = [e["index"] for e in data["log"] if e["tool"] == "reply_to_email" and e["actor"] == "assistant"]
     assert told.checks[0].form == "judge" and told.checks[0].evidence == replies

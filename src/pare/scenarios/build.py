@@ -20,8 +20,10 @@ from pare.apps.base import SeedState
 from pare.apps.registry import CORE_APPS
 from pare.env import EnvConfig, Environment
 from pare.scenarios.checks import Judge, JudgeVerdict
+from pare.scenarios.file_identity import FileIdentity
 from pare.scenarios.model import ActionPattern, Event, EventJudge, Scenario
 from pare.scenarios.patterns import CompiledPattern, event_positions
+from pare.scenarios.reading import CallReader, register_live
 from pare.scenarios.seed import prepare_seed
 from pare.scenarios.times import parse_duration, parse_time, resolve_relative_times
 from pare.sim.events import AfterEvent, AtTime, EventAction, ScheduledEvent, Trigger, WhenLogged
@@ -48,8 +50,9 @@ def build_environment(
     else:
         env = Environment(blueprint.apps, settings)
         blueprint.seed(env)
+    reader = register_live(env, blueprint.files)
     for plan in blueprint.events:
-        for scheduled in plan.scheduled(env, judge):
+        for scheduled in plan.scheduled(env, reader, judge):
             env.schedule(scheduled)
     env.scheduler.validate()
     return env
@@ -62,7 +65,7 @@ class _Timed:
 
     event: ScheduledEvent
 
-    def scheduled(self, env: Environment, judge: Judge | None) -> list[ScheduledEvent]:
+    def scheduled(self, env: Environment, reader: CallReader, judge: Judge | None) -> list[ScheduledEvent]:
         event = self.event
         action = EventAction(event.action.app, event.action.tool, _fresh(event.action.args))
         return [ScheduledEvent(event.event_id, event.trigger, action)]
@@ -87,8 +90,8 @@ class _Reactive:
     unjudged: CompiledPattern
     """``if_args`` without the judged field: what the judge's verdict is combined with."""
 
-    def scheduled(self, env: Environment, judge: Judge | None) -> list[ScheduledEvent]:
-        trigger = _Trigger(self, env.log, judge if self.judged is not None else None)
+    def scheduled(self, env: Environment, reader: CallReader, judge: Judge | None) -> list[ScheduledEvent]:
+        trigger = _Trigger(self, env.log, reader, judge if self.judged is not None else None)
         action = EventAction(self.action.app, self.action.tool, _fresh(self.action.args))
         condition = WhenLogged(trigger.meets, self.delay, self.description)
         events = [ScheduledEvent(self.event_id, condition, action)]
@@ -125,6 +128,8 @@ class _Blueprint:
     the app's data at all; with the snapshot it gives, for the apps it never reads."""
     events: tuple[_Timed | _Reactive, ...]
     """The scenario's events in its order (which decides the order of events due at the same time)."""
+    files: FileIdentity
+    """The scenario's world files, by which the world reads attached paths (a file is its content)."""
 
     @classmethod
     def of(cls, scenario: Scenario, env: Environment) -> _Blueprint:
@@ -134,6 +139,7 @@ class _Blueprint:
             apps=tuple(app for app in scenario.all_apps if app not in CORE_APPS),
             states=tuple((app, SeedState.of(env.apps[app].state)) for app in scenario.seed),
             events=tuple(_plan(event, scenario) for event in scenario.events),
+            files=FileIdentity.of(scenario),
         )
 
     def seed(self, env: Environment) -> None:
@@ -270,9 +276,13 @@ class _Trigger:
     world in memory until the cyclic garbage collector runs.
     """
 
-    def __init__(self, plan: _Reactive, log: ActionLog, judge: Judge | None = None) -> None:
+    def __init__(
+        self, plan: _Reactive, log: ActionLog, reader: CallReader, judge: Judge | None = None
+    ) -> None:
         self.plan = plan
         self.log = log
+        self.reader = reader
+        """Reads what a triggering call told whom, and its attached files, from the apps just after it."""
         self.judge = judge
         """The run's judge model, for an event whose ``if_args`` on free text it reads instead."""
         self.met = False
@@ -286,9 +296,9 @@ class _Trigger:
         last = self._last
         if last is not None and last[0] is entry:  # entries are immutable and the log only grows
             return last[1], last[2]
-        pattern = self.plan.pattern
+        pattern, reader = self.plan.pattern, self.reader
         triggers = pattern.matches_call(entry) and pattern.matches(
-            entry, event_positions(self.log) if pattern.needs_event_positions else None
+            entry, event_positions(self.log) if pattern.needs_event_positions else None, reader
         )
         meets_if = triggers and self._meets_if(entry)
         self._last = (entry, triggers, meets_if)
@@ -298,11 +308,13 @@ class _Trigger:
         """Whether a triggering ``entry`` says what ``if_args`` wants: by the judge model where the event
         has one and the text is there, else by the matchers.
         """
-        plan, judge = self.plan, self.judge
+        plan, judge, reader = self.plan, self.judge, self.reader
+        # with 'to', the reply reads what the person got: a forward's text is the forwarded email
+        told = plan.pattern.people is not None
         judged = plan.judged
         if judge is None or judged is None or not isinstance(text := entry.args.get(judged.field), str):
-            return plan.if_args.matches_args(entry)
-        return plan.unjudged.matches_args(entry) and ask_judge(judge, judged, text).passed
+            return plan.if_args.matches_args(entry, reader, told=told)
+        return plan.unjudged.matches_args(entry, reader, told=told) and ask_judge(judge, judged, text).passed
 
     def meets(self, entry: LogEntry) -> bool:
         triggers, meets_if = self._verdicts(entry)

@@ -16,10 +16,13 @@ from typing import Any, Protocol
 
 from pare.env.attribution import Attribution, StatePath, item_key, place_of
 from pare.scenarios import explain as explaining
+from pare.scenarios.file_identity import ATTACHMENT_FIELDS, FileIdentity
+from pare.scenarios.item_text import item_text
 from pare.scenarios.matchers import compile_matcher
 from pare.scenarios.model import (
     WHERE_ANY,
     WHERE_KEY,
+    WHERE_TEXT,
     ActionCheck,
     ActionPattern,
     Check,
@@ -30,6 +33,7 @@ from pare.scenarios.model import (
     as_count,
 )
 from pare.scenarios.patterns import CompiledPattern
+from pare.scenarios.reading import CallReader
 from pare.sim.log import Actor, LogEntry
 
 
@@ -141,10 +145,12 @@ def evaluate(
     assistant, to tell whether the user did it by hand (:attr:`CheckResult.user_made`).
     """
     view = _StateView(state)
-    context = _Context(scenario.start, log, view, attribution or Attribution(), judge)
-    credited = _Context(scenario.start, log, view, context.attribution, None, credit_user=True)
+    compiled = compiled_goals(scenario)
+    reader = CallReader.of_state(view.whole, compiled.files)
+    context = _Context(scenario.start, log, view, attribution or Attribution(), judge, reader)
+    credited = _Context(scenario.start, log, view, context.attribution, None, reader, credit_user=True)
     goals = []
-    for goal, rules in compiled_goals(scenario).goals:
+    for goal, rules in compiled.goals:
         results = []
         for index, rule in enumerate(rules):
             passed, detail = rule.verdict(context)
@@ -170,8 +176,11 @@ def goals_met(
     episode makes on each idle turn). Checks are pure, so the cheap ones (on the action log) go first.
     ``state`` may be a function that takes the snapshot: it is called only if a state check is reached.
     """
-    context = _Context(scenario.start, log, _StateView(state), attribution or Attribution(), None)
-    rules = compiled_goals(scenario).cheapest_first
+    view = _StateView(state)
+    compiled = compiled_goals(scenario)
+    reader = CallReader.of_state(view.whole, compiled.files)
+    context = _Context(scenario.start, log, view, attribution or Attribution(), None, reader)
+    rules = compiled.cheapest_first
     return all(rule.verdict(context, explain=False)[0] for rule in rules)
 
 
@@ -183,9 +192,11 @@ def state_check_places(
     calls that made them.
     """
     view = _StateView(state)
+    compiled = compiled_goals(scenario)
+    reader = CallReader.of_state(view.whole, compiled.files)
     return {
-        (goal.id, index): rule.places(view, scenario.start)
-        for goal, rules in compiled_goals(scenario).goals
+        (goal.id, index): rule.places(view, scenario.start, reader)
+        for goal, rules in compiled.goals
         for index, rule in enumerate(rules)
         if isinstance(rule, _StateRule)
     }
@@ -194,7 +205,7 @@ def state_check_places(
 class _Context:
     """What the checks of one evaluation read (a plain class: two are made for every evaluation)."""
 
-    __slots__ = ("attribution", "credit_user", "judge", "log", "start", "state")
+    __slots__ = ("attribution", "credit_user", "judge", "log", "reader", "start", "state")
 
     def __init__(
         self,
@@ -203,6 +214,7 @@ class _Context:
         state: _StateView,
         attribution: Attribution,
         judge: Judge | None,
+        reader: CallReader,
         *,
         credit_user: bool = False,
     ) -> None:
@@ -211,6 +223,8 @@ class _Context:
         self.state = state
         self.attribution = attribution
         self.judge = judge
+        self.reader = reader
+        """Reads the calls against the final state: whom each told, attached files by content."""
         self.credit_user = credit_user
         """Count the user's own work as the assistant's (to tell whether the user did the task by hand)."""
 
@@ -236,6 +250,10 @@ class _StateView:
         self._values: dict[str, Any] = {}
         self._items: dict[str, list[tuple[str, Any, Mapping[str, Any]]] | None] = {}
         self._places: dict[str, StatePath | None] = {}
+
+    def whole(self) -> Mapping[str, Any]:
+        """:attr:`state`, as a function (for a reader that takes it only if it needs it)."""
+        return self.state
 
     @property
     def state(self) -> Mapping[str, Any]:
@@ -324,7 +342,7 @@ class _ActionRule(_Rule):
     def verdict(self, context: _Context, *, explain: bool = True) -> tuple[bool, str]:
         log = context.log
         pattern, described = self.pattern.of(context)
-        found = pattern.find(log)
+        found = pattern.find(log, context.reader)
         wanted = f"{self.counted} {described}"
         if self.count.allows(len(found)):
             return True, f"{wanted}: found {len(found)}"
@@ -334,7 +352,7 @@ class _ActionRule(_Rule):
         if near:
             detail += f"; other calls to that tool: {_calls(near)}"
             if explain:
-                detail += _why_not(pattern, near[0])
+                detail += _why_not(pattern, near[0], context.reader)
         return False, detail
 
 
@@ -345,7 +363,7 @@ class _NoActionRule(_Rule):
         self.described = self.pattern.describe()
 
     def verdict(self, context: _Context, *, explain: bool = True) -> tuple[bool, str]:
-        found = self.pattern.find(context.log)
+        found = self.pattern.find(context.log, context.reader)
         if not found:
             return True, f"no {self.described}"
         return False, f"forbidden {self.described} happened: {_calls(found)}"
@@ -391,8 +409,8 @@ class _StateRule(_Rule):
                 False,
                 f"{check.path} is not a collection (it is {type(value).__name__}); use 'value' to match it",
             )
-        test = self.where.test
-        matching = [(key, record) for key, _, record in items if test(record, key, start)]
+        test, reader = self.where.test, context.reader
+        matching = [(key, record) for key, _, record in items if test(record, key, start, reader)]
         detail = f"{check.path}: {len(matching)} of {len(items)} items match {self.condition}"
         if makers is None:
             return self.count.allows(len(matching)), f"{detail}; wanted {self.counted}"
@@ -416,13 +434,13 @@ class _StateRule(_Rule):
         """Of the ``matching`` items, how many ``makers`` made (:meth:`_ItemCondition.made`; with no field
         read, any of the item's) and how many they had a hand in at all.
         """
-        attribution, where, start = context.attribution, self.where, context.start
+        attribution, where, start, reader = context.attribution, self.where, context.start, context.reader
         made = touched = 0
         for key, record in matching:
             item = (*place, key)
             if where.fields or where.alternatives:
                 written = attribution.written_by(item, self.read, makers)
-                own = bool(written) and where.made(record, key, start, written)
+                own = bool(written) and where.made(record, key, start, written, reader)
             else:
                 own = _wrote(attribution, item, record, makers)
             if own:
@@ -432,7 +450,7 @@ class _StateRule(_Rule):
                 touched += 1
         return made, touched
 
-    def places(self, view: _StateView, start: datetime) -> list[StatePath]:
+    def places(self, view: _StateView, start: datetime, reader: CallReader) -> list[StatePath]:
         """Where the check found what it counted: the items its ``where`` matches (before ``by``), or
         the value it read.
         """
@@ -443,7 +461,9 @@ class _StateRule(_Rule):
             return [place]
         test = self.where.test
         return [
-            (*place, key) for key, _, record in view.items(self.state.path) or [] if test(record, key, start)
+            (*place, key)
+            for key, _, record in view.items(self.state.path) or []
+            if test(record, key, start, reader)
         ]
 
 
@@ -460,10 +480,12 @@ class _JudgeRule(_Rule):
     def verdict(self, context: _Context, *, explain: bool = True) -> tuple[bool, str]:
         check = self.judge
         pattern, described = self.pattern.of(context)
-        read = [entry for entry in pattern.find(context.log) if isinstance(entry.args.get(check.field), str)]
+        reader = context.reader
+        found = [(entry, pattern.arguments(entry, reader)) for entry in pattern.find(context.log, reader)]
+        read = [entry for entry, args in found if isinstance(args.get(check.field), str)]
         if not read:
             return False, f"no {described} with a text in '{check.field}' to judge"
-        candidates = [entry.args[check.field] for entry in read]
+        candidates = [args[check.field] for _, args in found if isinstance(args.get(check.field), str)]
         if check.together and len(candidates) > 1:
             candidates = ["\n\n".join(candidates)]  # one answer sent in parts is judged as the whole
         texts = f"{len(candidates)} text(s) ({', '.join(f'#{entry.index}' for entry in read)})"
@@ -510,6 +532,8 @@ class CompiledGoals:
     """
 
     def __init__(self, scenario: Scenario) -> None:
+        self.files = FileIdentity.of(scenario)
+        """The scenario's world files, by which attached paths are read (a file is its content)."""
         self.goals = tuple(
             (goal, tuple(_rule(check, scenario.start) for check in goal.checks)) for goal in scenario.goals
         )
@@ -552,13 +576,18 @@ JUDGE_SAID = " | the judge: "
 apart split the sentence there)."""
 
 
-def _why_not(pattern: CompiledPattern, entry: LogEntry) -> str:
+def _why_not(pattern: CompiledPattern, entry: LogEntry, reader: CallReader) -> str:
     """Why the call ``entry`` (of the right tool) does not match ``pattern``: its arguments' reasons."""
+    args = pattern.arguments(entry, reader)
     reasons = [
         f"{name}: {why}"
         for name, matcher in pattern.args
-        if (why := explaining.explain(matcher, entry.args.get(name), pattern.start))
+        if (why := explaining.explain(matcher, args.get(name), pattern.start))
     ]
+    if not pattern.tells(entry, reader):
+        via = pattern.pattern.via
+        channels = f" via {' or '.join(via)}" if via else ""
+        reasons.insert(0, f"it did not tell {pattern.pattern.to}{channels}")
     return f"; #{entry.index} does not match: {'; '.join(reasons)}" if reasons else ""
 
 
@@ -615,12 +644,21 @@ class _ItemCondition:
         """Each field's test (its name, ``None`` for the item's key), in the order they are run: most
         items fail a cheap comparison of one field."""
 
-    def test(self, record: Mapping[str, Any], key: str, start: datetime) -> bool:
-        """Whether the item of this ``record`` (:func:`_record`) and ``key`` meets the condition."""
+    def test(
+        self, record: Mapping[str, Any], key: str, start: datetime, reader: CallReader | None = None
+    ) -> bool:
+        """Whether the item of this ``record`` (:func:`_record`) and ``key`` meets the condition; with
+        ``reader``, attached files are read by their content (:mod:`~pare.scenarios.file_identity`).
+        """
         for name, test in self.tests:  # a loop, not all(): it runs for every item of every check
-            if not test(key if name is None else record.get(name), start):
+            value = key if name is None else item_text(record) if name == WHERE_TEXT else record.get(name)
+            if reader is not None and name in ATTACHMENT_FIELDS:
+                value = reader.attached(value)
+            if not test(value, start):
                 return False
-        return not self.alternatives or any(option.test(record, key, start) for option in self.alternatives)
+        return not self.alternatives or any(
+            option.test(record, key, start, reader) for option in self.alternatives
+        )
 
     def read(self) -> tuple[str, ...]:
         """The field names the condition reads, its ``any_of`` alternatives' included (``_key``, the
@@ -631,15 +669,22 @@ class _ItemCondition:
             names.update(dict.fromkeys(option.read()))
         return tuple(names)
 
-    def made(self, record: Mapping[str, Any], key: str, start: datetime, written: frozenset[str]) -> bool:
+    def made(
+        self,
+        record: Mapping[str, Any],
+        key: str,
+        start: datetime,
+        written: frozenset[str],
+        reader: CallReader | None = None,
+    ) -> bool:
         """Whether an item that meets the condition meets it by what an actor wrote (its ``written``
         fields): one of the fields it reads, or in each ``any_of`` alternative that holds, since one that
         holds without the actor's values would have held had it written nothing.
         """
         if any(name in written for name, _ in self.fields):
             return True
-        holding = [option for option in self.alternatives if option.test(record, key, start)]
-        return bool(holding) and all(option.made(record, key, start, written) for option in holding)
+        holding = [option for option in self.alternatives if option.test(record, key, start, reader)]
+        return bool(holding) and all(option.made(record, key, start, written, reader) for option in holding)
 
     def describe(self) -> str:
         parts = [f"{name}: {matcher.describe()}" for name, matcher in self.fields]

@@ -33,6 +33,7 @@ from pare.apps.registry import phone_apps
 from pare.errors import did_you_mean
 from pare.scenarios.matchers import OPERATORS, MatcherError, compile_matcher
 from pare.scenarios.times import TimeFormatError, parse_duration, parse_time
+from pare.scenarios.told import CHANNELS, Channel
 from pare.sim.log import AssistantMode, ToolKind
 
 FORMAT_VERSION = 1
@@ -104,6 +105,9 @@ def _valid_matcher(raw: Any, label: str = "") -> Any:
 
 WHERE_KEY = "_key"
 """In a state check's ``where``: the item's key in a keyed collection (a file's path in ``files.files``)."""
+WHERE_TEXT = "_text"
+"""In a state check's ``where``: all of an item's text fields read together (its title, description, ...;
+see :mod:`pare.scenarios.item_text`), for words that may be written in any of them."""
 WHERE_ANY = "any_of"
 """In a state check's ``where``: a list of field conditions, of which an item must meet one (a name in
 the first or the last name field)."""
@@ -158,6 +162,19 @@ class ActionPattern(_Strict):
     before_event: str | None = Field(
         default=None, description="Only calls made before this event fired (or if it never did)."
     )
+    to: str | list[str] | None = Field(
+        default=None,
+        description="Only calls that told this person something (an email address or a messaging user "
+        "id; a list: any of them): an email to, CC, a reply or a forward reaching them, a message in a "
+        "one-to-one or group conversation that includes them. Arguments 'content' and 'attachments' "
+        "then read what they got (a forward's text is the forwarded email).",
+    )
+    via: list[Channel] | None = Field(
+        default=None,
+        description="With 'to': only through these channels ("
+        + "; ".join(f"{name}: {text}" for name, text in CHANNELS.items())
+        + "). Default: any.",
+    )
 
     @field_validator("tool")
     @classmethod
@@ -165,6 +182,43 @@ class ActionPattern(_Strict):
         if isinstance(value, list) and (not value or len(set(value)) != len(value)):
             raise ValueError("a list of tools names each tool once, and at least one")
         return value
+
+    @field_validator("to")
+    @classmethod
+    def _people_named(cls, value: str | list[str] | None) -> str | list[str] | None:
+        named = [value] if isinstance(value, str) else value
+        if named is not None and (not named or not all(person.strip() for person in named)):
+            raise ValueError(
+                "'to' names a person by an email address or a messaging user id (or a list of them)"
+            )
+        return value
+
+    @model_validator(mode="after")
+    def _via_with_to(self) -> ActionPattern:
+        if self.via is not None and self.to is None:
+            raise ValueError("'via' narrows 'to': give the person it tells about")
+        if self.via is not None and not self.via:
+            raise ValueError("'via' lists at least one channel (or leave it out for any)")
+        return self
+
+    @model_serializer(mode="wrap")
+    def _without_unused_recipients(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        # 'to' and 'via' came after the scenarios: left out when unused, a pattern dumps (and so a
+        # scenario hashes, see Scenario.content_hash) as it did before them, and run folders stay valid
+        data: dict[str, Any] = handler(self)
+        for name in ("to", "via"):
+            if data.get(name) is None:
+                data.pop(name, None)
+        return data
+
+    @property
+    def people(self) -> frozenset[str] | None:
+        """Who a matching call must have told (lowercase handles), or ``None`` for no one in particular."""
+        if self.to is None:
+            return None
+        return frozenset(
+            person.strip().lower() for person in ([self.to] if isinstance(self.to, str) else self.to)
+        )
 
     @property
     def tools(self) -> tuple[str, ...] | None:
@@ -249,6 +303,7 @@ class StateCheck(_Strict):
     where: dict[str, Any] = Field(
         default_factory=dict,
         description="Item field to matcher; '_key': the item's key in a keyed collection (a file's path); "
+        "'_text': all of the item's text fields read together (title, description, content, ...); "
         "'any_of': a list of such mappings, of which one must hold.",
     )
     count: int | Count | None = Field(

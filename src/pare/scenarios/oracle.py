@@ -33,6 +33,7 @@ from pare.errors import UserInputError
 from pare.scenarios.checks import MISSING, lookup
 from pare.scenarios.model import Condition, Intervention, OracleAction, Scenario, Solution, reference
 from pare.scenarios.patterns import CompiledPattern, event_positions
+from pare.scenarios.reading import live_reader
 from pare.scenarios.times import resolve_relative_times
 
 DEFAULT_ANSWER = "Yes, go ahead."
@@ -62,7 +63,7 @@ class Conditions:
         if condition.event is not None and condition.event not in env.scheduler.completed:
             return False
         pattern = self._patterns.get(id(condition))
-        return pattern is None or bool(pattern.find(env.log.entries))
+        return pattern is None or bool(pattern.find(env.log.entries, live_reader(env)))
 
 
 class _References:

@@ -5,9 +5,12 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from datetime import datetime
+from typing import Any
 
+from pare.scenarios.file_identity import ATTACHMENT_FIELDS
 from pare.scenarios.matchers import Matcher, compile_matcher
 from pare.scenarios.model import ActionPattern
+from pare.scenarios.reading import CallReader
 from pare.sim.log import LogEntry
 
 _COMPILED: dict[tuple[int, int], CompiledPattern] = {}
@@ -33,6 +36,11 @@ class CompiledPattern:
     start: datetime
     tools: frozenset[str] | None = None
     screen: Matcher | None = None
+    people: frozenset[str] | None = None
+    """With ``to``: who the call must have told."""
+    via: frozenset[str] | None = None
+    reads_files: bool = False
+    """Whether an argument matcher reads attached files (which are read by their content)."""
 
     @classmethod
     def of(cls, pattern: ActionPattern, start: datetime) -> CompiledPattern:
@@ -50,11 +58,18 @@ class CompiledPattern:
         result = compile_matcher(pattern.result) if pattern.result is not None else None
         tools = None if pattern.tools is None else frozenset(pattern.tools)
         screen = compile_matcher(pattern.screen) if pattern.screen is not None else None
-        compiled = cls(pattern, args, result, start, tools, screen)
+        via = None if pattern.via is None else frozenset(pattern.via)
+        reads_files = any(name in ATTACHMENT_FIELDS for name in pattern.args)
+        compiled = cls(pattern, args, result, start, tools, screen, pattern.people, via, reads_files)
         if len(_COMPILED) >= 16384:  # a long-lived process that loads scenarios again and again
             _COMPILED.clear()
         _COMPILED[key] = compiled  # it holds both: their ids are not reused while the entry lives
         return compiled
+
+    @property
+    def needs_reader(self) -> bool:
+        """Whether matching reads app data beyond the call (whom it told, attached files' content)."""
+        return self.people is not None or self.reads_files
 
     @property
     def needs_event_positions(self) -> bool:
@@ -76,9 +91,16 @@ class CompiledPattern:
             return False
         return pattern.ok is None or entry.ok == pattern.ok
 
-    def matches(self, entry: LogEntry, events: Mapping[str, int] | None = None) -> bool:
-        """Whether ``entry`` matches everything: the call, its arguments, its result, its timing."""
-        if not self.matches_call(entry) or not self.matches_args(entry):
+    def matches(
+        self, entry: LogEntry, events: Mapping[str, int] | None = None, reader: CallReader | None = None
+    ) -> bool:
+        """Whether ``entry`` matches everything: the call, whom it told, its arguments, its result, its
+        timing. ``reader`` reads the app data a pattern with ``to`` needs (without one, such a pattern
+        matches nothing) and attached files by their content (without one, by their paths).
+        """
+        if not self.matches_call(entry) or not self.tells(entry, reader):
+            return False
+        if not self.matches_args(entry, reader):
             return False
         if self.result is not None and not self.result.test(entry.result, self.start):
             return False
@@ -93,14 +115,37 @@ class CompiledPattern:
                 return False
         return True
 
-    def matches_args(self, entry: LogEntry) -> bool:
-        """Whether the entry's arguments satisfy every argument matcher."""
-        return all(matcher.test(entry.args.get(name), self.start) for name, matcher in self.args)
+    def tells(self, entry: LogEntry, reader: CallReader | None) -> bool:
+        """Whether ``entry`` told the person of ``to`` (through a channel of ``via``); true without ``to``."""
+        if self.people is None:
+            return True
+        sent = reader.delivery(entry) if reader is not None else None
+        return sent is not None and sent.reaches(self.people, self.via)
 
-    def find(self, log: Sequence[LogEntry]) -> list[LogEntry]:
+    def arguments(
+        self, entry: LogEntry, reader: CallReader | None, *, told: bool | None = None
+    ) -> Mapping[str, Any]:
+        """The arguments the matchers read: as the reader reads them (``told``: the text and files as
+        delivered; default: when the pattern has ``to``), or as logged without a reader.
+        """
+        if reader is None:
+            return entry.args
+        return reader.args(entry, told=self.people is not None if told is None else told)
+
+    def matches_args(
+        self, entry: LogEntry, reader: CallReader | None = None, *, told: bool | None = None
+    ) -> bool:
+        """Whether the entry's arguments (:meth:`arguments`) satisfy every argument matcher."""
+        if not self.args:
+            return True
+        reads = self.reads_files or (told if told is not None else self.people is not None)
+        args = self.arguments(entry, reader, told=told) if reads else entry.args
+        return all(matcher.test(args.get(name), self.start) for name, matcher in self.args)
+
+    def find(self, log: Sequence[LogEntry], reader: CallReader | None = None) -> list[LogEntry]:
         """Every matching entry of ``log``."""
         events = event_positions(log) if self.needs_event_positions else None
-        return [entry for entry in log if self.matches(entry, events)]
+        return [entry for entry in log if self.matches(entry, events, reader)]
 
     def describe(self) -> str:
         """A reading such as ``assistant email__send_email(recipients: contains ['bob'])``."""
@@ -125,5 +170,10 @@ class CompiledPattern:
             qualifiers.append(f"on a screen {self.screen.describe()}")
         if pattern.ok is False:
             qualifiers.append("failed")
+        if pattern.to is not None:
+            people = pattern.to if isinstance(pattern.to, str) else " or ".join(pattern.to)
+            sent = "email or message" if tools is None and pattern.app is None else what
+            channels = f" via {' or '.join(pattern.via)}" if pattern.via else ""
+            what = f"{sent} telling {people}{channels}"
         text = f"{who} {what}({', '.join(extras)})"
         return text + (f" [{', '.join(qualifiers)}]" if qualifiers else "")

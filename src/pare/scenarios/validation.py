@@ -15,14 +15,17 @@ from typing import Any
 from pydantic import ValidationError
 
 from pare.apps.base import App
+from pare.apps.email import is_address
 from pare.apps.registry import CORE_APPS, get_app_class
 from pare.apps.tools import ToolSpec, describe_argument_errors
 from pare.errors import did_you_mean
 from pare.scenarios.annotations import item_type, model_fields
+from pare.scenarios.item_text import TEXT_FIELDS, has_text_fields
 from pare.scenarios.kinds import matcher_problems
 from pare.scenarios.model import (
     WHERE_ANY,
     WHERE_KEY,
+    WHERE_TEXT,
     ActionPattern,
     Check,
     Condition,
@@ -35,6 +38,7 @@ from pare.scenarios.model import (
 )
 from pare.scenarios.seed import Location, SeedError, original_location, prepare_seed
 from pare.scenarios.times import parse_time, resolve_relative_times
+from pare.scenarios.told import SENDING_TOOLS
 from pare.sim.budget import DEFAULT_BUDGET
 from pare.yaml_source import Path
 
@@ -199,8 +203,9 @@ class _Validator:
     def _if_args(self, pattern: ActionPattern, if_args: Mapping[str, Any], where: Path) -> Iterator[Problem]:
         specs = self._pattern_specs(pattern) if pattern.tool is not None else []
         parameters = _parameters(specs)
+        delivered = ("content", "attachments") if pattern.to is not None else ()
         for name, raw in if_args.items():
-            if specs and name not in parameters:
+            if specs and name not in parameters and name not in delivered:
                 hint = did_you_mean(name, parameters)
                 yield Problem(
                     (*where, name),
@@ -384,7 +389,11 @@ class _Validator:
                     yield from self._pattern(check.no_action, where)
                 elif check.judge is not None:
                     yield from self._pattern(check.judge.action, (*where, "action"))
-                    for spec in self._pattern_specs(check.judge.action):
+                    told = check.judge.action.to is not None and check.judge.field in (
+                        "content",
+                        "attachments",
+                    )
+                    for spec in [] if told else self._pattern_specs(check.judge.action):
                         if check.judge.field not in spec.params.model_fields:
                             yield Problem(
                                 (*where, "field"),
@@ -447,6 +456,8 @@ class _Validator:
             yield Problem(
                 (*where, "app"), f"'{pattern.app}' is not an app of this scenario ({', '.join(catalog.apps)})"
             )
+        if pattern.to is not None:
+            yield from self._people(pattern, where)
         if pattern.tool is None:
             # any tool (of the app, if given) taking these arguments: e.g. any email write to Bob
             specs = [
@@ -496,6 +507,32 @@ class _Validator:
             else:
                 yield from self._fits(raw, parameters[name], (*where, "args", name))
                 yield from self._id_reference(name, raw, (*where, "args", name))
+
+    def _people(self, pattern: ActionPattern, where: Path) -> Iterator[Problem]:
+        """A pattern's ``to``: people the scenario knows, reachable by the calls it names."""
+        people = [pattern.to] if isinstance(pattern.to, str) else pattern.to or []
+        for position, person in enumerate(people):
+            place: Path = (*where, "to") if isinstance(pattern.to, str) else (*where, "to", position)
+            if "@" in person:
+                if not is_address(person.strip()):
+                    yield Problem(place, f"'{person}' is not an email address (name@domain)")
+            elif person not in self.known_ids:
+                yield Problem(
+                    place,
+                    f"'{person}' is neither an email address nor a messaging user id of this scenario."
+                    f"{did_you_mean(person, self.known_ids)}",
+                )
+        silent = [tool for tool in pattern.tools or () if tool not in SENDING_TOOLS]
+        if silent:
+            yield Problem(
+                (*where, "tool"),
+                f"{', '.join(silent)} tells no one anything, so 'to' never matches it; leave 'tool' out "
+                f"(any email or message) or name sending tools: {', '.join(sorted(SENDING_TOOLS))}",
+            )
+        if pattern.app is not None and pattern.app not in ("email", "messaging"):
+            yield Problem(
+                (*where, "app"), f"'to' means an email or a message; app '{pattern.app}' sends neither"
+            )
 
     def _fits(self, raw: Any, annotation: Any, where: Path) -> Iterator[Problem]:
         for place, message in matcher_problems(raw, annotation):
@@ -548,6 +585,14 @@ class _Validator:
                     yield from self._where_fields(path, alternative, item_fields, (*where, name, number))
             elif name == WHERE_KEY:
                 continue  # the item's key: text, matched as such
+            elif name == WHERE_TEXT:
+                if not has_text_fields(item_fields):
+                    yield Problem(
+                        (*where, name),
+                        f"items of {path} have no text fields for '{WHERE_TEXT}' to read "
+                        f"({', '.join(TEXT_FIELDS)}); name a field",
+                    )
+                yield from self._fits(raw, str, (*where, name))
             elif name not in item_fields:
                 hint = did_you_mean(name, item_fields)
                 yield Problem(

@@ -11,6 +11,7 @@ page falls back to what the sentence and the attribution tell.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from datetime import datetime
 from typing import Any
 
@@ -20,9 +21,11 @@ from pare.bench.store import scenario_hash
 from pare.errors import UserInputError
 from pare.scenarios.build import build_environment
 from pare.scenarios.checks import state_check_places
+from pare.scenarios.file_identity import FileIdentity
 from pare.scenarios.library import get_scenario
 from pare.scenarios.model import ActionPattern, Scenario
 from pare.scenarios.patterns import CompiledPattern
+from pare.scenarios.reading import CallReader
 from pare.sim.log import LogEntry
 from pare.viewer._credit import Credits
 from pare.viewer._episode import episode_log
@@ -40,15 +43,19 @@ def library_scenario(scenario_id: str, wanted_hash: str) -> Scenario | None:
     return scenario if scenario_hash(scenario) == wanted_hash else None
 
 
-def matched_entries(scenario: Scenario, log: list[dict[str, Any]]) -> dict[CheckKey, list[int]]:
+def matched_entries(
+    scenario: Scenario, log: list[dict[str, Any]], final: Mapping[str, Any] | None = None
+) -> dict[CheckKey, list[int]]:
     """For each action, forbidden-action and judge check: the entries its pattern matches (for a judge
     check, those with a text to read; for an action check that found none, the calls of the tool it
-    wanted). State checks are left out.
+    wanted). State checks are left out. The episode's ``final`` state, when known, tells whom each call
+    told and which files it carried (patterns with ``to`` match nothing without it).
     """
     try:
         entries = [_entry(item) for item in log]
     except (KeyError, TypeError, ValueError):  # a log this PARE cannot read back: no precise links
         return {}
+    reader = None if final is None else CallReader.of_state(lambda: final, FileIdentity.of(scenario))
     found: dict[CheckKey, list[int]] = {}
     for goal in scenario.goals:
         for index, check in enumerate(goal.checks):
@@ -58,34 +65,46 @@ def matched_entries(scenario: Scenario, log: list[dict[str, Any]]) -> dict[Check
             if pattern is None:
                 continue
             compiled = CompiledPattern.of(pattern, scenario.start)
-            hits = compiled.find(entries)
+            hits = compiled.find(entries, reader)
             if check.judge is not None:  # the judge reads only the calls that carry a text
                 field = check.judge.field
-                hits = [entry for entry in hits if isinstance(entry.args.get(field), str)]
+                hits = [e for e in hits if isinstance(compiled.arguments(e, reader).get(field), str)]
             if not hits and check.action is not None:
                 hits = [entry for entry in entries if compiled.matches_call(entry)]
             found[(goal.id, index)] = [entry.index for entry in hits]
     return found
 
 
-def state_entries(scenario: Scenario, data: dict[str, Any]) -> dict[CheckKey, list[int]]:
+def state_entries(
+    scenario: Scenario, data: dict[str, Any], final: dict[str, Any] | None = None
+) -> dict[CheckKey, list[int]]:
     """For each state check: the calls that made the items it found (or the value it read) in the
-    episode's final state, which is the scenario's start with the trajectory's state diff applied.
-    Empty when the trajectory has no diff or the diff does not apply to the start.
+    episode's final state (``final``, or :func:`final_state` worked out here). Empty when the trajectory
+    has no diff or the diff does not apply to the start.
     """
-    diff = data.get("state_diff")
-    if not isinstance(diff, list):
-        return {}
-    start = build_environment(scenario).snapshot(shared=True)
-    try:  # applied to a copy: the start snapshot is shared with every episode of the scenario
-        final = jsonpatch.apply_patch(start, diff)
-    except (jsonpatch.JsonPatchException, jsonpatch.JsonPointerException, TypeError, KeyError):
+    final = final if final is not None else final_state(scenario, data)
+    if final is None:
         return {}
     credits = Credits(episode_log(data), data.get("attribution") or {})
     return {
         key: sorted({index for place in places for index in credits.made(place)})
         for key, places in state_check_places(scenario, final).items()
     }
+
+
+def final_state(scenario: Scenario, data: dict[str, Any]) -> dict[str, Any] | None:
+    """An episode's final state: the scenario's start with the trajectory's state diff applied (``None``
+    when the trajectory has no diff or it does not apply to the start).
+    """
+    diff = data.get("state_diff")
+    if not isinstance(diff, list):
+        return None
+    start = build_environment(scenario).snapshot(shared=True)
+    try:  # applied to a copy: the start snapshot is shared with every episode of the scenario
+        final: dict[str, Any] = jsonpatch.apply_patch(start, diff)
+    except (jsonpatch.JsonPatchException, jsonpatch.JsonPointerException, TypeError, KeyError):
+        return None
+    return final
 
 
 def _entry(item: dict[str, Any]) -> LogEntry:

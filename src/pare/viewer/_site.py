@@ -26,7 +26,7 @@ from jinja2 import Environment, PackageLoader, StrictUndefined, select_autoescap
 from pare.bench.metrics import Estimate
 from pare.errors import UserInputError
 from pare.viewer._episode import build_episode, episode_log
-from pare.viewer._evidence import library_scenario, matched_entries, state_entries
+from pare.viewer._evidence import final_state, library_scenario, matched_entries, state_entries
 from pare.viewer._paths import OutsideRunError, slug
 from pare.viewer._rows import FILTERS, episode_href, filter_choices, rows, rows_script
 from pare.viewer._runs import Catalog, Configuration
@@ -175,7 +175,11 @@ class Site:
             scenario = library_scenario(record.scenario_id, record.scenario_hash)
             matched = None
             if scenario is not None:
-                matched = {**matched_entries(scenario, episode_log(data)), **state_entries(scenario, data)}
+                final = final_state(scenario, data)
+                matched = {
+                    **matched_entries(scenario, episode_log(data), final),
+                    **state_entries(scenario, data, final),
+                }
             episode = build_episode(data, list(record.proposals), matched)
             return self._render("episode.html", 4, **page, episode=episode, problem=None)
         except Exception as error:  # any part of a damaged file may be missing or of the wrong type

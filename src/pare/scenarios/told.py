@@ -1,0 +1,130 @@
+"""Who a call told something, through which channel, with what text and files.
+
+One notion of "a person was told", shared by the checks and by the world's reactive events: an email
+reaches everyone in its To and CC, whether new, a reply or a forward (whose text is the forwarded email);
+a message reaches the other person of a one-to-one conversation, or every other member of a group. What a
+call delivered is read from the app data right after it (for the world's reactions) or at the end (for
+the checks): the email the call stored, the conversation the message went to.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any, Literal
+
+from pare.sim.log import LogEntry
+
+Channel = Literal["email", "messaging", "reply", "forward", "chat", "group"]
+CHANNELS: dict[str, str] = {
+    "email": "any email: new, reply or forward, in To or CC",
+    "messaging": "any message: one-to-one or group",
+    "reply": "a reply to an email",
+    "forward": "a forwarded email",
+    "chat": "a message in a one-to-one conversation",
+    "group": "a message in a group conversation",
+}
+"""The channels a pattern's ``via`` may name, with what each means."""
+
+_EMAIL_SENDS = frozenset({"send_email", "reply_to_email", "forward_email", "send", "reply", "forward"})
+"""Email calls that send (the agent's tools and the user's screen actions)."""
+_FORWARDS = frozenset({"forward_email", "forward"})
+_MESSAGE_SENDS = frozenset({"send_message", "send_message_to_group_conversation"})
+
+SENDING_TOOLS = frozenset(
+    [*(f"email__{tool}" for tool in _EMAIL_SENDS), *(f"messaging__{tool}" for tool in _MESSAGE_SENDS)]
+)
+"""Every call that can tell someone something, as ``app__tool`` (agent tools and user screen actions)."""
+
+AppState = Callable[[str], Mapping[str, Any] | None]
+"""An app's data as JSON-ready values, by app name (``None`` when the phone has no such app)."""
+
+
+@dataclass(frozen=True, slots=True)
+class Delivery:
+    """What one call delivered: to whom (email addresses and messaging user ids, lowercase), through
+    which channels, the text as the recipients got it, and the files attached (paths).
+    """
+
+    people: frozenset[str]
+    channels: frozenset[str]
+    content: str
+    attachments: tuple[str, ...]
+
+    def reaches(self, people: frozenset[str], via: frozenset[str] | None) -> bool:
+        """Whether one of ``people`` got it, through one of the channels ``via`` (any, when ``None``)."""
+        if self.people.isdisjoint(people):
+            return False
+        return via is None or not self.channels.isdisjoint(via)
+
+    def as_args(self, args: Mapping[str, Any]) -> dict[str, Any]:
+        """The call's arguments with its text and files as delivered: ``content`` (a forward's is the
+        forwarded email) and ``attachments`` (a list, for email and messaging alike; left out when nothing
+        was attached, as a call without attachments has none, so ``present: true`` means files were sent).
+        """
+        delivered = {key: value for key, value in args.items() if key != "attachments"}
+        delivered["content"] = self.content
+        if self.attachments:
+            delivered["attachments"] = list(self.attachments)
+        return delivered
+
+
+def delivery(entry: LogEntry, state: AppState) -> Delivery | None:
+    """What the successful sending call ``entry`` delivered, read from ``state``; ``None`` for any other
+    call, or when the app data no longer holds what it sent.
+    """
+    if not entry.ok or entry.actor not in ("assistant", "user", "oracle"):
+        return None
+    if entry.app == "email" and entry.tool in _EMAIL_SENDS:
+        return _email(entry, state("email"))
+    if entry.app == "messaging" and entry.tool in _MESSAGE_SENDS:
+        return _message(entry, state("messaging"))
+    return None
+
+
+def _email(entry: LogEntry, data: Mapping[str, Any] | None) -> Delivery | None:
+    emails = (data or {}).get("emails") or {}
+    sent = emails.get(entry.result) if isinstance(entry.result, str) else None
+    if not isinstance(sent, Mapping):
+        return None
+    people = frozenset(address.lower() for address in [*sent.get("recipients", []), *sent.get("cc", [])])
+    channels = {"email"}
+    if sent.get("in_reply_to"):
+        channels.add("reply")
+    if entry.tool in _FORWARDS:
+        channels.add("forward")
+    return Delivery(people, frozenset(channels), sent.get("content", ""), tuple(sent.get("attachments", [])))
+
+
+def _message(entry: LogEntry, data: Mapping[str, Any] | None) -> Delivery | None:
+    if data is None:
+        return None
+    conversations: Mapping[str, Any] = data.get("conversations") or {}
+    me = data.get("current_user_id", "")
+    result = entry.result
+    message_id = result.get("message_id") if isinstance(result, Mapping) else result
+    conversation = _holding(conversations, message_id)
+    if conversation is None:  # the agent's one-to-one send returns the conversation's id
+        for key in (result, entry.args.get("conversation_id")):
+            if isinstance(key, str) and isinstance(conversations.get(key), Mapping):
+                conversation = conversations[key]
+                break
+    if conversation is None:
+        return None
+    people = frozenset(str(user).lower() for user in conversation.get("participant_ids", []) if user != me)
+    channels = frozenset({"messaging", "group" if conversation.get("is_group") else "chat"})
+    attachment = entry.args.get("attachment")
+    content = entry.args.get("content")
+    return Delivery(
+        people, channels, content if isinstance(content, str) else "", (attachment,) if attachment else ()
+    )
+
+
+def _holding(conversations: Mapping[str, Any], message_id: Any) -> Mapping[str, Any] | None:
+    """The conversation holding the message ``message_id``, if any."""
+    if not isinstance(message_id, str):
+        return None
+    for conversation in conversations.values():
+        if any(message.get("message_id") == message_id for message in conversation.get("messages", [])):
+            return conversation  # type: ignore[no-any-return]
+    return None
