@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pare.env import Environment
-from pare.env.attribution import Attribution, changed_places, item_key, place_of
+from pare.env.attribution import Attribution, changed_places, item_key, place_of, removed_places
 
 
 def test_changed_places_name_items_by_identity() -> None:
@@ -65,3 +65,17 @@ def test_the_environment_marks_actor_writes_and_not_the_worlds() -> None:
     assert mark is not None and mark.created_by == "assistant" and mark.created_at == made.entry.index  # type: ignore[union-attr]
     failed = env.call("assistant", "calendar__delete_calendar_event", {"event_id": "nope"}, mode="execute")
     assert not failed.ok and env.attribution.mark(("calendar", "events", "nope")) is None
+
+
+def test_removals_are_kept_with_who_removed_them() -> None:
+    before = {"events": {"a": {"attendees": ["Jo", "Sam"]}, "b": {}}, "saved": ["p1", "p2"]}
+    after = {"events": {"a": {"attendees": ["Jo"]}}, "saved": ["p2"]}
+    assert sorted(removed_places(before, after)) == [
+        ("events", "a", "attendees", "Sam"),
+        ("events", "b"),
+        ("saved", "p1"),
+    ]
+    marks = Attribution()
+    marks.record("assistant", 3, "calendar", before, after)
+    assert marks.removals()[("calendar", "events", "b")] == ("assistant", 3)
+    assert marks.mark(("calendar", "events", "b")) is None  # removing marks nothing the checks count
