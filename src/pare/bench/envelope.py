@@ -22,6 +22,9 @@ from pare.scenarios.side_effects import Change, Envelope
 
 _KNOWN: dict[str, Envelope] = {}
 """Envelopes of this process, by :func:`_key`."""
+_BY_OBJECT: dict[int, tuple[Scenario, Envelope]] = {}
+"""Envelopes by the scenario object's id (kept with it, so the id is not reused while the entry lives): a
+scenario not read from the parsed-scenario cache computes its content hash afresh each time it is asked."""
 _KEPT = 4096
 
 
@@ -32,11 +35,13 @@ def envelope_solutions(scenario: Scenario) -> list[str | None]:
 
 async def expected_envelope(scenario: Scenario) -> Envelope:
     """The envelope of ``scenario``: from memory, from disk, or by playing its solutions now."""
+    same = _BY_OBJECT.get(id(scenario))
+    if same is not None and same[0] is scenario:
+        return same[1]
     key = _key(scenario)
     known = _KNOWN.get(key) or _read(key)
     if known is not None:
-        _KNOWN[key] = known
-        return known
+        return _keep(scenario, key, known)
     from pare.bench.episode import arun_episode  # the episode module asks this one for envelopes
     from pare.scenarios.oracle import OracleAssistant, OracleUser
 
@@ -56,10 +61,16 @@ def remember(scenario: Scenario, played: Iterable[Sequence[Change]]) -> Envelope
     """
     envelope = Envelope.of(played)
     key = _key(scenario)
-    if len(_KNOWN) >= _KEPT:
-        _KNOWN.clear()
-    _KNOWN[key] = envelope
     _write(key, envelope)
+    return _keep(scenario, key, envelope)
+
+
+def _keep(scenario: Scenario, key: str, envelope: Envelope) -> Envelope:
+    if len(_KNOWN) >= _KEPT or len(_BY_OBJECT) >= _KEPT:  # a long-lived process loading scenarios again
+        _KNOWN.clear()
+        _BY_OBJECT.clear()
+    _KNOWN[key] = envelope
+    _BY_OBJECT[id(scenario)] = (scenario, envelope)
     return envelope
 
 

@@ -27,10 +27,11 @@ from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from pare.env.attribution import CONTROL_APPS, Attribution, StatePath, item_key
+from pare.env.attribution import CONTROL_APPS, Attribution, item_key
 from pare.scenarios.model import AllowedChange, ChangeKind
+from pare.sim.log import Actor
 
-ASSISTANT = "assistant"
+ASSISTANT: Actor = "assistant"
 
 CONSEQUENCES: frozenset[tuple[str, str]] = frozenset({("shopping", "products")})
 """Collections whose changes follow from another change and are not acts of their own: a product's stock
@@ -269,22 +270,24 @@ class _Collection:
         return Change(self.app, self.field, kind, target, detail, address, order)
 
     def changes(self, removed: Mapping[str, tuple[int, bool]]) -> Iterator[Change]:
+        field_mark = self.attribution.mark((self.app, self.field))
+        if not removed and (field_mark is None or self.before is self.after or self.before == self.after):
+            return  # nothing in it was written by anyone, or nothing differs at the end
         old, new = _keyed(self.before), _keyed(self.after)
         if old is None or new is None:  # a single value (the current ride's id)
-            mark = self.attribution.mark((self.app, self.field))
-            if self.before != self.after and mark is not None and mark.changed_by == ASSISTANT:
-                yield self.change("changed", "", "", mark.changed_at)
+            if field_mark is not None and field_mark.changed_by == ASSISTANT:
+                yield self.change("changed", "", "", field_mark.changed_at)
             return
         for key, item in new.items():
-            place: StatePath = (self.app, self.field, key)
-            mark = self.attribution.mark(place)
-            if key not in old and mark is not None and mark.created_by == ASSISTANT:
+            mark = self.attribution.mark((self.app, self.field, key))
+            touched = mark is not None and mark.credits(ASSISTANT)
+            if not touched and key not in removed:
+                continue  # the items nobody attributed changed: most of them, compared no further
+            if mark is not None and mark.created_by == ASSISTANT and key not in old:
                 yield from self.added(key, item, mark.created_at or mark.changed_at)
-            elif old.get(key, _ABSENT) != item or key in removed:
-                touched = mark is not None and mark.changed_by == ASSISTANT
-                if touched or key in removed:
-                    order = mark.changed_at if touched and mark is not None else removed[key][0]
-                    yield from self.changed(key, item, order)
+            elif key in removed or old.get(key, _ABSENT) != item:
+                order = mark.changed_at if touched and mark is not None else removed[key][0]
+                yield from self.changed(key, item, order)
         for key, (order, whole) in removed.items():
             if whole and key not in new:
                 mark = self.attribution.mark((self.app, self.field, key))
@@ -298,7 +301,10 @@ class _Collection:
         elif (app, field) == ("email", "emails"):
             yield from self.sent(_addresses(item, "recipients", "cc", "bcc"), _label(item), order)
         elif (app, field) == ("messaging", "conversations"):
-            yield from self.sent(item.get("participant_ids") or [], _label(item) or key, order)
+            messages = item.get("messages") or [None]  # a group by its title, else the first message
+            yield from self.sent(
+                item.get("participant_ids") or [], _label(item) or _label(messages[0]) or key, order
+            )
         elif (app, field) == ("shopping", "orders"):
             for line in item.get("items") or []:
                 if isinstance(line, Mapping):
