@@ -162,10 +162,13 @@ def assistant_changes(
     """
     people = _People(start, final)
     removals = _assistant_removals(attribution)
+    removed_in = {app for app, _ in removals}
     changes: list[Change] = []
     for app, data in final.items():
         if app in CONTROL_APPS or app == "system" or not isinstance(data, Mapping):
             continue
+        if app not in removed_in and attribution.mark((app,)) is None:
+            continue  # nobody wrote here (most apps of most episodes)
         before = start.get(app)
         before = before if isinstance(before, Mapping) else {}
         for field in sorted({*data, *before}, key=str):
@@ -188,12 +191,19 @@ def _assistant_removals(attribution: Attribution) -> dict[tuple[str, str], dict[
 
 
 class _People:
-    """Who an address names: a contact's or chat user's name, so that one person is one target."""
+    """Who an address names: a contact's or chat user's name, so that one person is one target (read
+    from the states when first asked).
+    """
 
     def __init__(self, start: Mapping[str, Any], final: Mapping[str, Any]) -> None:
+        self.states = (start, final)
         self.names: dict[str, str] = {}
         self.user: set[str] = set()
-        for state in (start, final):
+        self.read = False
+
+    def _read(self) -> None:
+        self.read = True
+        for state in self.states:
             contacts = _at(state, "contacts", "contacts")
             for contact in contacts.values() if isinstance(contacts, Mapping) else ():
                 name = _full_name(contact)
@@ -212,6 +222,8 @@ class _People:
 
     def targets(self, addresses: Iterable[Any]) -> Iterator[tuple[str, str]]:
         """(person, address) for each address that is not the user's own."""
+        if not self.read:
+            self._read()
         for address in addresses:
             if not isinstance(address, str) or not address.strip():
                 continue
