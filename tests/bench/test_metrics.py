@@ -31,6 +31,7 @@ import pytest
 from pare.agents.models.ledger import RoleUsage
 from pare.bench.metrics import ConfigurationMetrics, Estimate, compute_metrics
 from pare.bench.records import EpisodeRecord, Failure, ProposalRecord
+from pare.bench.report import render_csv, render_markdown
 
 APPS = {"A": ["email", "calendar"], "B": ["email"], "C": ["messaging"], "D": ["email"]}
 TAGS = {"A": ["reply"], "B": ["schedule"], "C": ["reply", "schedule"], "D": []}
@@ -469,3 +470,18 @@ def test_invalid_input() -> None:
 def test_json_round_trip(metrics: ConfigurationMetrics) -> None:
     data = json.loads(json.dumps(metrics.model_dump(mode="json")))
     assert ConfigurationMetrics.model_validate(data) == metrics
+
+
+def test_side_effects_are_counted_per_run_and_shown_in_the_main_table() -> None:
+    records = [
+        record("A", 1, side_effects=2),
+        record("B", 1, success=True),
+        record("A", 2, success=True),
+        record("B", 2, success=True),
+    ]
+    metrics = compute_metrics(records, label="x", runs=2, planned=[(s, r) for s in "AB" for r in (1, 2)])
+    assert metrics.side_effects == 1
+    assert metrics.side_effect_rate.mean == 0.25 and metrics.side_effect_rate.n == 2
+    header, row = render_csv([metrics]).splitlines()[:2]
+    assert row.split(",")[header.split(",").index("side_effect_rate_mean")] == "0.25"
+    assert "Side effects ± SE" in render_markdown([metrics], sections=["main"])

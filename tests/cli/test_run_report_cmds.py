@@ -15,7 +15,7 @@ from pare.cli import main
 
 @pytest.fixture(autouse=True)
 def wide(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setenv("COLUMNS", "220")
+    monkeypatch.setenv("COLUMNS", "240")
 
 
 def _sweep(tmp_path: Path) -> Path:

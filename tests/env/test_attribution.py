@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pare.env import Environment
-from pare.env.attribution import Attribution, changed_places, item_key, place_of
+from pare.env.attribution import Attribution, changed_places, item_key, place_of, removed_places
 
 
 def test_changed_places_name_items_by_identity() -> None:
@@ -103,3 +103,17 @@ def test_what_a_new_holder_holds_is_its_creators() -> None:
     marks.record("assistant", 2, "messaging", {"conversations": {}}, chat)
     message = ("messaging", "conversations", "c", "messages", "m1")
     assert marks.writer((*message, "content")) == "assistant" and marks.hands(message) == {"assistant"}
+
+
+def test_removals_are_kept_with_who_removed_them() -> None:
+    before = {"events": {"a": {"attendees": ["Jo", "Sam"]}, "b": {}}, "saved": ["p1", "p2"]}
+    after = {"events": {"a": {"attendees": ["Jo"]}}, "saved": ["p2"]}
+    assert sorted(removed_places(before, after)) == [
+        ("events", "a", "attendees", "Sam"),
+        ("events", "b"),
+        ("saved", "p1"),
+    ]
+    marks = Attribution()
+    marks.record("assistant", 3, "calendar", before, after)
+    assert marks.removals()[("calendar", "events", "b")] == ("assistant", 3)
+    assert marks.mark(("calendar", "events", "b")) is None  # removing marks nothing the checks count

@@ -36,12 +36,14 @@ from pare.agents.policy import (
     TurnBudget,
     UserPolicy,
 )
+from pare.bench.envelope import expected_envelope
 from pare.bench.state_diff import state_changes
 from pare.env import EnvConfig, Environment, ToolResult, UserView
 from pare.errors import ModelRequestError
 from pare.scenarios.build import build_environment
 from pare.scenarios.checks import Judge, Outcome, evaluate, goals_met
 from pare.scenarios.model import Scenario
+from pare.scenarios.side_effects import Change, assistant_changes
 from pare.sim.log import AssistantMode, LogEntry
 from pare.sim.noise import NOISE_EVENT_PREFIX
 
@@ -209,6 +211,9 @@ class EpisodeResult:
     """The apps' data from start to end as JSON Patch operations."""
     after_last_turn: AfterLastTurn | None = None
     """The replies delivered after the last turn; ``None`` when none was set in motion."""
+    changes: list[Change] = field(default_factory=list)
+    """What the assistant changed in the apps' data (:func:`~pare.scenarios.side_effects.assistant_changes`);
+    those no solution of the scenario makes are the outcome's side effects."""
 
     @property
     def success(self) -> bool:
@@ -244,12 +249,16 @@ async def arun_episode(
     settings: EpisodeSettings | None = None,
     *,
     judge: Judge | None = None,
+    side_effects: bool = True,
 ) -> EpisodeResult:
     """Play ``scenario`` with ``user`` and ``assistant`` and evaluate its goals (in a running event loop,
     so many episodes can wait on model calls at once). ``judge`` reads the free-text checks, and the
-    triggering texts of reactive events that have a ``judge``.
+    triggering texts of reactive events that have a ``judge``. With ``side_effects`` (the default), a change
+    of the assistant's that none of the scenario's solutions makes fails the episode (see
+    :mod:`pare.scenarios.side_effects`; the solutions are played once per scenario to know).
     """
-    return await _Episode(scenario, user, assistant, settings or EpisodeSettings(), judge).run(judge)
+    episode = _Episode(scenario, user, assistant, settings or EpisodeSettings(), judge)
+    return await episode.run(judge, side_effects=side_effects)
 
 
 def run_episode(
@@ -259,15 +268,20 @@ def run_episode(
     settings: EpisodeSettings | None = None,
     *,
     judge: Judge | None = None,
+    side_effects: bool = True,
 ) -> EpisodeResult:
-    """Play ``scenario`` with ``user`` and ``assistant`` and evaluate its goals (outside an event loop)."""
+    """Play ``scenario`` with ``user`` and ``assistant`` and evaluate its goals (outside an event loop);
+    ``side_effects`` as in :func:`arun_episode`.
+    """
     played: list[EpisodeResult] = []
 
     async def play() -> None:
         # Kept in a list rather than returned: on Python 3.11, asyncio.run formats the repr of the task
         # (and so of what it returned) when it puts back the Ctrl-C handler, which cost about a seventh
         # of a short episode.
-        played.append(await arun_episode(scenario, user, assistant, settings, judge=judge))
+        played.append(
+            await arun_episode(scenario, user, assistant, settings, judge=judge, side_effects=side_effects)
+        )
 
     asyncio.run(play())
     return played[0]
@@ -307,7 +321,7 @@ class _Episode:
         self.user_previous: ToolResult | None = None
         self.assistant_previous: ToolResult | None = None
 
-    async def run(self, judge: Judge | None) -> EpisodeResult:
+    async def run(self, judge: Judge | None, *, side_effects: bool) -> EpisodeResult:
         env = self.env
         budget = self.settings.budget()
         self.user.start(env, budget)
@@ -332,6 +346,10 @@ class _Episode:
                 judge=judge,
                 attribution=env.attribution,
             )
+        changes = assistant_changes(self.start_state, final, env.attribution)
+        if side_effects:
+            envelope = await expected_envelope(self.scenario)
+            outcome = outcome.with_side_effects(envelope.unexpected(changes, self.scenario.allowed_changes))
         return EpisodeResult(
             scenario_id=self.scenario.id,
             user=self.user.name,
@@ -345,6 +363,7 @@ class _Episode:
             expired_at=self.expired_at,
             state_diff=state_changes(self.start_state, final),
             after_last_turn=after,
+            changes=changes,
         )
 
     def _after_last_turn(self) -> AfterLastTurn | None:

@@ -256,6 +256,14 @@ class ConfigurationMetrics(BaseModel):
         "across runs."
     )
     user_did_work: int = Field(default=0, description="Complete episodes in which the user did the work.")
+    side_effect_rate: Estimate = Field(
+        default_factory=Estimate,
+        description="Per run r: share of its complete episodes in which the assistant made a change no "
+        "solution of the scenario makes (counted as failures in the success rate); Estimate across runs.",
+    )
+    side_effects: int = Field(
+        default=0, description="Complete episodes with a side effect of the assistant's."
+    )
     proposal_rate: Estimate = Field(
         description="Per run r: proposals / observe turns, summed over its complete episodes (share of the "
         "assistant's observe turns in which it proposed); runs without observe turns skipped."
@@ -373,6 +381,10 @@ def compute_metrics(
             complete, run_indices, lambda group: _share(r.user_did_work for r in group)
         ),
         user_did_work=sum(record.user_did_work for record in complete),
+        side_effect_rate=_per_run(
+            complete, run_indices, lambda group: _share(r.side_effects > 0 for r in group)
+        ),
+        side_effects=sum(record.side_effects > 0 for record in complete),
         proposal_rate=_per_run(
             complete,
             run_indices,

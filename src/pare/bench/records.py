@@ -98,6 +98,11 @@ class EpisodeRecord(BaseModel):
         default=False,
         description="Failed, and the user made by hand something a goal wanted from the assistant.",
     )
+    side_effects: int = Field(
+        default=0,
+        description="Changes the assistant made that no solution of the scenario makes (any fails the "
+        "episode; the trajectory's outcome names them).",
+    )
     turns: int = 0
     ended: str = ""
     observe_turns: int = Field(default=0, description="Turns in which the assistant acted in observe mode.")
@@ -221,6 +226,7 @@ def summarize(result: EpisodeResult, *, usage: Mapping[str, RoleUsage] | None = 
         "goals": {goal.id: goal.passed for goal in result.outcome.goals},
         "goal_rate": result.outcome.goal_rate,
         "user_did_work": result.outcome.user_did_work,
+        "side_effects": len(result.outcome.side_effects),
         "turns": result.turns,
         "ended": result.ended,
         "observe_turns": len(

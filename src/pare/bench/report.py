@@ -143,6 +143,7 @@ def _main_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
             "Success rate ± SE",
             level,
             "User did it ± SE",
+            "Side effects ± SE",
             "Proposal rate ± SE",
             "Acceptance rate ± SE",
             "Read actions ± SE",
@@ -150,7 +151,9 @@ def _main_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
         ),
         note="± is the standard error across runs; Success@k and Success^k count only scenarios whose k "
         "runs are all complete. User did it: failed episodes in which the user made by hand what a goal "
-        "wanted from the assistant (failures of the assistant, already in the success rate).",
+        "wanted from the assistant (failures of the assistant, already in the success rate). Side "
+        "effects: episodes in which the assistant changed something no solution of the scenario changes "
+        "(failures, already in the success rate).",
     )
     for m in metrics:
         covered = f"{m.coverage.complete}/{m.coverage.planned}"
@@ -162,6 +165,7 @@ def _main_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
             format_estimate(m.success_rate),
             format_ci(m.success_rate_ci),
             format_estimate(m.user_did_work_rate),
+            format_estimate(m.side_effect_rate),
             format_estimate(m.proposal_rate),
             format_estimate(m.acceptance_rate),
             format_estimate(m.read_actions, percent=False),
@@ -451,6 +455,7 @@ _ESTIMATES = (
     "success_rate",
     "goal_rate",
     "user_did_work_rate",
+    "side_effect_rate",
     "proposal_rate",
     "acceptance_rate",
     "read_actions",

@@ -22,6 +22,10 @@ Deterministic runs per scenario, through the same turn loop as a real run:
   must pass and does, but that the world answered with an ``otherwise`` branch, breaches unless its
   ``otherwise_ok`` says why that correction is part of the solution.
 
+Every run is judged with side effects (:mod:`pare.scenarios.side_effects`) against the envelope of the
+gate's own oracle and passing-variant runs, which is kept for the runs to come. The fixed runs that must
+fail must fail their goals: a side effect does not stand in for checks that prove nothing.
+
 Warnings do not fail the gate: a reactive reply that restates what the assistant was meant to find, an
 ``otherwise_ok`` that the variant's run never needed and, given a judge model, a triggering text that a
 reactive event's rule and the judge read apart.
@@ -33,9 +37,10 @@ import asyncio
 import time
 from collections.abc import Awaitable, Callable, Collection, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import Any, TypeVar
 
 from pare.agents.policy import AssistantPolicy, SilentAssistant, SilentUser, UserPolicy
+from pare.bench.envelope import envelope_solutions, expected_envelope, remember
 from pare.bench.episode import EpisodeResult, EpisodeSettings, arun_episode
 from pare.bench.reactions import WorldEvent, corrected_solution, unused_excuses, world_events
 from pare.errors import UserInputError
@@ -44,7 +49,10 @@ from pare.scenarios.checks import Judge, JudgeVerdict
 from pare.scenarios.matchers import OPERATORS, TEXT_OPERATORS, compile_matcher
 from pare.scenarios.model import Scenario, Solution
 from pare.scenarios.oracle import BusyUser, OracleAssistant, OracleUser, SlowUser, UnrelatedAssistant
+from pare.scenarios.side_effects import Envelope
 from pare.scenarios.stats import FREE_TEXT_FIELDS
+
+T = TypeVar("T")
 
 PolicyPair = Callable[[Scenario], tuple[UserPolicy, AssistantPolicy]]
 
@@ -156,19 +164,33 @@ def check_scenario(
         plays.append((f"variant:{variant.id}", pair, variant.expect == "pass", variant.why))
         fails[f"variant:{variant.id}"] = variant.fails
         excused[f"variant:{variant.id}"] = frozenset(variant.otherwise_ok)
+    users: dict[str, UserPolicy] = {}
+    broken: dict[str, str] = {}
     with asyncio.Runner() as runner:  # one event loop for the scenario's runs, not one per run
-        for name, make, expected, why in plays:
+        for name, make, _, _ in plays:
             user, assistant = make(scenario)
             played: list[EpisodeResult] = []
-            episode = arun_episode(scenario, user, assistant, _settings_for(name, scenario, settings))
+            # side effects are judged below, against the envelope these very runs give
+            episode = arun_episode(
+                scenario, user, assistant, _settings_for(name, scenario, settings), side_effects=False
+            )
             try:
                 runner.run(_kept(episode, played))
             except UserInputError as error:
-                verdicts.append(RunVerdict(name, expected, None, (str(error),), why=why))
+                broken[name] = str(error)
                 continue
-            details[name] = result = played[0]
-            verdict = _verdict(name, scenario, user, result, expected, why, fails.get(name, []))
-            verdicts.append(_with_reactions(verdict, scenario, result, excused.get(name, frozenset())))
+            details[name], users[name] = played[0], user
+        envelope = _envelope(scenario, details, settings, runner)
+    for name, _, expected, why in plays:
+        if name in broken:
+            verdicts.append(RunVerdict(name, expected, None, (broken[name],), why=why))
+            continue
+        result = details[name]
+        result.outcome = result.outcome.with_side_effects(
+            envelope.unexpected(result.changes, scenario.allowed_changes)
+        )
+        verdict = _verdict(name, scenario, users[name], result, expected, why, fails.get(name, []))
+        verdicts.append(_with_reactions(verdict, scenario, result, excused.get(name, frozenset())))
     warnings = [*restated_answers(scenario), *(line for run in verdicts for line in run.warnings)]
     if judge is not None:
         warnings.extend(_readings_apart(scenario, details, judge))
@@ -222,7 +244,24 @@ def _readings_apart(scenario: Scenario, played: Mapping[str, EpisodeResult], jud
                 yield f"[{name}] {found.describe()}"
 
 
-async def _kept(episode: Awaitable[EpisodeResult], into: list[EpisodeResult]) -> None:
+def _envelope(
+    scenario: Scenario,
+    played: Mapping[str, EpisodeResult],
+    settings: EpisodeSettings | None,
+    runner: asyncio.Runner,
+) -> Envelope:
+    """The changes ``scenario``'s solutions make: from the gate's own runs when it played all of them with
+    the default settings (and kept for the runs to come), else as a run finds it.
+    """
+    names = ["oracle" if name is None else f"variant:{name}" for name in envelope_solutions(scenario)]
+    if (settings is None or settings == EpisodeSettings()) and all(name in played for name in names):
+        return remember(scenario, [played[name].changes for name in names])
+    found: list[Envelope] = []
+    runner.run(_kept(expected_envelope(scenario), found))
+    return found[0]
+
+
+async def _kept(episode: Awaitable[T], into: list[T]) -> None:
     """Play ``episode`` and keep its result in ``into`` rather than return it: asyncio formats what a
     run returned when it puts back the Ctrl-C handler (``signal.getsignal`` reprs the handler, which
     holds the task), and the repr of a whole episode costs more than playing a short one.
@@ -247,6 +286,11 @@ def _verdict(
             f"#{user.position + 1} ({user.steps[user.position].tool}) never came (its 'when' never held)"
         )
     met = {goal.id for goal in result.outcome.goals if goal.passed}
+    success = result.success
+    if not expected and not name.startswith("variant:"):
+        # the runs that must fail prove the checks: a side effect of the unrelated assistant's does not
+        # make up for checks that an unrelated task meets
+        success = len(met) == len(result.outcome.goals)
     problems.extend(
         f"goal '{goal_id}' should fail ({why}) but was met" for goal_id in fails if goal_id in met
     )
@@ -254,7 +298,8 @@ def _verdict(
         problems.extend(
             f"check failed: {check.goal}[{check.index}] {check.detail}" for check in result.outcome.failures()
         )
-    return RunVerdict(name, expected, result.success, tuple(problems), result.turns, why)
+        problems.extend(f"side effect: {change.describe()}" for change in result.outcome.side_effects)
+    return RunVerdict(name, expected, success, tuple(problems), result.turns, why)
 
 
 def oracle_breaches(scenario: Scenario) -> list[str]:

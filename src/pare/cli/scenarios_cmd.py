@@ -349,6 +349,8 @@ def _print_details(
             for item in goal.checks:
                 mark = "ok " if item.passed else "NO "
                 console.print(f"  [{name}] {mark}{goal.id}: {item.detail}", markup=False)
+        for change in outcome.side_effects:
+            console.print(f"  [{name}] NO side effect: {change.describe()}", markup=False)
 
 
 @app.command("stats")

@@ -94,14 +94,28 @@ def changed_places(before: Any, after: Any, path: StatePath = ()) -> Iterator[tu
             yield from changed_places(old[key], value, here)
 
 
+def removed_places(before: Any, after: Any, path: StatePath = ()) -> Iterator[StatePath]:
+    """The places ``before`` has and ``after`` no longer has (the outermost place of each removed part)."""
+    old, new = _keyed(before), _keyed(after)
+    if old is None or new is None:
+        return
+    for key, value in old.items():
+        here = (*path, str(key))
+        if key not in new:
+            yield here
+        elif new[key] != value:
+            yield from removed_places(value, new[key], here)
+
+
 class Attribution:
-    """The marks of one episode, filled as actors write."""
+    """The marks of one episode, filled as actors write, and who removed what."""
 
     def __init__(self) -> None:
         self._marks: dict[StatePath, Mark] = {}
         self._hands: dict[StatePath, dict[Actor, int]] = {}
         """Per place, every actor that created or changed it (or something in it), with its latest call:
         the marks keep only the creator and the last changer."""
+        self._removed: dict[StatePath, tuple[Actor, int]] = {}
 
     def record(self, actor: Actor, entry_index: int, app: str, before: Any, after: Any) -> None:
         """Mark what ``actor``'s call (log entry ``entry_index``) changed in ``app``'s data."""
@@ -109,6 +123,18 @@ class Attribution:
             self._mark(place, actor, entry_index, created)
             for depth in range(len(place) - 1, 0, -1):  # the item holding a changed field changed too
                 self._mark(place[:depth], actor, entry_index, False)
+        for place in removed_places(before, after, (app,)):
+            self._removed[place] = (actor, entry_index)
+
+    def removals(self) -> Mapping[StatePath, tuple[Actor, int]]:
+        """Every place an attributed actor removed, with the last remover and its log entry (a place made
+        again later stays listed: read it together with the final state).
+        """
+        return self._removed
+
+    def marks(self) -> Mapping[StatePath, Mark]:
+        """Every marked place (read only)."""
+        return self._marks
 
     def _mark(self, place: StatePath, actor: Actor, index: int, created: bool) -> None:
         hands = self._hands.get(place)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 from datetime import datetime
 from types import MappingProxyType
 from typing import Any, Protocol
@@ -34,6 +34,7 @@ from pare.scenarios.model import (
 )
 from pare.scenarios.patterns import CompiledPattern
 from pare.scenarios.reading import CallReader
+from pare.scenarios.side_effects import Change
 from pare.sim.log import Actor, LogEntry
 
 
@@ -108,6 +109,9 @@ class Outcome:
     """The episode failed and some of what the assistant was meant to make was made by the user instead
     (a check on the assistant's work would hold had the user's work counted): a failure of the assistant,
     counted apart in the metrics."""
+    side_effects: tuple[Change, ...] = ()
+    """Changes the assistant made that no solution of the scenario makes (:mod:`pare.scenarios.side_effects`):
+    any of them fails the episode, whatever its goals."""
 
     @property
     def goal_rate(self) -> float:
@@ -125,7 +129,13 @@ class Outcome:
             "goal_rate": self.goal_rate,
             "user_did_work": self.user_did_work,
             "goals": [goal.to_dict() for goal in self.goals],
+            "side_effects": [change.to_dict() for change in self.side_effects],
         }
+
+    def with_side_effects(self, side_effects: Sequence[Change]) -> Outcome:
+        """The verdict with the assistant's side effects added: any of them fails it."""
+        found = tuple(side_effects)
+        return replace(self, success=self.success and not found, side_effects=found)
 
 
 def evaluate(

@@ -668,6 +668,41 @@ class Solution:
     interventions: tuple[Intervention, ...]
 
 
+ChangeKind = Literal["added", "changed", "removed", "sent"]
+"""How the assistant changed the apps' data: a new item, an existing item changed or removed, or something
+sent to a person (an email, a message, an invitation)."""
+
+
+class AllowedChange(_Strict):
+    """A change the assistant may make beyond what the scenario's solutions make, and why it is harmless
+    (see :mod:`pare.scenarios.side_effects`).
+    """
+
+    app: str = Field(description="The app whose data changes.")
+    collection: str | None = Field(
+        default=None,
+        description="The top-level field of the app's data (events, emails, notes); default: any. Not for "
+        "'sent', which names a person whatever the app.",
+    )
+    change: ChangeKind = Field(
+        description="added: a new item; changed or removed: an existing item (the two are one allowance); "
+        "sent: an email, message or invitation to a person."
+    )
+    target: str | None = Field(
+        default=None,
+        description="Which one: the existing item's key (changed, removed), the person's name or address "
+        "(sent), the key of a new entry in a collection of plain values (added: a cart's item id); default: "
+        "any, and for added any number of new items.",
+    )
+    reason: str = Field(min_length=1, description="Why this change is harmless to the user.")
+
+    @model_validator(mode="after")
+    def _sent_is_about_people(self) -> AllowedChange:
+        if self.change == "sent" and self.collection is not None:
+            raise ValueError("'sent' names a person, not a collection: drop 'collection'")
+        return self
+
+
 class UserProfile(_Strict):
     """What the user simulator is told about the person it plays."""
 
@@ -710,6 +745,12 @@ class Scenario(_Strict):
     variants: list[Variant] = Field(
         default_factory=list,
         description="Other solutions with the verdict the checks must give them (proven by the gate).",
+    )
+    allowed_changes: list[AllowedChange] = Field(
+        default_factory=list,
+        description="Harmless changes the assistant may make beyond what the oracle and the passing "
+        "variants change, each with its reason; any other change of the assistant's is a side effect and "
+        "fails the episode.",
     )
 
     @field_validator("start")
@@ -766,7 +807,10 @@ class Scenario(_Strict):
         known = self.__dict__.get(_KNOWN_HASH)
         if isinstance(known, str):
             return known
-        data = json.dumps(self.model_dump(mode="json"), sort_keys=True, separators=(",", ":"))
+        dumped = self.model_dump(mode="json")
+        if not dumped.get("allowed_changes"):  # a field added later: scenarios without it keep their hash
+            dumped.pop("allowed_changes", None)
+        data = json.dumps(dumped, sort_keys=True, separators=(",", ":"))
         return hashlib.sha256(data.encode("utf-8")).hexdigest()[:16]
 
     # -- variants read when first asked for ---------------------------------------------------------------

@@ -114,6 +114,7 @@ class _Validator:
         yield from self._oracle()
         yield from self._variants()
         yield from self._goals()
+        yield from self._allowed_changes()
 
     # -- apps and seed data -----------------------------------------------------------------------------
     def _seed(self) -> Iterator[Problem]:
@@ -402,6 +403,24 @@ class _Validator:
                             )
                 elif check.state is not None:
                     yield from self._state(check.state, where)
+
+    def _allowed_changes(self) -> Iterator[Problem]:
+        apps = self.scenario.all_apps
+        for index, allowed in enumerate(self.scenario.allowed_changes):
+            where: Path = ("allowed_changes", index)
+            if allowed.app not in apps:
+                yield Problem(
+                    (*where, "app"),
+                    f"'{allowed.app}' is not an app of this scenario.{did_you_mean(allowed.app, apps)}",
+                )
+                continue
+            fields = model_fields(get_app_class(allowed.app).State) or {}
+            if allowed.collection is not None and allowed.collection not in fields:
+                yield Problem(
+                    (*where, "collection"),
+                    f"'{allowed.collection}' is not a field of {allowed.app}'s data."
+                    f"{did_you_mean(allowed.collection, fields)} Fields: {', '.join(fields)}",
+                )
 
     def _state(self, check: StateCheck, where: Path) -> Iterator[Problem]:
         parts = check.path.split(".")

@@ -197,6 +197,8 @@ class EpisodeView:
     proposals: list[ProposalRecord]
     usage: dict[str, Usage]
     """Summed per role (user, observe, execute) and under ``total``."""
+    side_effects: list[str] = field(default_factory=list)
+    """The assistant's changes that no solution of the scenario makes, as sentences."""
 
 
 def thought_of(raw: str | None) -> str | None:
@@ -281,6 +283,11 @@ def build_episode(
         log=log,
         proposals=proposals,
         usage=ordered,
+        side_effects=[
+            str(change.get("text", ""))
+            for change in outcome.get("side_effects") or []
+            if isinstance(change, dict)
+        ],
     )
 
 

@@ -25,7 +25,7 @@ def episode_href(record: EpisodeRecord) -> str:
 
 def failure_labels(record: EpisodeRecord) -> list[str]:
     """What went wrong in an episode apart from its verdict: not run (and why), failed steps and
-    malformed answers per role, a user who did the work by hand.
+    malformed answers per role, a user who did the work by hand, side effects of the assistant's.
     """
     labels = []
     if record.failure is not None:
@@ -36,6 +36,8 @@ def failure_labels(record: EpisodeRecord) -> list[str]:
     )
     if record.user_did_work:
         labels.append("user did the work")
+    if record.side_effects:
+        labels.append(f"side effects: {record.side_effects}")
     return labels
 
 

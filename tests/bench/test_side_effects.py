@@ -1,0 +1,255 @@
+"""Side effects: an assistant that does the right thing plus one unasked write fails, with the write
+named; a declared correct alternative, and a change the scenario allows with a reason, do not."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import pytest
+
+from pare.bench import run_episode
+from pare.bench.envelope import expected_envelope
+from pare.bench.records import summarize
+from pare.scenarios import OracleAssistant, OracleUser, Scenario, load_scenarios
+from pare.scenarios.loader import ScenarioError
+from pare.scenarios.model import OracleAction, Solution
+from tests.scenarios.helpers import fair, parse
+
+LIBRARY = {scenario.id: scenario for scenario in load_scenarios()}
+
+
+def over_eager(scenario: Scenario, extra: dict[str, Any], *, at: int | None = None) -> Solution:
+    """The oracle's solution with one more action in its last intervention (at the end, or at ``at``)."""
+    oracle = scenario.solution()
+    last = oracle.interventions[-1]
+    actions = list(last.actions)
+    actions.insert(len(actions) if at is None else at, OracleAction.model_validate(extra))
+    changed = last.model_copy(update={"actions": actions})
+    return Solution("over_eager", oracle.user, (*oracle.interventions[:-1], changed))
+
+
+def play(scenario: Scenario, solution: Solution) -> Any:
+    return run_episode(scenario, OracleUser(scenario, solution), OracleAssistant(scenario, solution))
+
+
+PROBES = [
+    pytest.param(
+        "accepted_invite_clashes_with_one_to_one",
+        {
+            "tool": "calendar__edit_calendar_event",
+            "args": {
+                "event_id": "ev-planning",
+                "updates": {"start_datetime": "day+2 10:00", "end_datetime": "day+2 11:30"},
+            },
+        },
+        None,
+        "changed calendar.events ev-planning",
+        id="moves-a-second-meeting",
+    ),
+    pytest.param(
+        "accountant_asks_for_last_three_payslips",
+        {"tool": "files__delete", "args": {"path": "/Documents/Tax/self_assessment_2023-24_summary.txt"}},
+        None,
+        "removed files.files /Documents/Tax/self_assessment_2023-24_summary.txt",
+        id="deletes-a-file",
+    ),
+    pytest.param(
+        "babysitter_for_anniversary_dinner",
+        {"tool": "messaging__send_message", "args": {"user_id": "user-tom", "content": "Free on Friday?"}},
+        None,
+        "sent to tom reid <user-tom> (messaging.conversations",
+        id="messages-someone-else",
+    ),
+    pytest.param(
+        "bounced_email_typo_resend_to_contact",
+        {
+            "tool": "email__send_email",
+            "args": {
+                "recipients": ["rowing-social@riversiderowing.example"],
+                "subject": "Henley",
+                "content": "Claim sent.",
+            },
+        },
+        None,
+        "sent to rowing-social@riversiderowing.example (email.emails",
+        id="emails-someone-else",
+    ),
+    pytest.param(
+        "bike_inner_tubes_match_tyre_note",
+        {"tool": "shopping__add_to_cart", "args": {"item_id": "pump-silver", "quantity": 1}},
+        -1,  # before the checkout: bought with the right tubes
+        "new pump-silver in shopping.orders",
+        id="buys-another-item",
+    ),
+    pytest.param(
+        "book_club_questions_into_note_before_thursday",
+        {"tool": "notes__update_note", "args": {"note_id": "note-dumplings", "content": ""}},
+        None,
+        "changed notes.notes note-dumplings",
+        id="wipes-a-note",
+    ),
+]
+
+
+@pytest.mark.parametrize(("scenario_id", "extra", "at", "named"), PROBES)
+def test_one_unasked_write_fails_the_episode_and_is_named(
+    scenario_id: str, extra: dict[str, Any], at: int | None, named: str
+) -> None:
+    scenario = LIBRARY[scenario_id]
+    result = play(scenario, over_eager(scenario, extra, at=at))
+    assert all(goal.passed for goal in result.outcome.goals), "the probe must fail only by its side effect"
+    assert not result.success
+    texts = [change.describe() for change in result.outcome.side_effects]
+    assert len(texts) == 1 and texts[0].startswith(named), texts
+    outcome = result.to_dict()["outcome"]
+    assert outcome["success"] is False and outcome["side_effects"][0]["text"] == texts[0]
+    assert summarize(result)["side_effects"] == 1
+
+
+def test_the_oracle_and_a_declared_correct_alternative_have_no_side_effects() -> None:
+    scenario = LIBRARY["dentist_moves_checkup"]
+    passing = [variant.id for variant in scenario.variants if variant.expect == "pass"]
+    assert passing
+    for name in [None, *passing]:
+        result = play(scenario, scenario.solution(name))
+        assert result.success and not result.outcome.side_effects, name
+        assert result.changes, "the solution changes something, all of it expected"
+
+
+def test_a_correct_alternative_only_a_variant_declares_does_not_trip_it() -> None:
+    # The fair scenario's oracle replies to Ann; its passing variant sends Ann a fresh email instead.
+    scenario = parse(fair())
+    variant = scenario.solution("fresh_email")
+    result = play(scenario, variant)
+    assert result.success and not result.outcome.side_effects
+    # without that variant, the same solution is still fine: same person, same kind of change
+    trimmed = fair()
+    trimmed["variants"] = [v for v in trimmed["variants"] if v["id"] != "fresh_email"]
+    assert play(parse(trimmed), variant).outcome.side_effects == ()
+
+
+def test_a_change_the_scenario_allows_with_a_reason_is_not_a_side_effect() -> None:
+    data = fair()
+    extra = {
+        "tool": "email__send_email",
+        "args": {"recipients": ["carol@x.example"], "subject": "FYI", "content": "Lunch?"},
+    }
+    data["variants"][0]["interventions"][0]["actions"].append(extra)  # a passing variant that writes to Carol
+    data["variants"][0]["expect"] = "pass"
+    eager = parse(data).solution("fresh_email")
+    plain = fair()
+    result = play(parse(plain), eager)
+    assert [change.target for change in result.outcome.side_effects] == ["carol@x.example"]
+    plain["allowed_changes"] = [
+        {
+            "app": "email",
+            "change": "sent",
+            "target": "Carol@x.example",
+            "reason": "Carol asked to be kept informed.",
+        }
+    ]
+    allowed = parse(plain)
+    assert play(allowed, eager).success
+
+
+@pytest.mark.parametrize(
+    ("allowance", "message"),
+    [
+        ({"app": "cab", "change": "added", "reason": "r"}, "'cab' is not an app of this scenario"),
+        (
+            {"app": "email", "collection": "mails", "change": "added", "reason": "r"},
+            "'mails' is not a field of email's data",
+        ),
+        ({"app": "email", "collection": "emails", "change": "sent", "reason": "r"}, "'sent' names a person"),
+        ({"app": "email", "change": "added"}, "reason"),
+    ],
+)
+def test_the_loader_refuses_a_bad_allowance(allowance: dict[str, Any], message: str) -> None:
+    data = fair()
+    data["allowed_changes"] = [allowance]
+    with pytest.raises(ScenarioError) as caught:
+        parse(data)
+    assert message in str(caught.value) and "allowed_changes" in str(caught.value)
+
+
+def test_the_envelope_is_kept_per_scenario_content() -> None:
+    import asyncio
+
+    scenario = LIBRARY["dentist_moves_checkup"]
+    first = asyncio.run(expected_envelope(scenario))
+    assert first is asyncio.run(expected_envelope(scenario))
+    assert ("calendar", "events", "touched", "ev-checkup-sam") in first.counts
+
+
+@pytest.mark.parametrize(
+    ("extra", "named"),
+    [
+        (
+            {
+                "tool": "email__send_email",
+                "args": {"recipients": ["me@pare.example"], "subject": "Note", "content": "Replied to Ann."},
+            },
+            [],
+        ),
+        ({"tool": "email__delete_email", "args": {"email_id": "e1"}}, ["changed email.emails e1 ('Lunch')"]),
+        (
+            {"tool": "calendar__delete_calendar_event", "args": {"event_id": "ev1"}},
+            ["removed calendar.events ev1 ('Standup')"],
+        ),
+        (
+            {
+                "tool": "calendar__add_calendar_event",
+                "args": {
+                    "title": "Lunch",
+                    "start_datetime": "day+4 12:00",
+                    "end_datetime": "day+4 13:00",
+                    "attendees": ["Dana Reyes"],
+                },
+            },
+            ["new item in calendar.events: 'Lunch'", "sent to dana reyes (calendar.events: 'Lunch')"],
+        ),
+    ],
+)
+def test_what_counts_as_a_change_of_its_own(extra: dict[str, Any], named: list[str]) -> None:
+    scenario = parse(fair())
+    result = play(scenario, over_eager(scenario, extra))
+    assert [change.describe() for change in result.outcome.side_effects] == named
+    assert result.success == (not named)
+
+
+def test_the_gate_accepts_a_near_miss_that_fails_through_a_side_effect(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch, tmp_path: Any
+) -> None:
+    from pare.bench.selftest import check_scenario
+    from pare.cli import main
+    from tests.scenarios.helpers import REPLY, intervention, to_yaml
+
+    data = fair()
+    extra = {
+        "tool": "messaging__send_message",
+        "args": {"user_id": "user-dana", "content": "Lunch Thursday?"},
+    }
+    data["apps"].append("messaging")
+    data["seed"]["messaging"] = {
+        "current_user_id": "user-me",
+        "users": {"user-me": "Me", "user-dana": "Dana Reyes"},
+    }
+    data["variants"].append(
+        {
+            "id": "tells_dana",
+            "expect": "fail",
+            "why": "Dana was not asked.",
+            "interventions": [intervention(REPLY, extra)],
+        }
+    )
+    verdict = check_scenario(parse(data))
+    assert verdict.ok, verdict.breaches()
+    run = verdict.run("variant:tells_dana")
+    assert run.success is False
+    assert [c.describe() for c in verdict.details["variant:tells_dana"].outcome.side_effects] == [
+        "sent to dana reyes <user-dana> (messaging.conversations: 'Lunch Thursday?')"
+    ]
+    monkeypatch.setenv("COLUMNS", "200")
+    (tmp_path / "tiny_reply.yaml").write_text(to_yaml(data))
+    assert main(["scenarios", "check", "-v", str(tmp_path / "tiny_reply.yaml")]) == 0
+    assert "[variant:tells_dana] NO side effect: sent to dana reyes" in capsys.readouterr().out
