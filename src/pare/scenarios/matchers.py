@@ -6,7 +6,7 @@ hold::
     content: {contains: [thursday, "3"]}         # whole words, case-insensitive, every piece
     content: {affirms: thursday, mentions_time: day+2 18:15}   # read for meaning, not wording
     recipients: {same_set: [bob@x.org, ann@x.org]}
-    start_datetime: {after: day+1 09:00, before: day+1 12:00}
+    start_datetime: {from: day+1 09:00, before: day+1 12:00}   # 09:00 in, 12:00 out (``by`` keeps it)
     updates: {start_datetime: day+1 10:00}        # a mapping of fields: each listed field must match
 
 A mapping whose keys are not operators matches a mapping value field by field (unlisted fields are
@@ -45,15 +45,17 @@ OPERATORS: dict[str, str] = {
     "same_set": "a list with the same elements in any order (text compared case-insensitively)",
     "min": "a number at least this",
     "max": "a number at most this",
-    "after": "a time at or after this (absolute or relative to the start)",
-    "before": "a time at or before this (absolute or relative to the start)",
+    "after": "a time strictly after this (absolute or relative to the start); the bound itself fails",
+    "from": "a time at or after this (absolute or relative to the start); the bound itself holds",
+    "before": "a time strictly before this (absolute or relative to the start); the bound itself fails",
+    "by": "a time at or before this (absolute or relative to the start); the bound itself holds",
     "present": "true: the value is given (not missing or null); false: it is not",
     "not": "a matcher that must not hold",
     "any_of": "a list of matchers of which at least one holds",
 }
 
 _DAY_ONLY = re.compile(r"\s*day\s*([+-]\s*\d+)?\s*")
-_TIME_OPERATORS = ("after", "before", "mentions_day", "mentions_time")
+_TIME_OPERATORS = ("after", "from", "before", "by", "mentions_day", "mentions_time")
 TEXT_OPERATORS = frozenset(
     {
         "contains",
@@ -68,7 +70,8 @@ TEXT_OPERATORS = frozenset(
 )
 """Operators that read text (they apply to text fields, or to lists and records of text)."""
 NUMBER_OPERATORS = frozenset({"min", "max"})
-TIME_OPERATORS = frozenset({"after", "before"})
+TIME_OPERATORS = frozenset({"after", "from", "before", "by"})
+"""Bounds on a time: ``after`` and ``before`` leave the bound out, ``from`` and ``by`` take it in."""
 LIST_OPERATORS = frozenset({"same_set"})
 _CHEAP_OPERATORS = frozenset({"equals", "one_of", "present", "min", "max"})
 """Operators that only compare values (an equal time text is read as a time, but seldom)."""
@@ -396,10 +399,20 @@ def _at_most(bound: float, value: Any, start: datetime) -> bool:
 
 def _after(expected: str | datetime, value: Any, start: datetime) -> bool:
     moment = _time(value, start)
+    return moment is not None and moment > _parse_time(expected, start)
+
+
+def _from(expected: str | datetime, value: Any, start: datetime) -> bool:
+    moment = _time(value, start)
     return moment is not None and moment >= _parse_time(expected, start)
 
 
 def _before(expected: str | datetime, value: Any, start: datetime) -> bool:
+    moment = _time(value, start)
+    return moment is not None and moment < _parse_time(expected, start)
+
+
+def _by(expected: str | datetime, value: Any, start: datetime) -> bool:
     moment = _time(value, start)
     return moment is not None and moment <= _parse_time(expected, start)
 
@@ -411,7 +424,9 @@ _GIVEN_VALUE_CHECKS: dict[str, Check] = {
     "min": _at_least,
     "max": _at_most,
     "after": _after,
+    "from": _from,
     "before": _before,
+    "by": _by,
 }
 
 
