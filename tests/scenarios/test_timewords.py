@@ -6,7 +6,7 @@ from __future__ import annotations
 import copy
 import subprocess
 import sys
-from datetime import UTC, date, datetime, time
+from datetime import UTC, date, datetime, time, timedelta
 from typing import Any
 
 import pytest
@@ -15,9 +15,12 @@ import yaml
 from pare.bench.selftest import check_scenario
 from pare.scenarios import Scenario, parse_scenario
 from pare.scenarios.library import BENCH_DIR
-from pare.scenarios.matchers import compile_matcher
+from pare.scenarios.matchers import compile_matcher, written_at
 from pare.scenarios.meaning import clauses, is_negated, mentions_clock, mentions_day, mentions_moment
+from pare.scenarios.model import ActionPattern
+from pare.scenarios.patterns import CompiledPattern
 from pare.scenarios.timewords import mentions
+from pare.sim.log import LogEntry
 
 JUNE_1 = datetime(2025, 6, 1, 9, 0, tzinfo=UTC)  # a Sunday
 JUNE_5 = datetime(2025, 6, 5, 9, 0, tzinfo=UTC)  # a Thursday
@@ -231,3 +234,23 @@ def test_a_library_scenario_accepts_informal_wording_of_the_right_slot(content: 
 def test_a_library_scenario_rejects_informal_wording_of_a_wrong_slot(content: str) -> None:
     verdict = check_scenario(_library_with_reply(content, "fail"))
     assert verdict.ok, verdict.breaches()
+
+
+def _sent(content: str, at: datetime) -> LogEntry:
+    args = {"user_id": "user-jo", "content": content}
+    return LogEntry(0, 1, at, "assistant", "messaging", "send_message", args, "write", True)
+
+
+def test_a_message_is_read_as_of_when_it_was_sent() -> None:
+    pattern = ActionPattern.model_validate(
+        {"tool": "messaging__send_message", "args": {"content": {"mentions_day": "day+2"}}}
+    )
+    compiled = CompiledPattern.of(pattern, JUNE_1)
+    assert not compiled.matches(_sent("See you tomorrow!", JUNE_1))  # sent on the 1st: the 2nd
+    assert compiled.matches(
+        _sent("See you tomorrow!", JUNE_1 + timedelta(days=1))
+    )  # sent on the 2nd: the 3rd
+    late = compile_matcher({"mentions_day": "2025-07-02"})
+    with written_at(JUNE_5):
+        assert late.test("on the 2nd", JUNE_1)  # said on 5 June, "the 2nd" is 2 July
+    assert not late.test("on the 2nd", JUNE_1)  # said on 1 June, it is 2 June

@@ -17,7 +17,9 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass, field
 from datetime import UTC, date, datetime, time
 from functools import lru_cache, partial
@@ -77,6 +79,32 @@ _CHEAP_OPERATORS = frozenset({"equals", "one_of", "present", "min", "max"})
 """Operators that only compare values (an equal time text is read as a time, but seldom)."""
 
 
+_WRITTEN_AT: ContextVar[datetime | None] = ContextVar("written_at", default=None)
+"""When the text being read was written, where the caller knows it (see :func:`written_at`)."""
+_DAY_READERS = frozenset({"mentions_day", "mentions_clock", "mentions_time"})
+
+
+@contextmanager
+def written_at(moment: datetime | None) -> Iterator[None]:
+    """Read the days and times of texts as written at ``moment``, not at the start, inside the block.
+
+    "Tomorrow" in a message sent on the second day of an episode is the third day; "the 2nd" is the next
+    2nd after the message was sent. Callers that know when a text was sent (an action's log entry) wrap
+    the matcher's test in this; elsewhere texts are read as written at the start.
+    """
+    token = _WRITTEN_AT.set(moment)
+    try:
+        yield
+    finally:
+        _WRITTEN_AT.reset(token)
+
+
+def reading_moment(start: datetime) -> datetime:
+    """The moment a text's days and times are counted from: when it was written if known, else the start."""
+    written = _WRITTEN_AT.get()
+    return start if written is None else written
+
+
 class MatcherError(ValueError):
     """A matcher that cannot be compiled; the message names the operator and what is wrong."""
 
@@ -107,6 +135,17 @@ class Matcher:
     def __reduce__(self) -> tuple[type[Matcher], tuple[Any, ...]]:
         # compiled again when unpickled: its test is a closure, which pickle cannot carry
         return Matcher, (self.operators, self.fields)
+
+    @property
+    def reads_days(self) -> bool:
+        """Whether the matcher reads days or clock times in text (then when the text was written matters)."""
+        for name, expected in self.operators:
+            if name in _DAY_READERS:
+                return True
+            nested = expected if isinstance(expected, tuple) else (expected,)
+            if any(isinstance(item, Matcher) and item.reads_days for item in nested):
+                return True
+        return any(matcher.reads_days for _, matcher in self.fields)
 
     @property
     def cost(self) -> int:
@@ -485,15 +524,15 @@ def _read_declines(text: str, wanted: bool, start: datetime) -> bool:
 
 
 def _read_day(text: str, expected: Any, start: datetime) -> bool:
-    return meaning.mentions_day(text, parse_time(expected, start).date(), start)
+    return meaning.mentions_day(text, parse_time(expected, start).date(), reading_moment(start))
 
 
 def _read_clock(text: str, expected: time, start: datetime) -> bool:
-    return meaning.mentions_clock(text, expected, start)
+    return meaning.mentions_clock(text, expected, reading_moment(start))
 
 
 def _read_moment(text: str, expected: Any, start: datetime) -> bool:
-    return meaning.mentions_moment(text, parse_time(expected, start), start)
+    return meaning.mentions_moment(text, parse_time(expected, start), reading_moment(start))
 
 
 _READERS: dict[str, Callable[[str, Any, datetime], bool]] = {

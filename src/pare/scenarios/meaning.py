@@ -7,13 +7,14 @@ without a model. Three tools, all rule-based so a verdict never changes from one
   but not in "150". A word is a run of letters or a run of digits; a piece matches where it is not glued
   to more of the same kind. A ``*`` at the end (or start) of a piece lets the word go on: ``view*``
   matches "viewing".
-* **Clauses and negation.** Text is cut into clauses (sentences, commas, "but", "instead of", ...); a
-  clause with a negation cue ("not", "can't", "unfortunately", "instead of", ...) does not affirm what it
-  mentions, so "Thursday does not work" does not affirm Thursday while "Wednesday is out, Thursday works"
-  does.
-* **Days and clock times.** "Tue 14 May", "Thursday at 8", "tomorrow", "6.15 pm", "18h15", "noon" are
-  resolved against the scenario's start (a weekday is the next such day on or after it; "next Thursday"
-  also the one after) and compared as dates and times, not as text.
+* **Clauses and negation.** Text is cut into clauses (sentences, commas, colons, dashes between words,
+  "but", "instead of", ...); a clause with a negation cue ("not", "can't", "unfortunately", "instead of",
+  ...) does not affirm what it mentions, so "Thursday does not work" does not affirm Thursday while
+  "Wednesday is out, Thursday works" does.
+* **Days and clock times.** "Tue 14 May", "Thursday at 8", "half nine", "tomorrow", "6.15 pm", "2-4pm",
+  "noon" are resolved against a reference moment (a weekday is the next such day on or after it; "next
+  Thursday" also the one after) and compared as dates and times, not as text; read by
+  :mod:`pare.scenarios.timewords`.
 """
 
 from __future__ import annotations

@@ -6,7 +6,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from datetime import datetime
 
-from pare.scenarios.matchers import Matcher, compile_matcher
+from pare.scenarios.matchers import Matcher, compile_matcher, written_at
 from pare.scenarios.model import ActionPattern
 from pare.sim.log import LogEntry
 
@@ -33,6 +33,8 @@ class CompiledPattern:
     start: datetime
     tools: frozenset[str] | None = None
     screen: Matcher | None = None
+    reads_days: bool = False
+    """Whether an argument matcher reads days or times in text: they are read as of the call's time."""
 
     @classmethod
     def of(cls, pattern: ActionPattern, start: datetime) -> CompiledPattern:
@@ -50,7 +52,8 @@ class CompiledPattern:
         result = compile_matcher(pattern.result) if pattern.result is not None else None
         tools = None if pattern.tools is None else frozenset(pattern.tools)
         screen = compile_matcher(pattern.screen) if pattern.screen is not None else None
-        compiled = cls(pattern, args, result, start, tools, screen)
+        reads_days = any(matcher.reads_days for _, matcher in args)
+        compiled = cls(pattern, args, result, start, tools, screen, reads_days)
         if len(_COMPILED) >= 16384:  # a long-lived process that loads scenarios again and again
             _COMPILED.clear()
         _COMPILED[key] = compiled  # it holds both: their ids are not reused while the entry lives
@@ -94,7 +97,10 @@ class CompiledPattern:
         return True
 
     def matches_args(self, entry: LogEntry) -> bool:
-        """Whether the entry's arguments satisfy every argument matcher."""
+        """Whether the entry's arguments satisfy every argument matcher ("tomorrow" as of the call)."""
+        if self.reads_days:
+            with written_at(entry.time):
+                return all(matcher.test(entry.args.get(name), self.start) for name, matcher in self.args)
         return all(matcher.test(entry.args.get(name), self.start) for name, matcher in self.args)
 
     def find(self, log: Sequence[LogEntry]) -> list[LogEntry]:

@@ -28,8 +28,9 @@ what they find (a stretch of text read by the first is not read again by the sec
   where the phrase names one, and a time only where the rules read none. Only a text with such a count or
   month form is given to it at all.
 
-Texts are read relative to a reference moment (the scenario's start), in that moment's time zone: the
-phone's zone, UTC in this release. dateparser is imported on the first text that needs it (never by
+Texts are read relative to a reference moment (when the text was sent where the check knows it, else the
+scenario's start: :func:`pare.scenarios.matchers.written_at`), in that moment's time zone: the phone's
+zone, UTC in this release. dateparser is imported on the first text that needs it (never by
 ``pare --help`` or a run whose checks read no days or times), and each text's reading is remembered.
 """
 
