@@ -125,12 +125,15 @@ def test_relative_phrases_are_read_by_the_date_library() -> None:
         "we will see",  # "we" is not Wednesday
         "I may come",  # "may" is not May
         "She sat down",
-        "Flat 22, 1,200 a month, 2 days from now",  # a phrase over a comma is not taken from the library
         "8 in the evening",  # a time of day names no day
     ],
 )
 def test_the_date_library_does_not_add_false_days(text: str) -> None:
     assert _days(text) == []
+
+
+def test_a_price_before_a_relative_phrase_does_not_shift_it() -> None:
+    assert _days("Flat 22, 1,200 a month, free 2 days from now") == [{date(2025, 6, 3)}]
 
 
 def test_weekdays_stay_on_or_after_the_reference_day() -> None:

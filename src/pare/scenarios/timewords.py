@@ -167,12 +167,27 @@ _DAY_WORDS = (
 )
 _LIBRARY_DAY = re.compile(_WORD_START + r"(?:" + _DAY_WORDS + r")" + _WORD_END, re.I)
 """A word that names a day: only a phrase with one gives a day ("8 in the evening" names no day)."""
+_UNIT = r"(?:minutes?|hours?|days?|weeks?|fortnight)"
+_COUNT = r"(?:an?|a\s+few|\d+|" + "|".join(_HOUR_WORDS) + r")"
 _LIBRARY_CUE = re.compile(
-    _WORD_START + r"(?:minutes?|hours?|days?|weeks?|fortnight|" + _MONTH_WORD + r"\s+the\s+\d)" + _WORD_END,
+    _WORD_START
+    + r"(?:(?:in|within)\s+"
+    + _COUNT
+    + r"\s+"
+    + _UNIT
+    + r"|"
+    + _COUNT
+    + r"\s+"
+    + _UNIT
+    + r"\s+(?:from\s+(?:now|today|tomorrow)|later|ago)|"
+    + _MONTH_WORD
+    + r"\s+the\s+\d)"
+    + _WORD_END,
     re.I,
 )
-"""What the library reads and the rules do not: a count of units ("in two days", "3 days from now") or a
-month before "the" and its day ("June the 2nd"). Only a text with one (and a number) is given to it."""
+"""What the library reads and the rules do not: a count of units from now ("in two days", "3 days from
+now", "in an hour") or a month before "the" and its day ("June the 2nd"). Only a text with one is given to
+it, and only the stretch around it."""
 _RELATIVE_PHRASE = re.compile(
     r"^(?:in|within)\s|"
     + _WORD_START
@@ -451,34 +466,64 @@ def mentions(text: str, anchor: datetime) -> tuple[Mention, ...]:
     reading.add_times()  # before the relative days: "8 tonight" is 20:00, and tonight is still today
     reading.add_relative_days()
     reading.add_weekdays()
-    if _NUMBER.search(text) and _LIBRARY_CUE.search(text):
+    if asks_library(text):
         _add_library_mentions(reading, anchor)
     return tuple(sorted(reading.found, key=lambda mention: mention.start))
+
+
+def asks_library(text: str) -> bool:
+    """Whether ``text`` is given to the date library: it holds a number and a phrase only the library reads
+    (a count of units, "June the 2nd"); other texts are read by the rules alone, without importing it.
+    """
+    return _LIBRARY_CUE.search(text) is not None
+
+
+_STRETCH_END = re.compile(r"[.,;!?\n]")
+
+
+def _library_stretches(text: str) -> list[tuple[int, str]]:
+    """The stretches of ``text`` the library is given, with where each begins: from the punctuation before
+    a phrase only it reads to the punctuation after (a phrase the library takes has no comma anyway), so
+    it searches a few words instead of a whole email.
+    """
+    stretches: dict[int, str] = {}
+    for cue in _LIBRARY_CUE.finditer(text):
+        before = [found.end() for found in _STRETCH_END.finditer(text, 0, cue.start())]
+        begin = before[-1] if before else 0
+        after = _STRETCH_END.search(text, cue.end())
+        stretches[begin] = text[begin : after.start() if after else len(text)]
+    return sorted(stretches.items())
 
 
 def _add_library_mentions(reading: _Reading, anchor: datetime) -> None:
     """What dateparser finds that the rules did not read (see the module docstring)."""
     search, parse = _library(anchor)
-    cursor = 0
-    for phrase, _ in search(reading.text) or ():
-        begin = reading.text.find(phrase, cursor)
-        if begin < 0:
-            continue
-        cursor = end = begin + len(phrase)
-        if "," in phrase or ";" in phrase or not (_NUMBER.search(phrase) and _RELATIVE_PHRASE.search(phrase)):
-            continue
-        parsed = parse(phrase)
-        moment, period = parsed.date_obj, parsed.period
-        if moment is None or period not in ("day", "time", "week"):
-            continue
-        known = reading.overlapping(begin, end)
-        days = [] if any(m.days for m in known) or not _LIBRARY_DAY.search(phrase) else [moment.date()]
-        times = [moment.time().replace(second=0, microsecond=0)] if period == "time" else []
-        times = [] if any(m.times for m in known) else times
-        if days or times:
-            mention = Mention(begin, frozenset(days), frozenset(times))
-            reading.taken.append((begin, end, mention))
-            reading.found.append(mention)
+    for offset, stretch in _library_stretches(reading.text):
+        cursor = 0
+        for phrase, _ in search(stretch) or ():
+            at = stretch.find(phrase, cursor)
+            if at < 0:
+                continue
+            cursor = at + len(phrase)
+            if _NUMBER.search(phrase) and _RELATIVE_PHRASE.search(phrase):
+                _add_library_phrase(reading, parse, phrase, offset + at)
+
+
+def _add_library_phrase(reading: _Reading, parse: Callable[[str], Any], phrase: str, begin: int) -> None:
+    """The day (where the phrase names one) and the time (where the rules read none) of a phrase."""
+    parsed = parse(phrase)
+    moment, period = parsed.date_obj, parsed.period
+    if moment is None or period not in ("day", "time", "week"):
+        return
+    end = begin + len(phrase)
+    known = reading.overlapping(begin, end)
+    days = [] if any(m.days for m in known) or not _LIBRARY_DAY.search(phrase) else [moment.date()]
+    times = [moment.time().replace(second=0, microsecond=0)] if period == "time" else []
+    times = [] if any(m.times for m in known) else times
+    if days or times:
+        mention = Mention(begin, frozenset(days), frozenset(times))
+        reading.taken.append((begin, end, mention))
+        reading.found.append(mention)
 
 
 @lru_cache(maxsize=64)
