@@ -69,6 +69,7 @@ def test_informal_clock_times_are_read(text: str, readings: list[set[str]]) -> N
         "between 2 and 4 guests",
         "it costs $18.15",
         "half one of the boxes",
+        "five to ten people",
     ],
 )
 def test_numbers_that_are_not_times_are_not_read_as_times(text: str) -> None:

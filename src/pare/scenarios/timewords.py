@@ -53,20 +53,8 @@ _MONTH_WORD = (
     r"oct(?:ober)?|nov(?:ember)?|dec(?:ember)?)\.?"
 )
 _ORDINAL = r"(\d{1,2})(?:st|nd|rd|th)?"
-_HOUR_NAMES = (
-    "one",
-    "two",
-    "three",
-    "four",
-    "five",
-    "six",
-    "seven",
-    "eight",
-    "nine",
-    "ten",
-    "eleven",
-    "twelve",
-)
+_HOUR_NAMES = ("one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten", "eleven",
+               "twelve")  # fmt: skip
 _HOUR_WORDS = {word: number for number, word in enumerate(_HOUR_NAMES, start=1)}
 _HOUR = r"(\d{1,2}|" + "|".join(_HOUR_WORDS) + r")"
 """An hour as digits or as a word ("nine")."""
@@ -422,8 +410,8 @@ class _Reading:
                 minutes = int(amount.split()[0])
                 if direction != "past" and "minute" not in amount:
                     continue  # "2 to 4" is a range, "10 after 3" rarely a time: only "20 past 3"
-            if not 0 < minutes < 60 or not 1 <= hour <= 12:
-                continue
+            if not 0 < minutes < 60 or not 1 <= hour <= 12 or self.counts(match, match.group(3)):
+                continue  # "five to ten people" counts people
             if direction == "to":
                 hour, minutes = hour - 1 or 12, 60 - minutes
             self.add(match.span(), times=_clock_readings(hour, minutes, None))
