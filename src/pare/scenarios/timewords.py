@@ -37,7 +37,7 @@ zone, UTC in this release. dateparser is imported on the first text that needs i
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from datetime import date, datetime, time, timedelta
 from functools import lru_cache
@@ -300,14 +300,48 @@ def _endpoint(groups: tuple[str | Any, ...]) -> tuple[str, str | None, str | Non
     return str(hour), minute, suffix
 
 
+_DIGIT = re.compile(r"\d")
+_DIGIT_NEEDED = "<a digit>"
+_HINTS: dict[re.Pattern[str], tuple[str, ...]] = {
+    _ISO_DATE: (_DIGIT_NEEDED,),
+    _DAY_MONTH: (_DIGIT_NEEDED,),
+    _MONTH_DAY: (_DIGIT_NEEDED,),
+    _THE_NTH: (_DIGIT_NEEDED,),
+    _SLASH_DATE: (_DIGIT_NEEDED,),
+    _CLOCK: (_DIGIT_NEEDED,),
+    _DASH_RANGE: (_DIGIT_NEEDED,),
+    _WORDED_RANGE: ("between", "from"),
+    _PAST_TO: ("past", "after", "to"),
+    _HALF_HOUR: ("half",),
+    _HOUR_BEFORE_PERIOD: ("morning", "afternoon", "evening", "night"),
+    _HOUR_SUFFIX: ("am", "a.m", "pm", "p.m", "o'clock"),
+    _AT_HOUR: ("at", "from", "by", "around", "until", "till"),
+    _NAMED_TIME: ("noon", "midday", "midnight"),
+    _FULL_WEEKDAY: ("day",),
+    _SHORT_WEEKDAY: ("mon", "tue", "wed", "thu", "fri", "sat", "sun"),
+    _RELATIVE_DAY: ("tomorrow", "today", "tonight", "this"),
+}
+"""What a text must hold (in lower case) for each pattern to match in it, any one of them: most texts lack
+most, and a substring test costs far less than a search (the patterns are tried on every text read)."""
+
+
 class _Reading:
     """The mentions of one text as they are found, each stretch of text read once."""
 
     def __init__(self, text: str, anchor: datetime) -> None:
         self.text = text
+        self.lowered = text.lower()
+        self.digit = _DIGIT.search(text) is not None
         self.today = anchor.date()
         self.found: list[Mention] = []
         self.taken: list[tuple[int, int, Mention]] = []
+
+    def scan(self, pattern: re.Pattern[str]) -> Iterator[re.Match[str]]:
+        """``pattern``'s matches in the text; none, without a search, when the text lacks what it needs."""
+        hints = _HINTS[pattern]
+        if any(self.digit if hint is _DIGIT_NEEDED else hint in self.lowered for hint in hints):
+            return pattern.finditer(self.text)
+        return iter(())
 
     def overlapping(self, begin: int, end: int) -> list[Mention]:
         return [mention for start, stop, mention in self.taken if begin < stop and start < end]
@@ -330,18 +364,18 @@ class _Reading:
         return not hour.isdigit() and _COUNTED_AFTER.match(self.text, match.end()) is not None
 
     def add_days(self) -> None:
-        text, today = self.text, self.today
-        for match in _ISO_DATE.finditer(text):
+        today = self.today
+        for match in self.scan(_ISO_DATE):
             self.add(match.span(), [d for d in [_safe_date(*(int(g) for g in match.groups()))] if d])
-        for match in _DAY_MONTH.finditer(text):
+        for match in self.scan(_DAY_MONTH):
             month, day = _month_number(match.group(2)), int(match.group(1))
             self.add(match.span(), _year_readings(today, month, day, match.group(3)))
-        for match in _MONTH_DAY.finditer(text):
+        for match in self.scan(_MONTH_DAY):
             month, day = _month_number(match.group(1)), int(match.group(2))
             self.add(match.span(), _year_readings(today, month, day, match.group(3)))
-        for match in _THE_NTH.finditer(text):
+        for match in self.scan(_THE_NTH):
             self.add(match.span(), [d for d in [_next_nth(today, int(match.group(1)))] if d])
-        for match in _SLASH_DATE.finditer(text):
+        for match in self.scan(_SLASH_DATE):
             first, second, year = int(match.group(1)), int(match.group(2)), match.group(3)
             self.add(
                 match.span(),
@@ -360,26 +394,26 @@ class _Reading:
                 for start, _, mention in self.taken
             )
 
-        for match in _FULL_WEEKDAY.finditer(text):
+        for match in self.scan(_FULL_WEEKDAY):
             if not before_a_date(match):
                 weekday = _WEEKDAYS.index(match.group(2).lower())
                 self.add(match.span(), _weekday_readings(today, weekday, match.group(1) or ""))
-        for match in _SHORT_WEEKDAY.finditer(text):
+        for match in self.scan(_SHORT_WEEKDAY):
             if not before_a_date(match):
                 self.add(match.span(), _weekday_readings(today, _WEEKDAY_ABBREVIATIONS[match.group(1)], ""))
 
     def add_relative_days(self) -> None:
-        for match in _RELATIVE_DAY.finditer(self.text):
+        for match in self.scan(_RELATIVE_DAY):
             word = match.group(1).lower()
             offset = 2 if word.startswith("the") else 1 if word == "tomorrow" else 0
             self.add(match.span(), [self.today + timedelta(days=offset)])
 
     def add_ranges(self) -> None:
-        for match in _DASH_RANGE.finditer(self.text):
+        for match in self.scan(_DASH_RANGE):
             hour1, minute1, suffix1, hour2, minute2, suffix2 = match.groups()
             if suffix1 or suffix2 or minute1 or minute2:
                 self._add_range(match, (hour1, minute1, suffix1), (hour2, minute2, suffix2))
-        for match in _WORDED_RANGE.finditer(self.text):
+        for match in self.scan(_WORDED_RANGE):
             groups = match.groups()
             between, start, last = groups[0:3], groups[3:6], groups[6:9]
             self._add_range(match, _endpoint(between if between[0] is not None else start), _endpoint(last))
@@ -401,8 +435,7 @@ class _Reading:
             self.found += [Mention(match.start(), times=starts), Mention(middle, times=ends)]
 
     def add_times(self) -> None:
-        text = self.text
-        for match in _PAST_TO.finditer(text):
+        for match in self.scan(_PAST_TO):
             amount, direction = match.group(1).lower(), match.group(2).lower()
             hour = _hour_number(match.group(3))
             minutes = _MINUTE_WORDS.get(" ".join(amount.replace("-", " ").split()))
@@ -415,28 +448,28 @@ class _Reading:
             if direction == "to":
                 hour, minutes = hour - 1 or 12, 60 - minutes
             self.add(match.span(), times=_clock_readings(hour, minutes, None))
-        for match in _HALF_HOUR.finditer(text):
+        for match in self.scan(_HALF_HOUR):
             hour = _hour_number(match.group(1))
             if 1 <= hour <= 12 and not self.counts(match, match.group(1)):
                 self.add(match.span(), times=_clock_readings(hour, 30, None))
-        for match in _HOUR_BEFORE_PERIOD.finditer(text):
+        for match in self.scan(_HOUR_BEFORE_PERIOD):
             hour = _hour_number(match.group(1))
             self.add(match.span(), times=_clock_readings(hour, int(match.group(2) or 0), None))
-        for match in _CLOCK.finditer(text):
+        for match in self.scan(_CLOCK):
             self.add(
                 match.span(), times=_clock_readings(int(match.group(1)), int(match.group(2)), match.group(3))
             )
-        for match in _HOUR_SUFFIX.finditer(text):
+        for match in self.scan(_HOUR_SUFFIX):
             suffix = match.group(2)
             hour = _hour_number(match.group(1))
             self.add(match.span(), times=_clock_readings(hour, 0, None if "clock" in suffix else suffix))
-        for match in _AT_HOUR.finditer(text):
+        for match in self.scan(_AT_HOUR):
             if self.counts(match, match.group(1)):
                 continue
             said = (match.group(2) or "").lower()
             minutes = {"": 0, "fifteen": 15, "thirty": 30}.get(said, 45)
             self.add(match.span(), times=_clock_readings(_hour_number(match.group(1)), minutes, None))
-        for match in _NAMED_TIME.finditer(text):
+        for match in self.scan(_NAMED_TIME):
             self.add(
                 match.span(), times=[time(0, 0) if match.group(1).lower() == "midnight" else time(12, 0)]
             )
@@ -463,6 +496,9 @@ def asks_library(text: str) -> bool:
     """Whether ``text`` is given to the date library: it holds a number and a phrase only the library reads
     (a count of units, "June the 2nd"); other texts are read by the rules alone, without importing it.
     """
+    lowered = text.lower()
+    if not any(word in lowered for word in ("minute", "hour", "day", "week", "fortnight", "the")):
+        return False  # told without a search, as most texts are
     return _LIBRARY_CUE.search(text) is not None
 
 
