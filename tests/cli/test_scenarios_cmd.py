@@ -200,11 +200,11 @@ def test_match_passes_and_shows_how_the_text_was_read(capsys: pytest.CaptureFixt
 
 def test_match_fails_with_the_reason(capsys: pytest.CaptureFixture[str]) -> None:
     rule = '{"any_of": [{"affirms": ["move*"]}, {"mentions_day": "day+3"}]}'  # JSON is YAML too
-    code = main(["scenarios", "match", rule, "not Fri - could we move it", "--start", "2025-03-03T09:00"])
+    code = main(["scenarios", "match", rule, "not Fri and could we move it", "--start", "2025-03-03T09:00"])
     out = capsys.readouterr().out
     assert code == 1
     assert "FAIL: any of: none holds (" in out
-    assert "found 'move' in clause \"not Fri - could we move it\" but it is negated by 'not'" in out
+    assert "found 'move' in clause \"not Fri and could we move it\" but it is negated by 'not'" in out
     assert "mentions_day day+3 (Thu 6 Mar)" in out
 
 
@@ -258,13 +258,13 @@ def test_the_gate_says_why_a_passing_variant_failed(
     passing = next(variant for variant in data["variants"] if variant["expect"] == "pass")
     for action in passing["interventions"][0]["actions"]:
         if "content" in action["args"]:
-            action["args"]["content"] = "Friday is out - Thursday works"
+            action["args"]["content"] = "Friday is out so Thursday works"
     _write(tmp_path, data)
     assert main(["scenarios", "check", str(tmp_path)]) == 1
     out = " ".join(capsys.readouterr().out.split())  # the console wraps long lines
     assert f"[variant:{passing['id']}]: check failed: moved[0] no judge model; fallback affirms" in out
     assert (
-        "found 'Thursday' in clause \"Friday is out - Thursday works\" but it is negated by 'is out'" in out
+        "found 'Thursday' in clause \"Friday is out so Thursday works\" but it is negated by 'is out'" in out
     )
 
 

@@ -295,15 +295,15 @@ def test_a_failing_fallback_quotes_the_text_and_says_which_clause_failed() -> No
         }
     }
     data = _with_checks(judged)
-    data["oracle"]["interventions"][0]["actions"][0]["args"]["content"] = "Not Friday - Thursday works!"
+    data["oracle"]["interventions"][0]["actions"][0]["args"]["content"] = "Not Friday as Thursday works!"
     _, result = _oracle_run(data)
     (failure,) = result.outcome.failures()
     assert failure.detail.startswith("no judge model; fallback any of (")
     assert re.search(
-        r'fails on 1 text\(s\) \(#\d+\): "Not Friday - Thursday works!": any of: none holds \(',
+        r'fails on 1 text\(s\) \(#\d+\): "Not Friday as Thursday works!": any of: none holds \(',
         failure.detail,
     )
-    clause = 'clause "Not Friday - Thursday works"'
+    clause = 'clause "Not Friday as Thursday works"'
     assert f"affirms 'friday': found 'Friday' in {clause} but it is negated by 'Not'" in failure.detail
     assert "contains 'friday'" not in failure.detail  # the part of the rule that held is not blamed
 

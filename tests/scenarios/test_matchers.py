@@ -67,6 +67,16 @@ def test_times_compare_as_times_whatever_the_format() -> None:
         ({"after": "day+1 00:00", "before": "day+1 23:59"}, "2025-03-04T12:00:00Z", True),
         ({"after": "day+1 00:00"}, "2025-03-03T12:00:00Z", False),
         ({"after": "+0m"}, "not a time", False),
+        ({"before": "day+1 10:00"}, "2025-03-04T10:00:00Z", False),  # before excludes its bound
+        ({"before": "day+1 10:00"}, "2025-03-04T09:59:00Z", True),
+        ({"by": "day+1 10:00"}, "2025-03-04T10:00:00Z", True),  # by includes it
+        ({"by": "day+1 10:00"}, "2025-03-04T10:01:00Z", False),
+        ({"after": "day+1 10:00"}, "2025-03-04T10:00:00Z", False),  # after excludes its bound
+        ({"after": "day+1 10:00"}, "2025-03-04T10:01:00Z", True),
+        ({"from": "day+1 10:00"}, "2025-03-04T10:00:00Z", True),  # from includes it
+        ({"from": "day+1 10:00"}, "2025-03-04T09:59:00Z", False),
+        ({"from": "day+1 00:00", "before": "day+2 00:00"}, "2025-03-05T00:00:00Z", False),  # a whole day
+        ({"from": "day+1 00:00", "before": "day+2 00:00"}, "2025-03-04T00:00:00Z", True),
         ({"present": True}, "x", True),
         ({"present": True}, None, False),
         ({"present": False}, None, True),
@@ -241,6 +251,7 @@ _RAW_MATCHERS = [
     {"after": "day+1 00:00"},
     {"before": "day+1 23:59"},
     {"after": "day+1 00:00", "before": "day+1 23:59"},
+    {"from": "day+1 00:00", "by": "day+1 23:59"},
     {"present": True},
     {"present": False},
     {"not": {"contains": "x"}},

@@ -76,7 +76,9 @@ episodes it was sent."""
 _WRITER_PROGRAM = _store_writer.__file__
 MANIFEST_FORMAT = 1
 
-PROVENANCE_PACKAGES = ("pydantic", "openai", "litellm", "ray", "jinja2", "rich", "typer")
+PROVENANCE_PACKAGES = ("pydantic", "openai", "litellm", "ray", "jinja2", "rich", "typer", "dateparser")
+"""The libraries whose versions a manifest records: they shape prompts, calls, runs, and (dateparser) how
+checks read days and times in text."""
 
 EpisodeKey = tuple[str, int]
 

@@ -18,7 +18,7 @@ from pare.env.attribution import Attribution, StatePath, item_key, place_of
 from pare.scenarios import explain as explaining
 from pare.scenarios.file_identity import ATTACHMENT_FIELDS, FileIdentity
 from pare.scenarios.item_text import item_text
-from pare.scenarios.matchers import compile_matcher
+from pare.scenarios.matchers import compile_matcher, written_at
 from pare.scenarios.model import (
     WHERE_ANY,
     WHERE_KEY,
@@ -495,7 +495,12 @@ class _JudgeRule(_Rule):
         read = [entry for entry, args in found if isinstance(args.get(check.field), str)]
         if not read:
             return False, f"no {described} with a text in '{check.field}' to judge"
-        candidates = [args[check.field] for _, args in found if isinstance(args.get(check.field), str)]
+        texts_read = [
+            (entry, args[check.field]) for entry, args in found if isinstance(args.get(check.field), str)
+        ]
+        candidates = [text for _, text in texts_read]
+        # days and times in a text are read as of when it was sent
+        sent = [entry.time for entry, _ in texts_read]
         if check.together and len(candidates) > 1:
             candidates = ["\n\n".join(candidates)]  # one answer sent in parts is judged as the whole
         texts = f"{len(candidates)} text(s) ({', '.join(f'#{entry.index}' for entry in read)})"
@@ -512,17 +517,24 @@ class _JudgeRule(_Rule):
             more = f" and {len(reasons) - _EXPLAINED} more" if len(reasons) > _EXPLAINED else ""
             detail = f"judge {'accepted' if passed else 'rejected'} {texts} for: {check.criterion}"
             return passed, detail + "".join(f"{JUDGE_SAID}{reason}" for reason in reasons[:_EXPLAINED]) + more
-        passed = any(self.fallback.test(text, context.start) for text in candidates)
+        passed = any(self._holds(text, at, context.start) for text, at in zip(candidates, sent, strict=False))
         verdict = "holds" if passed else "fails"
         detail = f"no judge model; fallback {self.fallback_text} {verdict} on {texts}"
         if explain and not passed:
-            shown = [
-                f"{explaining.quote(text)}: {explaining.explain(self.fallback, text, context.start)}"
-                for text in candidates[:_EXPLAINED]
-            ]
+            shown = []
+            for text, at in zip(candidates[:_EXPLAINED], sent, strict=False):
+                with written_at(at):
+                    shown.append(
+                        f"{explaining.quote(text)}: {explaining.explain(self.fallback, text, context.start)}"
+                    )
             more = f" and {len(candidates) - _EXPLAINED} more" if len(candidates) > _EXPLAINED else ""
             detail += ": " + " / ".join(shown) + more
         return passed, detail
+
+    def _holds(self, text: str, sent: datetime, start: datetime) -> bool:
+        """Whether the fallback accepts ``text`` read as of ``sent`` (a text in parts: as of its first)."""
+        with written_at(sent):
+            return self.fallback.test(text, start)
 
 
 def _rule(check: Check, start: datetime) -> _Rule:

@@ -18,7 +18,7 @@ from datetime import date, datetime, time
 from typing import Any
 
 from pare.scenarios import meaning
-from pare.scenarios.matchers import Matcher, item_texts
+from pare.scenarios.matchers import Matcher, item_texts, reading_moment
 from pare.scenarios.times import TimeFormatError, parse_time
 
 TEXT_WIDTH = 80
@@ -215,7 +215,7 @@ def _mentions(text: str, expected: Any, start: datetime) -> str:
     named, negated = [], []
     for number, sentence in enumerate(meaning.sentence_clauses(text), start=1):
         for clause in sentence:
-            found = meaning.mentions(clause, start)
+            found = meaning.mentions(clause, reading_moment(start))
             if not found:
                 continue
             readings = ", ".join(_reading(mention) for mention in found)

@@ -6,7 +6,7 @@ hold::
     content: {contains: [thursday, "3"]}         # whole words, case-insensitive, every piece
     content: {affirms: thursday, mentions_time: day+2 18:15}   # read for meaning, not wording
     recipients: {same_set: [bob@x.org, ann@x.org]}
-    start_datetime: {after: day+1 09:00, before: day+1 12:00}
+    start_datetime: {from: day+1 09:00, before: day+1 12:00}   # 09:00 in, 12:00 out (``by`` keeps it)
     updates: {start_datetime: day+1 10:00}        # a mapping of fields: each listed field must match
 
 A mapping whose keys are not operators matches a mapping value field by field (unlisted fields are
@@ -17,7 +17,9 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass, field
 from datetime import UTC, date, datetime, time
 from functools import lru_cache, partial
@@ -45,15 +47,17 @@ OPERATORS: dict[str, str] = {
     "same_set": "a list with the same elements in any order (text compared case-insensitively)",
     "min": "a number at least this",
     "max": "a number at most this",
-    "after": "a time at or after this (absolute or relative to the start)",
-    "before": "a time at or before this (absolute or relative to the start)",
+    "after": "a time strictly after this (absolute or relative to the start); the bound itself fails",
+    "from": "a time at or after this (absolute or relative to the start); the bound itself holds",
+    "before": "a time strictly before this (absolute or relative to the start); the bound itself fails",
+    "by": "a time at or before this (absolute or relative to the start); the bound itself holds",
     "present": "true: the value is given (not missing or null); false: it is not",
     "not": "a matcher that must not hold",
     "any_of": "a list of matchers of which at least one holds",
 }
 
 _DAY_ONLY = re.compile(r"\s*day\s*([+-]\s*\d+)?\s*")
-_TIME_OPERATORS = ("after", "before", "mentions_day", "mentions_time")
+_TIME_OPERATORS = ("after", "from", "before", "by", "mentions_day", "mentions_time")
 TEXT_OPERATORS = frozenset(
     {
         "contains",
@@ -68,10 +72,37 @@ TEXT_OPERATORS = frozenset(
 )
 """Operators that read text (they apply to text fields, or to lists and records of text)."""
 NUMBER_OPERATORS = frozenset({"min", "max"})
-TIME_OPERATORS = frozenset({"after", "before"})
+TIME_OPERATORS = frozenset({"after", "from", "before", "by"})
+"""Bounds on a time: ``after`` and ``before`` leave the bound out, ``from`` and ``by`` take it in."""
 LIST_OPERATORS = frozenset({"same_set"})
 _CHEAP_OPERATORS = frozenset({"equals", "one_of", "present", "min", "max"})
 """Operators that only compare values (an equal time text is read as a time, but seldom)."""
+
+
+_WRITTEN_AT: ContextVar[datetime | None] = ContextVar("written_at", default=None)
+"""When the text being read was written, where the caller knows it (see :func:`written_at`)."""
+_DAY_READERS = frozenset({"mentions_day", "mentions_clock", "mentions_time"})
+
+
+@contextmanager
+def written_at(moment: datetime | None) -> Iterator[None]:
+    """Read the days and times of texts as written at ``moment``, not at the start, inside the block.
+
+    "Tomorrow" in a message sent on the second day of an episode is the third day; "the 2nd" is the next
+    2nd after the message was sent. Callers that know when a text was sent (an action's log entry) wrap
+    the matcher's test in this; elsewhere texts are read as written at the start.
+    """
+    token = _WRITTEN_AT.set(moment)
+    try:
+        yield
+    finally:
+        _WRITTEN_AT.reset(token)
+
+
+def reading_moment(start: datetime) -> datetime:
+    """The moment a text's days and times are counted from: when it was written if known, else the start."""
+    written = _WRITTEN_AT.get()
+    return start if written is None else written
 
 
 class MatcherError(ValueError):
@@ -104,6 +135,17 @@ class Matcher:
     def __reduce__(self) -> tuple[type[Matcher], tuple[Any, ...]]:
         # compiled again when unpickled: its test is a closure, which pickle cannot carry
         return Matcher, (self.operators, self.fields)
+
+    @property
+    def reads_days(self) -> bool:
+        """Whether the matcher reads days or clock times in text (then when the text was written matters)."""
+        for name, expected in self.operators:
+            if name in _DAY_READERS:
+                return True
+            nested = expected if isinstance(expected, tuple) else (expected,)
+            if any(isinstance(item, Matcher) and item.reads_days for item in nested):
+                return True
+        return any(matcher.reads_days for _, matcher in self.fields)
 
     @property
     def cost(self) -> int:
@@ -396,10 +438,20 @@ def _at_most(bound: float, value: Any, start: datetime) -> bool:
 
 def _after(expected: str | datetime, value: Any, start: datetime) -> bool:
     moment = _time(value, start)
+    return moment is not None and moment > _parse_time(expected, start)
+
+
+def _from(expected: str | datetime, value: Any, start: datetime) -> bool:
+    moment = _time(value, start)
     return moment is not None and moment >= _parse_time(expected, start)
 
 
 def _before(expected: str | datetime, value: Any, start: datetime) -> bool:
+    moment = _time(value, start)
+    return moment is not None and moment < _parse_time(expected, start)
+
+
+def _by(expected: str | datetime, value: Any, start: datetime) -> bool:
     moment = _time(value, start)
     return moment is not None and moment <= _parse_time(expected, start)
 
@@ -411,7 +463,9 @@ _GIVEN_VALUE_CHECKS: dict[str, Check] = {
     "min": _at_least,
     "max": _at_most,
     "after": _after,
+    "from": _from,
     "before": _before,
+    "by": _by,
 }
 
 
@@ -470,15 +524,15 @@ def _read_declines(text: str, wanted: bool, start: datetime) -> bool:
 
 
 def _read_day(text: str, expected: Any, start: datetime) -> bool:
-    return meaning.mentions_day(text, parse_time(expected, start).date(), start)
+    return meaning.mentions_day(text, parse_time(expected, start).date(), reading_moment(start))
 
 
 def _read_clock(text: str, expected: time, start: datetime) -> bool:
-    return meaning.mentions_clock(text, expected, start)
+    return meaning.mentions_clock(text, expected, reading_moment(start))
 
 
 def _read_moment(text: str, expected: Any, start: datetime) -> bool:
-    return meaning.mentions_moment(text, parse_time(expected, start), start)
+    return meaning.mentions_moment(text, parse_time(expected, start), reading_moment(start))
 
 
 _READERS: dict[str, Callable[[str, Any, datetime], bool]] = {

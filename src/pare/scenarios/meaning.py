@@ -7,22 +7,26 @@ without a model. Three tools, all rule-based so a verdict never changes from one
   but not in "150". A word is a run of letters or a run of digits; a piece matches where it is not glued
   to more of the same kind. A ``*`` at the end (or start) of a piece lets the word go on: ``view*``
   matches "viewing".
-* **Clauses and negation.** Text is cut into clauses (sentences, commas, "but", "instead of", ...); a
-  clause with a negation cue ("not", "can't", "unfortunately", "instead of", ...) does not affirm what it
-  mentions, so "Thursday does not work" does not affirm Thursday while "Wednesday is out, Thursday works"
-  does.
-* **Days and clock times.** "Tue 14 May", "Thursday at 8", "tomorrow", "6.15 pm", "18h15", "noon" are
-  resolved against the scenario's start (a weekday is the next such day on or after it; "next Thursday"
-  also the one after) and compared as dates and times, not as text.
+* **Clauses and negation.** Text is cut into clauses (sentences, commas, colons, dashes between words,
+  "but", "instead of", ...); a clause with a negation cue ("not", "can't", "unfortunately", "instead of",
+  ...) does not affirm what it mentions, so "Thursday does not work" does not affirm Thursday while
+  "Wednesday is out, Thursday works" does.
+* **Days and clock times.** "Tue 14 May", "Thursday at 8", "half nine", "tomorrow", "6.15 pm", "2-4pm",
+  "noon" are resolved against a reference moment (a weekday is the next such day on or after it; "next
+  Thursday" also the one after) and compared as dates and times, not as text; read by
+  :mod:`pare.scenarios.timewords`.
 """
 
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable
 from dataclasses import dataclass
-from datetime import date, datetime, time, timedelta
+from datetime import date, datetime, time
 from functools import lru_cache
+
+from pare.scenarios.timewords import Mention, mentions
+
+__all__ = ["Mention", "mentions"]  # read here by the explanations, as before the readers had a module
 
 # -- words -------------------------------------------------------------------------------------------------
 _LETTER_BEFORE = r"(?<![^\W\d_])"
@@ -160,6 +164,9 @@ _CLAUSE_BREAK = re.compile(
     # a comma breaks a clause, except inside a number written with thousands separators (44,200)
     # a full stop breaks one too, except in "no. 22" (a number, not a refusal)
     r"[;!?\n]|,(?!(?<=\d,)\d{3}\b)|(?<![Nn]o)\.(?=\s|$)|(?<=[Nn]o)\.(?=\s|$)(?!\s*\d)|"
+    # a colon before a space ("Update: Thursday works", not 18:15) and a dash between words ("Not Friday -
+    # Thursday works", "Friday—Thursday"), but not between two numbers (the range 2 - 4pm)
+    r":(?=\s|$)|(?<=[^\d\s])\s+[-\u2013\u2014]+\s+|\s+[-\u2013\u2014]+\s+(?=[^\d\s])|(?<!\d)[\u2013\u2014](?!\d)|"
     r"\s(?=(?:but|however|although|though|whereas|except|instead of|rather than|"
     r"apart from|other than|unlike)\b)|" + _PICTOGRAPH_RUN,
     re.IGNORECASE,
@@ -193,13 +200,16 @@ NEGATION_CUES: tuple[str, ...] = (
     "'m out",
     "am out",
     "'re out",
+    # being away negates only in the first person: "I'm away Thursday" turns Thursday down, while "Mum is
+    # away on the 2nd, so book the sitter for the 2nd" asks for it (someone else's absence is a reason)
     "'m away",
     "am away",
-    "be away",
-    "is away",
-    "'s away",
-    "are away",
-    "'re away",
+    "we're away",
+    "we are away",
+    "i'll be away",
+    "i will be away",
+    "we'll be away",
+    "we will be away",
     "is taken",
     "'s taken",
     "clash*",
@@ -303,11 +313,13 @@ the message then turns one option down and is not a refusal as a whole."""
 
 
 _FRIENDLY_IDIOMS = re.compile(
-    r"(?<![^\W\d_])(no problem|no worries|not a problem|no trouble|can't wait|cannot wait|don't hesitate|"
+    r"(?<![^\W\d_])(no problem|no worries|not a problem|no trouble|no rush|no hurry|never mind|can't wait|"
+    r"cannot wait|don't hesitate|no later than|not later than|no more than|no matter|not only|"
     r"no\.?\s*(?=\d))(?![^\W\d_])",
     re.IGNORECASE,
 )
-"""Phrases that look negative but are not ("no problem, Thursday works", "no. 22"): removed before cues are
+"""Phrases that look negative but are not: friendly ones ("no problem, Thursday works", "no rush"), bounds
+that set a limit rather than deny ("by Friday, no later than 5pm"), and "no. 22": removed before cues are
 sought."""
 
 
@@ -439,155 +451,7 @@ def _denies(clause: str) -> bool:
     )
 
 
-# -- days and clock times ---------------------------------------------------------------------------------
-_WEEKDAYS = ("monday", "tuesday", "wednesday", "thursday", "friday", "saturday", "sunday")
-_WEEKDAY_ABBREVIATIONS = {"Mon": 0, "Tue": 1, "Tues": 1, "Wed": 2, "Thu": 3, "Thur": 3, "Thurs": 3, "Fri": 4,
-                          "Sat": 5, "Sun": 6}  # fmt: skip
-_MONTHS = ("january", "february", "march", "april", "may", "june", "july", "august", "september", "october",
-           "november", "december")  # fmt: skip
-_MONTH_WORD = (
-    r"(jan(?:uary)?|feb(?:ruary)?|mar(?:ch)?|apr(?:il)?|may|june?|july?|aug(?:ust)?|sept?(?:ember)?|"
-    r"oct(?:ober)?|nov(?:ember)?|dec(?:ember)?)\.?"
-)
-_ORDINAL = r"(\d{1,2})(?:st|nd|rd|th)?"
-
-_FULL_WEEKDAY = re.compile(r"(?<![^\W\d_])(next\s+|this\s+)?(" + "|".join(_WEEKDAYS) + r")(?![^\W\d_])", re.I)
-_SHORT_WEEKDAY = re.compile(r"(?<![^\W\d_])(" + "|".join(_WEEKDAY_ABBREVIATIONS) + r")(?![^\W\d_])\.?")
-_RELATIVE_DAY = re.compile(
-    r"(?<![^\W\d_])(the\s+day\s+after\s+tomorrow|tomorrow|today|tonight|this\s+(?:morning|afternoon|evening))"
-    r"(?![^\W\d_])",
-    re.I,
-)
-_DAY_MONTH = re.compile(r"(?<!\d)" + _ORDINAL + r"(?:\s+of)?\s+" + _MONTH_WORD + r"(?:\s+(\d{4}))?", re.I)
-_MONTH_DAY = re.compile(_MONTH_WORD + r"\s+" + _ORDINAL + r"(?![\d:])(?:,?\s+(\d{4}))?", re.I)
-_THE_NTH = re.compile(r"(?<![^\W\d_])the\s+(\d{1,2})(?:st|nd|rd|th)(?![^\W\d_])", re.I)
-_ISO_DATE = re.compile(r"(?<!\d)(\d{4})-(\d{2})-(\d{2})(?!\d)")
-_SLASH_DATE = re.compile(r"(?<![\d/])(\d{1,2})/(\d{1,2})(?:/(\d{2,4}))?(?![\d/])")
-
-_CLOCK = re.compile(
-    r"(?<![\d$£€.:])(\d{1,2})\s?[:.h]\s?(\d{2})(?!\d)(?:\s?(a\.?m\.?|p\.?m\.?)(?![^\W\d_]))?", re.I
-)
-_HOUR_SUFFIX = re.compile(r"(?<![\d$£€.:])(\d{1,2})\s?(a\.?m\.?|p\.?m\.?|o'clock)(?![^\W\d_])", re.I)
-_AT_HOUR = re.compile(
-    r"(?<![^\W\d_])(?:at|from|by|around|until|till)\s+(\d{1,2})(?![\d:.%]|\s?(?:am|pm|a\.m|p\.m))", re.I
-)
-_NAMED_TIME = re.compile(r"(?<![^\W\d_])(noon|midday|midnight)(?![^\W\d_])", re.I)
-
-
-@dataclass(frozen=True, slots=True)
-class Mention:
-    """A day or a clock time named in a text: every reading of it (``6:15`` is 06:15 or 18:15)."""
-
-    start: int
-    days: frozenset[date] = frozenset()
-    times: frozenset[time] = frozenset()
-
-
-def _clock_readings(hour: int, minute: int, suffix: str | None) -> frozenset[time]:
-    if minute > 59 or hour > 24:
-        return frozenset()
-    suffix = (suffix or "").replace(".", "").lower()
-    if suffix in ("am", "pm"):
-        if not 1 <= hour <= 12:
-            return frozenset()
-        base = hour % 12
-        return frozenset({time(base + (12 if suffix == "pm" else 0), minute)})
-    hour %= 24
-    if 1 <= hour <= 12:  # no am/pm: read it both ways (people write "at 6" for 18:00)
-        return frozenset({time(hour % 12, minute), time(hour % 12 + 12, minute)})
-    return frozenset({time(hour, minute)})
-
-
-def _month_number(word: str) -> int:
-    prefix = word.lower().rstrip(".")[:3]
-    return next(index for index, name in enumerate(_MONTHS, start=1) if name.startswith(prefix))
-
-
-def _safe_date(year: int, month: int, day: int) -> date | None:
-    try:
-        return date(year, month, day)
-    except ValueError:
-        return None
-
-
-def _year_readings(anchor: date, month: int, day: int, year: str | None) -> frozenset[date]:
-    if year:
-        number = int(year) + (2000 if len(year) == 2 else 0)
-        found = _safe_date(number, month, day)
-        return frozenset({found}) if found else frozenset()
-    return frozenset(
-        d for d in (_safe_date(anchor.year, month, day), _safe_date(anchor.year + 1, month, day)) if d
-    )
-
-
-def _weekday_readings(anchor: date, weekday: int, qualifier: str) -> frozenset[date]:
-    first = anchor + timedelta(days=(weekday - anchor.weekday()) % 7)
-    if qualifier.strip().lower() == "next":  # "next Thursday": this coming one or the one after
-        return frozenset({first, first + timedelta(days=7)})
-    return frozenset({first})
-
-
-_WEEKDAY_TO_DATE = re.compile(r"[\s,.]*(?:the\s+)?", re.I)
-"""What may stand between a weekday and the date it is written with."""
-
-
-def mentions(text: str, anchor: datetime) -> list[Mention]:
-    """Every day and clock time named in ``text``, in order, resolved against ``anchor``."""
-    today = anchor.date()
-    found: list[Mention] = []
-    taken: list[tuple[int, int]] = []
-
-    def add(match: re.Match[str], days: Iterable[date] = (), times: Iterable[time] = ()) -> None:
-        span = match.span()
-        if any(span[0] < end and start < span[1] for start, end in taken):
-            return  # already read as part of a longer mention (a date's digits are not a clock time)
-        taken.append(span)
-        found.append(Mention(span[0], frozenset(days), frozenset(times)))
-
-    for match in _ISO_DATE.finditer(text):
-        add(match, [d for d in [_safe_date(*(int(g) for g in match.groups()))] if d])
-    for match in _DAY_MONTH.finditer(text):
-        add(match, _year_readings(today, _month_number(match.group(2)), int(match.group(1)), match.group(3)))
-    for match in _MONTH_DAY.finditer(text):
-        add(match, _year_readings(today, _month_number(match.group(1)), int(match.group(2)), match.group(3)))
-    for match in _THE_NTH.finditer(text):  # "the 6th": this month's, or next month's once it has passed
-        day = int(match.group(1))
-        this_month = _safe_date(today.year, today.month, day)
-        following = today.replace(day=1) + timedelta(days=32)
-        next_month = _safe_date(following.year, following.month, day)
-        add(match, [d for d in (this_month, next_month) if d and d >= today][:1])
-    for match in _SLASH_DATE.finditer(text):
-        first, second, year = int(match.group(1)), int(match.group(2)), match.group(3)
-        add(match, _year_readings(today, second, first, year) | _year_readings(today, first, second, year))
-    for match in _RELATIVE_DAY.finditer(text):
-        word = match.group(1).lower()
-        offset = 2 if word.startswith("the") else 1 if word == "tomorrow" else 0
-        add(match, [today + timedelta(days=offset)])
-
-    def before_a_date(match: re.Match[str]) -> bool:
-        """A weekday written with its date ("Thursday 22 May"): the date says which day it is."""
-        return any(
-            start >= match.end() and _WEEKDAY_TO_DATE.fullmatch(text[match.end() : start])
-            for start, _ in taken
-        )
-
-    for match in _FULL_WEEKDAY.finditer(text):
-        if not before_a_date(match):
-            weekday = _WEEKDAYS.index(match.group(2).lower())
-            add(match, _weekday_readings(today, weekday, match.group(1) or ""))
-    for match in _SHORT_WEEKDAY.finditer(text):
-        if not before_a_date(match):
-            add(match, _weekday_readings(today, _WEEKDAY_ABBREVIATIONS[match.group(1)], ""))
-    for match in _CLOCK.finditer(text):
-        add(match, times=_clock_readings(int(match.group(1)), int(match.group(2)), match.group(3)))
-    for match in _HOUR_SUFFIX.finditer(text):
-        suffix = match.group(2)
-        add(match, times=_clock_readings(int(match.group(1)), 0, None if "clock" in suffix else suffix))
-    for match in _AT_HOUR.finditer(text):
-        add(match, times=_clock_readings(int(match.group(1)), 0, None))
-    for match in _NAMED_TIME.finditer(text):
-        add(match, times=[time(0, 0) if match.group(1).lower() == "midnight" else time(12, 0)])
-    return sorted(found, key=lambda mention: mention.start)
+# -- days and clock times (read by pare.scenarios.timewords) ---------------------------------------------
 
 
 @lru_cache(maxsize=4096)

@@ -8,7 +8,7 @@ from datetime import datetime
 from typing import Any
 
 from pare.scenarios.file_identity import ATTACHMENT_FIELDS
-from pare.scenarios.matchers import Matcher, compile_matcher
+from pare.scenarios.matchers import Matcher, compile_matcher, written_at
 from pare.scenarios.model import ActionPattern
 from pare.scenarios.reading import CallReader
 from pare.sim.log import LogEntry
@@ -41,6 +41,8 @@ class CompiledPattern:
     via: frozenset[str] | None = None
     reads_files: bool = False
     """Whether an argument matcher reads attached files (which are read by their content)."""
+    reads_days: bool = False
+    """Whether an argument matcher reads days or times in text: they are read as of the call's time."""
 
     @classmethod
     def of(cls, pattern: ActionPattern, start: datetime) -> CompiledPattern:
@@ -60,7 +62,10 @@ class CompiledPattern:
         screen = compile_matcher(pattern.screen) if pattern.screen is not None else None
         via = None if pattern.via is None else frozenset(pattern.via)
         reads_files = any(name in ATTACHMENT_FIELDS for name in pattern.args)
-        compiled = cls(pattern, args, result, start, tools, screen, pattern.people, via, reads_files)
+        reads_days = any(matcher.reads_days for _, matcher in args)
+        compiled = cls(
+            pattern, args, result, start, tools, screen, pattern.people, via, reads_files, reads_days
+        )
         if len(_COMPILED) >= 16384:  # a long-lived process that loads scenarios again and again
             _COMPILED.clear()
         _COMPILED[key] = compiled  # it holds both: their ids are not reused while the entry lives
@@ -140,6 +145,9 @@ class CompiledPattern:
             return True
         reads = self.reads_files or (told if told is not None else self.people is not None)
         args = self.arguments(entry, reader, told=told) if reads else entry.args
+        if self.reads_days:  # "tomorrow" and "the 2nd" as of when the call was made
+            with written_at(entry.time):
+                return all(matcher.test(args.get(name), self.start) for name, matcher in self.args)
         return all(matcher.test(args.get(name), self.start) for name, matcher in self.args)
 
     def find(self, log: Sequence[LogEntry], reader: CallReader | None = None) -> list[LogEntry]:

@@ -1,0 +1,260 @@
+"""Days and clock times read from free text: the informal forms, ordinals, ranges, the part of the day, and
+what the date library adds (and is kept from adding)."""
+
+from __future__ import annotations
+
+import copy
+import subprocess
+import sys
+from datetime import UTC, date, datetime, time, timedelta
+from typing import Any
+
+import pytest
+import yaml
+
+from pare.bench.selftest import check_scenario
+from pare.scenarios import Scenario, parse_scenario
+from pare.scenarios.library import BENCH_DIR
+from pare.scenarios.matchers import compile_matcher, written_at
+from pare.scenarios.meaning import clauses, is_negated, mentions_clock, mentions_day, mentions_moment
+from pare.scenarios.model import ActionPattern
+from pare.scenarios.patterns import CompiledPattern
+from pare.scenarios.timewords import mentions
+from pare.sim.log import LogEntry
+
+JUNE_1 = datetime(2025, 6, 1, 9, 0, tzinfo=UTC)  # a Sunday
+JUNE_5 = datetime(2025, 6, 5, 9, 0, tzinfo=UTC)  # a Thursday
+
+
+def _times(text: str, anchor: datetime = JUNE_1) -> list[set[str]]:
+    return [{moment.strftime("%H:%M") for moment in m.times} for m in mentions(text, anchor) if m.times]
+
+
+def _days(text: str, anchor: datetime = JUNE_1) -> list[set[date]]:
+    return [set(m.days) for m in mentions(text, anchor) if m.days]
+
+
+@pytest.mark.parametrize(
+    ("text", "readings"),
+    [
+        ("half nine", [{"09:30", "21:30"}]),
+        ("see you at half 9", [{"09:30", "21:30"}]),
+        ("half past nine", [{"09:30", "21:30"}]),
+        ("quarter past 3", [{"03:15", "15:15"}]),
+        ("a quarter to four", [{"03:45", "15:45"}]),
+        ("ten to four", [{"03:50", "15:50"}]),
+        ("20 past 3", [{"03:20", "15:20"}]),
+        ("25 minutes to 4", [{"03:35", "15:35"}]),
+        ("nine o'clock", [{"09:00", "21:00"}]),
+        ("at nine", [{"09:00", "21:00"}]),
+        ("at nine thirty", [{"09:30", "21:30"}]),
+        ("noon", [{"12:00"}]),
+        ("8 in the evening for you", [{"20:00"}]),
+        ("9 in the morning", [{"09:00"}]),
+        ("half nine in the evening", [{"21:30"}]),
+        ("at 11 at night", [{"23:00"}]),
+    ],
+)
+def test_informal_clock_times_are_read(text: str, readings: list[set[str]]) -> None:
+    assert _times(text) == readings
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "at one point we met",  # a word hour counting something
+        "half an hour",
+        "2 to 4",  # neither "2 minutes to 4" nor a range without a time on either end
+        "the score was 2-4",
+        "between 2 and 4 guests",
+        "it costs $18.15",
+        "half one of the boxes",
+        "five to ten people",
+    ],
+)
+def test_numbers_that_are_not_times_are_not_read_as_times(text: str) -> None:
+    assert _times(text) == []
+
+
+@pytest.mark.parametrize(
+    ("text", "readings"),
+    [
+        ("2-4pm", [{"14:00"}, {"16:00"}]),
+        ("2pm - 4pm", [{"14:00"}, {"16:00"}]),
+        ("11-1pm", [{"11:00"}, {"13:00"}]),
+        ("10am-2", [{"10:00"}, {"14:00"}]),
+        ("14:00\u201316:00", [{"14:00"}, {"16:00"}]),
+        ("9:30 to 11", [{"09:30", "21:30"}, {"11:00", "23:00"}]),
+        ("between 2 and 4", [{"02:00", "14:00"}, {"04:00", "16:00"}]),
+        ("between 2 and 4 works", [{"02:00", "14:00"}, {"04:00", "16:00"}]),
+        ("from 2 to 4 in the afternoon", [{"14:00"}, {"16:00"}]),
+    ],
+)
+def test_a_range_names_both_its_ends(text: str, readings: list[set[str]]) -> None:
+    assert _times(text) == readings
+
+
+def test_the_nth_is_the_next_one_from_when_it_is_read() -> None:
+    assert _days("the 2nd", JUNE_1) == [{date(2025, 6, 2)}]  # said on 1 June: tomorrow
+    assert _days("the 2nd", JUNE_5) == [{date(2025, 7, 2)}]  # said on 5 June: next month's
+    assert _days("the 5th", JUNE_5) == [{date(2025, 6, 5)}]  # today counts
+    assert _days("the 31st", datetime(2025, 6, 5, tzinfo=UTC)) == [{date(2025, 7, 31)}]  # June has no 31st
+
+
+def test_half_nine_on_the_2nd_names_the_same_moment_as_0930_on_2_june() -> None:
+    moment = datetime(2025, 6, 2, 9, 30, tzinfo=UTC)
+    for text in (
+        "09:30 on 2 June",
+        "half nine on the 2nd",
+        "the 2nd at half past nine",
+        "9.30 in the morning on the 2nd",
+    ):
+        assert mentions_moment(text, moment, JUNE_1), text
+    assert not mentions_moment("half nine on the 3rd", moment, JUNE_1)
+    assert not mentions_moment("half nine in the evening on the 2nd", moment, JUNE_1)
+
+
+def test_relative_phrases_are_read_by_the_date_library() -> None:
+    assert _days("Could we do it in two days?") == [{date(2025, 6, 3)}]
+    assert mentions_moment("in 3 days at 5pm", datetime(2025, 6, 4, 17, 0, tzinfo=UTC), JUNE_1)
+    assert _days("2 days from now works") == [{date(2025, 6, 3)}]
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "we will see",  # "we" is not Wednesday
+        "I may come",  # "may" is not May
+        "She sat down",
+        "8 in the evening",  # a time of day names no day
+    ],
+)
+def test_the_date_library_does_not_add_false_days(text: str) -> None:
+    assert _days(text) == []
+
+
+def test_a_price_before_a_relative_phrase_does_not_shift_it() -> None:
+    assert _days("Flat 22, 1,200 a month, free 2 days from now") == [{date(2025, 6, 3)}]
+
+
+def test_weekdays_stay_on_or_after_the_reference_day() -> None:
+    assert mentions_day("Thursday works", date(2025, 6, 5), JUNE_5)  # the library would say next week's
+    assert mentions_day("next Thursday", date(2025, 6, 12), JUNE_5)
+
+
+def test_a_dash_or_a_colon_ends_a_clause_but_not_a_range_or_a_clock_time() -> None:
+    assert clauses("Not Friday - Thursday works") == ["Not Friday", "Thursday works"]
+    assert clauses("Not Friday\u2014Thursday works") == ["Not Friday", "Thursday works"]
+    assert clauses("Update: Thursday works") == ["Update", "Thursday works"]
+    assert clauses("2 - 4pm at 18:30 works") == ["2 - 4pm at 18:30 works"]
+    thursday = date(2025, 6, 5)
+    assert mentions_day("Not Friday - Thursday works", thursday, JUNE_1)
+    assert not mentions_day("Not Friday - Thursday works", date(2025, 6, 6), JUNE_1)
+
+
+def test_someone_else_being_away_is_not_a_negation() -> None:
+    second = date(2025, 6, 2)
+    assert mentions_day("Mum is away on the 2nd so we need the sitter that day", second, JUNE_1)
+    assert mentions_day("Jo's away the 2nd, can you cover?", second, JUNE_1)
+    assert mentions_day("They are away the 2nd", second, JUNE_1)
+    assert not mentions_day("I'm away on the 2nd", second, JUNE_1)
+    assert not mentions_day("We'll be away on the 2nd", second, JUNE_1)
+
+
+@pytest.mark.parametrize(
+    "clause",
+    ["no later than 5pm on Friday", "never mind, Friday", "no rush, Friday is fine", "no more than two"],
+)
+def test_bounds_and_friendly_phrases_are_not_negations(clause: str) -> None:
+    assert not is_negated(clause)
+
+
+def test_the_part_of_the_day_picks_the_reading_a_check_wants() -> None:
+    assert mentions_clock("8 in the evening for you", time(20, 0), JUNE_1)
+    assert not mentions_clock("8 in the evening for you", time(8, 0), JUNE_1)
+    matcher = compile_matcher({"mentions_time": "day+1 09:30"})
+    assert matcher.test("Half nine tomorrow?", JUNE_1)
+    assert not matcher.test("Half nine tomorrow evening?", JUNE_1)
+
+
+def test_the_date_library_is_imported_only_when_a_text_needs_it() -> None:
+    probe = (
+        "import sys\n"
+        "from datetime import UTC, datetime, time\n"
+        "import pare.cli, pare.scenarios.matchers\n"
+        "from pare.scenarios.meaning import mentions_clock\n"
+        "mentions_clock('Thursday at 6.15pm', datetime(2025, 6, 1, 9, 0, tzinfo=UTC).time(), "
+        "datetime(2025, 6, 1, tzinfo=UTC))\n"
+        "print('dateparser' in sys.modules)\n"
+        "mentions_clock('in two days', time(9, 0), datetime(2025, 6, 1, tzinfo=UTC))\n"
+        "print('dateparser' in sys.modules)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True).stdout
+    assert out.split() == ["False", "True"]
+
+
+def _library_with_reply(content: str, expect: str) -> Scenario:
+    """The library's clash scenario (1:1 moved to Thursday 12 June at 09:30) with one variant: the oracle's
+    work, and the message to Hannah worded as ``content``."""
+    path = BENCH_DIR / "accepted_invite_clashes_with_one_to_one.yaml"
+    data = yaml.safe_load(path.read_text(encoding="utf-8"))
+    intervention = copy.deepcopy(data["oracle"]["interventions"][0])
+    (message,) = [action for action in intervention["actions"] if action["tool"] == "messaging__send_message"]
+    message["args"]["content"] = content
+    variant: dict[str, Any] = {
+        "id": "reworded",
+        "expect": expect,
+        "why": "Other wording.",
+        "interventions": [intervention],
+    }
+    if expect == "fail":
+        variant["fails"] = ["hannah_told"]
+    data["variants"].append(variant)
+    return parse_scenario(yaml.safe_dump(data, sort_keys=False, allow_unicode=True), source=str(path))
+
+
+@pytest.mark.parametrize(
+    "content",
+    [
+        "I'm going to the all-hands, so I've moved this week's 1:1 to half nine on the 12th. Invite updated!",
+        "All-hands clashes - moved our 1:1 to the 12th, 9.30 in the morning. Invite updated!",
+        "Update: our 1:1 is now Thursday, half past nine to ten. Calendar updated!",
+    ],
+)
+def test_a_library_scenario_accepts_informal_wording_of_the_right_slot(content: str) -> None:
+    verdict = check_scenario(_library_with_reply(content, "pass"))
+    assert "variant:reworded" in {run.run for run in verdict.runs}
+    assert verdict.ok, verdict.breaches()
+
+
+@pytest.mark.parametrize(
+    "content",
+    [
+        "Moved our 1:1 to half nine on the 13th. Invite updated!",  # Friday
+        "Moved our 1:1 to the 12th, 9.30 in the evening. Invite updated!",
+        "Not Thursday - Friday at half nine works better. Invite updated!",
+    ],
+)
+def test_a_library_scenario_rejects_informal_wording_of_a_wrong_slot(content: str) -> None:
+    verdict = check_scenario(_library_with_reply(content, "fail"))
+    assert verdict.ok, verdict.breaches()
+
+
+def _sent(content: str, at: datetime) -> LogEntry:
+    args = {"user_id": "user-jo", "content": content}
+    return LogEntry(0, 1, at, "assistant", "messaging", "send_message", args, "write", True)
+
+
+def test_a_message_is_read_as_of_when_it_was_sent() -> None:
+    pattern = ActionPattern.model_validate(
+        {"tool": "messaging__send_message", "args": {"content": {"mentions_day": "day+2"}}}
+    )
+    compiled = CompiledPattern.of(pattern, JUNE_1)
+    assert not compiled.matches(_sent("See you tomorrow!", JUNE_1))  # sent on the 1st: the 2nd
+    assert compiled.matches(
+        _sent("See you tomorrow!", JUNE_1 + timedelta(days=1))
+    )  # sent on the 2nd: the 3rd
+    late = compile_matcher({"mentions_day": "2025-07-02"})
+    with written_at(JUNE_5):
+        assert late.test("on the 2nd", JUNE_1)  # said on 5 June, "the 2nd" is 2 July
+    assert not late.test("on the 2nd", JUNE_1)  # said on 1 June, it is 2 June
