@@ -89,7 +89,8 @@ def test_a_scenario_file_is_refused_with_its_file_and_line(tmp_path: Path) -> No
 def test_a_run_configuration_is_refused_before_anything_is_done(tmp_path: Path) -> None:
     # The audit's file: 3.6 MB with a 3 MB string named 190,000 times; this one is 140 KB, 1 GB expanded.
     config = tmp_path / "run.yaml"
-    config.write_text("models:\n  assistant:\n    model: m\n    extra:\n" + _bomb_list(100_000, 10_000, "      "))
+    head = "models:\n  assistant:\n    model: m\n    extra:\n"
+    config.write_text(head + _bomb_list(100_000, 10_000, "      "))
     done = pare_limited("run", "-c", str(config), "-o", str(tmp_path / "out"), "--dry-run")
     assert done.returncode == 2, done.stderr[-2_000:]
     assert f"{config}:6" in done.stderr and LIMIT in " ".join(done.stderr.split())
@@ -98,7 +99,8 @@ def test_a_run_configuration_is_refused_before_anything_is_done(tmp_path: Path) 
 
 def test_a_set_value_is_refused(tmp_path: Path) -> None:
     value = "{long: &s " + "x" * 60_000 + ", many: [" + ",".join(["*s"] * 15_000) + "]}"  # 120 KB
-    done = pare_limited("run", "--set", f"models.assistant.extra={value}", "-o", str(tmp_path / "o"), "--dry-run")
+    setting = f"models.assistant.extra={value}"
+    done = pare_limited("run", "--set", setting, "-o", str(tmp_path / "o"), "--dry-run")
     assert done.returncode == 2, done.stderr[-2_000:]
     assert "--set" in done.stderr and LIMIT in " ".join(done.stderr.split())
 

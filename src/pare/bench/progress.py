@@ -14,15 +14,16 @@ from rich.progress import (
 )
 
 from pare.bench.records import EpisodeRecord
+from pare.terminal_text import make_console, printable
 
 
 class RichProgress:
     """A rich progress bar fed by the runner (see :class:`pare.bench.runner.ProgressSink`)."""
 
     def __init__(self, console: Console | None = None) -> None:
-        self.console = console or Console(stderr=True)
+        self.console = console or make_console(stderr=True)
         self.progress = Progress(
-            TextColumn("[bold]{task.description}"),
+            TextColumn("{task.description}", style="bold", markup=False),  # the run's label, as text
             BarColumn(),
             MofNCompleteColumn(),
             TextColumn("{task.fields[successes]} succeeded"),
@@ -48,7 +49,7 @@ class RichProgress:
         self.progress.start()
         successes, failed, cost = self._fields()
         self.task = self.progress.add_task(
-            label, total=total, completed=done, successes=successes, failed=failed, cost=cost
+            printable(label), total=total, completed=done, successes=successes, failed=failed, cost=cost
         )
 
     def finished(self, record: EpisodeRecord) -> None:

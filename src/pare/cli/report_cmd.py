@@ -68,9 +68,8 @@ def report(
     acceptance rates, read actions, the decision analysis, cost per role, per-app and per-tag results,
     and coverage.
     """
-    from rich.console import Console
-
     from pare.bench.report import render_csv, render_json, render_latex, render_markdown, render_terminal
+    from pare.terminal_text import make_console
 
     sections = tuple(section or SECTIONS)
     unknown = [name for name in sections if name not in SECTIONS]
@@ -82,9 +81,9 @@ def report(
     if output_format is Format.terminal:
         if output is not None:
             with output.open("w", encoding="utf-8") as handle:
-                render_terminal(metrics, Console(file=handle, width=200), sections=sections)
+                render_terminal(metrics, make_console(file=handle, width=200), sections=sections)
         else:
-            render_terminal(metrics, Console(), sections=sections)
+            render_terminal(metrics, make_console(), sections=sections)
         return
     if output_format is Format.markdown:
         text = render_markdown(metrics, sections=sections)

@@ -1,0 +1,66 @@
+r"""Text that did not come from PARE, made safe to print on a terminal.
+
+Scenario files, generated candidates, model names, run labels, model answers and whatever is read back
+from a run folder are written by someone else: a person, a model, or a file that was edited. Printed as
+they are, their rich markup (``[/]``, ``[link=...]``) would be interpreted or crash the command, and their
+control characters would be obeyed by the terminal (an escape sequence can hide the text after it, clear
+the screen or set the window's title), so what a reviewer reads could differ from what the file says.
+
+Every command prints such text through here:
+
+* :func:`printable` writes each control character as a visible escape (``\x1b``), C0 and C1 alike
+  (line breaks and tabs are kept), as well as the bidirectional overrides that reorder what is shown and
+  lone surrogates no terminal can encode;
+* :func:`markup_safe` also escapes rich markup, for text placed inside a markup string or a table cell;
+* :func:`plain_text` gives a rich :class:`~rich.text.Text` that is never read as markup;
+* :func:`make_console` is a console that does not turn ``:name:`` codes into emoji either.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # rich is imported when something is printed: `pare --help` and errors stay fast
+    from rich.console import Console
+    from rich.text import Text
+
+_UNSAFE = re.compile(
+    "[\x00-\x08\x0b-\x1f\x7f-\x9f"  # C0 but tab and line feed, DEL, C1 (ESC and CSI begin sequences)
+    "\u061c\u200e\u200f\u202a-\u202e\u2066-\u2069"  # bidirectional marks, embeddings, overrides, isolates
+    "\ud800-\udfff]"  # lone surrogates (from a file name or argument that is not UTF-8)
+)
+
+
+def _visible(match: re.Match[str]) -> str:
+    code = ord(match.group())
+    if 0xD800 <= code <= 0xDFFF:
+        return "\ufffd"
+    return f"\\x{code:02x}" if code < 0x100 else f"\\u{code:04x}"
+
+
+def printable(value: object) -> str:
+    """``value`` as text whose control characters are shown, not obeyed (see the module docstring)."""
+    text = value if isinstance(value, str) else str(value)
+    return _UNSAFE.sub(_visible, text)
+
+
+def markup_safe(value: object) -> str:
+    """``value`` as :func:`printable` text with rich markup escaped: shown as written inside markup."""
+    from rich.markup import escape
+
+    return escape(printable(value))
+
+
+def plain_text(value: object, style: str = "") -> Text:
+    """``value`` as :func:`printable` text in a rich :class:`~rich.text.Text` (never read as markup)."""
+    from rich.text import Text
+
+    return Text(printable(value), style=style)
+
+
+def make_console(**options: Any) -> Console:
+    """A rich console for PARE's commands: as :class:`~rich.console.Console`, without emoji codes."""
+    from rich.console import Console
+
+    return Console(emoji=False, **options)
