@@ -19,6 +19,7 @@ import hashlib
 import json
 import os
 import threading
+import uuid
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any, Literal
@@ -71,10 +72,18 @@ def transcript_hash(messages: list[dict[str, Any]]) -> str:
 
 
 def _write_atomically(path: Path, text: str) -> None:
+    """Write ``text`` to a temporary file beside ``path``, then rename it: ``path`` is whole or absent.
+    The temporary file's name is short and unique, whatever the length of ``path``'s (a name at the
+    file system's limit would otherwise have no room for a suffix).
+    """
     path.parent.mkdir(parents=True, exist_ok=True)
-    temporary = path.with_name(path.name + ".tmp")
-    temporary.write_text(text, encoding="utf-8")
-    os.replace(temporary, path)
+    temporary = path.with_name(f".{uuid.uuid4().hex[:16]}.tmp")  # created as any file: the umask's mode
+    try:
+        temporary.write_text(text, encoding="utf-8")
+        os.replace(temporary, path)
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise
 
 
 class GenerationFolder:
