@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
@@ -69,6 +70,7 @@ def report(
     and coverage.
     """
     from pare.bench.report import render_csv, render_json, render_latex, render_markdown, render_terminal
+    from pare.output_paths import write_output_file
     from pare.terminal_text import make_console
 
     sections = tuple(section or SECTIONS)
@@ -80,8 +82,9 @@ def report(
     metrics = collect_metrics(runs)
     if output_format is Format.terminal:
         if output is not None:
-            with output.open("w", encoding="utf-8") as handle:
-                render_terminal(metrics, make_console(file=handle, width=200), sections=sections)
+            buffer = io.StringIO()
+            render_terminal(metrics, make_console(file=buffer, width=200), sections=sections)
+            write_output_file(output, buffer.getvalue(), "--output")
         else:
             render_terminal(metrics, make_console(), sections=sections)
         return
@@ -94,7 +97,7 @@ def report(
     else:
         text = render_json(metrics)
     if output is not None:
-        output.write_text(text, encoding="utf-8")
+        write_output_file(output, text, "--output")
     else:
         typer.echo(text, nl=not text.endswith("\n"))
 

@@ -175,12 +175,16 @@ def check(
 
     from pare.bench import collector
     from pare.bench.processes import map_in_processes, resolve_jobs
+    from pare.errors import UserInputError
     from pare.terminal_text import make_console, markup_safe, plain_text
 
     workers = resolve_jobs(jobs)
     began = time.perf_counter()
     with collector.paused():  # the library: long-lived objects only (see pare.bench.collector)
         scenarios = _chosen(paths, split, app_name, tag, difficulty)
+    if not scenarios:  # a gate that checked nothing has passed nothing
+        filtered = bool(split or app_name or tag or difficulty)
+        raise UserInputError(_nothing_to_check(paths, filtered=filtered))
     if jobs == 0 and len(scenarios) < PARALLEL_FROM:
         workers = 1  # starting worker processes would cost more than it saves
     console = make_console()
@@ -229,6 +233,16 @@ def check(
     console.print(
         f"all {len(scenarios)} scenarios pass the gate ({wall:.2f} s on {on}; {total:.2f} s of self-tests)"
     )
+
+
+def _nothing_to_check(paths: list[Path] | None, *, filtered: bool) -> str:
+    from pare.scenarios.library import scenario_files
+
+    where = ", ".join(str(path) for path in paths) if paths else "the library"
+    if filtered and scenario_files(paths):
+        filters = "--split, --app, --tag, --difficulty"
+        return f"no scenario in {where} matches the filters ({filters}): nothing to check"
+    return f"no scenario was found in {where} (scenario files end in .yaml): nothing to check"
 
 
 def self_test(scenario: Scenario) -> tuple[ScenarioVerdict, dict[str, Outcome]]:
@@ -443,6 +457,7 @@ def schema(
     ] = False,
 ) -> None:
     """Print the JSON Schema of scenario files (for editors and validators)."""
+    from pare.output_paths import write_output_file
     from pare.scenarios.schema import SCHEMA_FILE, schema_text
 
     if path:
@@ -452,7 +467,7 @@ def schema(
     if output is None:
         typer.echo(text, nl=False)
     else:
-        output.write_text(text, encoding="utf-8")
+        write_output_file(output, text, "--output")
         typer.echo(f"wrote {output}")
 
 

@@ -30,6 +30,7 @@ from pare import __version__
 from pare.bench.store import provenance
 from pare.errors import UserInputError
 from pare.generate.config import GenerateConfig
+from pare.output_paths import make_output_folder
 from pare.scenarios.schema import SCHEMA_FILE
 
 MANIFEST = "manifest.json"
@@ -102,7 +103,7 @@ class GenerationFolder:
         manifest = folder.path / MANIFEST
         if manifest.exists():
             folder._check_same(manifest)
-        folder.path.mkdir(parents=True, exist_ok=True)
+        make_output_folder(folder.path, "the candidates' folder")
         _write_atomically(
             manifest,
             json.dumps(
