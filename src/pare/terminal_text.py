@@ -13,12 +13,16 @@ Every command prints such text through here:
   lone surrogates no terminal can encode;
 * :func:`markup_safe` also escapes rich markup, for text placed inside a markup string or a table cell;
 * :func:`plain_text` gives a rich :class:`~rich.text.Text` that is never read as markup;
-* :func:`make_console` is a console that does not turn ``:name:`` codes into emoji either.
+* :func:`make_console` is a console that does not turn ``:name:`` codes into emoji either;
+* :func:`show_warnings_as_text` prints PARE's logged warnings (a retry, a parameter a provider refused,
+  both quoting the provider) through :func:`printable`.
 """
 
 from __future__ import annotations
 
+import logging
 import re
+import sys
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # rich is imported when something is printed: `pare --help` and errors stay fast
@@ -64,3 +68,28 @@ def make_console(**options: Any) -> Console:
     from rich.console import Console
 
     return Console(emoji=False, **options)
+
+
+class _PrintableWarnings(logging.Handler):
+    """Writes each record's message to the standard error of the moment (as Python's last-resort
+    handler would), made :func:`printable`.
+    """
+
+    def __init__(self) -> None:
+        super().__init__(logging.WARNING)
+
+    def emit(self, record: logging.LogRecord) -> None:
+        try:
+            sys.stderr.write(printable(self.format(record)) + "\n")
+        except Exception:  # logging must never break the command: it reports the failure itself
+            self.handleError(record)
+
+
+def show_warnings_as_text() -> None:
+    """Print the warnings PARE logs as text, where no logging is set up (as in ``pare`` at a terminal);
+    an application or test that set up logging keeps its own handlers.
+    """
+    package = logging.getLogger("pare")
+    if logging.getLogger().handlers or any(isinstance(h, _PrintableWarnings) for h in package.handlers):
+        return
+    package.addHandler(_PrintableWarnings())

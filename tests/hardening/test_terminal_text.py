@@ -9,6 +9,9 @@ sequences and the tests can tell them from those the hostile text tried to smugg
 from __future__ import annotations
 
 import json
+import os
+import subprocess
+import sys
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -18,7 +21,7 @@ import pytest
 from pare.cli import main
 from pare.generate.folder import OUTCOMES
 from pare.terminal_text import markup_safe, printable
-from pare.testing import ChatServer, Reply, completion, proactive_play
+from pare.testing import ChatServer, Reply, completion, failure, proactive_play
 from tests.generate.conftest import ScriptedGenerator, example_answers, library
 from tests.hardening.conftest import KEY_VARIABLE
 
@@ -192,3 +195,46 @@ def test_generate_shows_the_generator_s_mistakes_as_text(
     out = capsys.readouterr().out
     assert not any(sequence in out for sequence in OBEYED)
     assert "[/] b [link=https://evil.example]" in _without_styles(out).replace("\n", "")
+
+
+# -- providers' words in logged warnings -----------------------------------------------------------------
+def test_a_provider_s_error_quoted_in_a_retry_warning_is_shown_as_text(
+    tmp_path: Path, example_scenario: Path
+) -> None:
+    play = proactive_play()
+    answered: list[int] = []
+
+    def first_fails(body: dict[str, Any]) -> Reply:
+        answered.append(1)
+        return failure(500, HOSTILE) if len(answered) == 1 else play(body)
+
+    with ChatServer(first_fails) as chat:
+        argv = ["run", "--output", str(tmp_path / "run"), "--no-progress", "--runs", "1"]
+        argv += ["--scenario-path", str(example_scenario), "--user-model", "u", "--assistant-model", "a"]
+        for role in ("user", "assistant"):
+            argv += ["--set", f"models.{role}.api_base={chat.base_url}"]
+            argv += [
+                "--set",
+                f"models.{role}.api_key_env={KEY_VARIABLE}",
+                "--set",
+                f"models.{role}.max_retries=2",
+            ]
+            argv += [
+                "--set",
+                f"models.{role}.retry_initial_s=0.001",
+                "--set",
+                f"models.{role}.retry_max_s=0.01",
+            ]
+        # A child process: the command's own logging, as at a terminal (pytest installs its handlers).
+        done = subprocess.run(
+            [sys.executable, "-m", "pare", *argv],
+            capture_output=True,
+            text=True,
+            timeout=120,
+            check=False,
+            env={**os.environ, KEY_VARIABLE: "sk-pare-hardening-test"},
+        )
+    assert done.returncode == 0, done.stderr[-2_000:]
+    assert "attempt 1 failed" in done.stderr
+    assert not any(sequence in done.stderr for sequence in OBEYED)
+    assert "\\x1b[8mhidden" in done.stderr and "[/] b [link=https://evil.example]" in done.stderr

@@ -45,6 +45,9 @@ def version() -> None:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line with ``argv`` and return its exit code."""
+    from pare.terminal_text import show_warnings_as_text
+
+    show_warnings_as_text()
     try:
         app(args=list(argv) if argv is not None else None, prog_name="pare")
     except SystemExit as done:  # the CLI framework exits with the command's code, usage errors with 2
