@@ -11,6 +11,7 @@ Every command prints such text through here:
 * :func:`printable` writes each control character as a visible escape (``\x1b``), C0 and C1 alike
   (line breaks and tabs are kept), as well as the bidirectional overrides that reorder what is shown and
   lone surrogates no terminal can encode;
+* :func:`printable_json` does the same to JSON text with JSON's own escapes, so it stays the same data;
 * :func:`markup_safe` also escapes rich markup, for text placed inside a markup string or a table cell;
 * :func:`plain_text` gives a rich :class:`~rich.text.Text` that is never read as markup;
 * :func:`make_console` is a console that does not turn ``:name:`` codes into emoji either;
@@ -47,6 +48,13 @@ def printable(value: object) -> str:
     """``value`` as text whose control characters are shown, not obeyed (see the module docstring)."""
     text = value if isinstance(value, str) else str(value)
     return _UNSAFE.sub(_visible, text)
+
+
+def printable_json(text: str) -> str:
+    r"""JSON ``text`` with the characters :func:`printable` shows written as JSON escapes (``\u001b``):
+    the same data, safe on a terminal (a JSON writer escapes C0 but leaves DEL, C1 and the rest).
+    """
+    return _UNSAFE.sub(lambda match: f"\\u{ord(match.group()):04x}", text)
 
 
 def markup_safe(value: object) -> str:

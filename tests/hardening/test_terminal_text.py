@@ -142,6 +142,11 @@ def test_a_hostile_run_label_is_shown_as_text_after_the_run_and_in_the_report(
     assert_shown_as_text(capsys.readouterr().out)
     written = (tmp_path / "report.txt").read_text(encoding="utf-8")
     assert not any(sequence in written for sequence in OBEYED)
+    for output_format in ("markdown", "csv", "latex", "json"):
+        assert main(["report", str(output), "-f", output_format]) == 0
+        out = capsys.readouterr().out
+        assert not any(sequence in out for sequence in OBEYED), output_format
+    assert json.loads(out)["configurations"][0]["label"] == HOSTILE  # JSON's escapes: the same label
 
 
 @pytest.fixture

@@ -21,7 +21,9 @@ def print_plan(config: RunConfig, console: Console, *, as_json: bool = False) ->
 
     plan = plan_run(config, select_scenarios(config))
     if as_json:
-        console.out(json.dumps(plan.to_dict(), indent=2, ensure_ascii=False), highlight=False)
+        from pare.terminal_text import printable_json
+
+        console.out(printable_json(json.dumps(plan.to_dict(), indent=2, ensure_ascii=False)), highlight=False)
         return
     console.print(
         f"[bold]dry run[/bold]: no provider is called and no folder is made. Configuration: "

@@ -71,7 +71,7 @@ def report(
     """
     from pare.bench.report import render_csv, render_json, render_latex, render_markdown, render_terminal
     from pare.output_paths import write_output_file
-    from pare.terminal_text import make_console
+    from pare.terminal_text import make_console, printable, printable_json
 
     sections = tuple(section or SECTIONS)
     unknown = [name for name in sections if name not in SECTIONS]
@@ -98,8 +98,9 @@ def report(
         text = render_json(metrics)
     if output is not None:
         write_output_file(output, text, "--output")
-    else:
-        typer.echo(text, nl=not text.endswith("\n"))
+    else:  # to the terminal: labels and failure messages come from run folders
+        shown = printable_json(text) if output_format is Format.json else printable(text)
+        typer.echo(shown, nl=not text.endswith("\n"))
 
 
 def plot(
