@@ -8,7 +8,9 @@ so is held to bounds that keep a hostile file from exhausting the machine:
 * nesting is at most :data:`MAX_DEPTH` levels deep (libyaml's composer recurses in C and overflows the
   stack on some tens of thousands of levels, killing the process);
 * aliases may not refer to the collection that contains them, and the document they expand to is at most
-  :data:`MAX_EXPANDED_NODES` values (a few hundred bytes of nested aliases otherwise expand to gigabytes).
+  :data:`MAX_EXPANDED_NODES` values and :data:`MAX_EXPANDED_CHARS` characters of keys and values (a few
+  hundred bytes of nested aliases, or one long string named many times, otherwise expand to gigabytes as
+  soon as the data is copied, validated or written out).
 
 Every refusal is a :class:`YamlSyntaxError` with the line where it was found. YAML is only ever read with
 the safe loader: no tag in a file can run code.
@@ -33,6 +35,9 @@ MAX_DEPTH = 64
 """The deepest nesting of mappings and lists accepted (library scenarios nest about 10 deep)."""
 MAX_EXPANDED_NODES = 200_000
 """The most values a document may hold once its aliases are expanded (a scenario holds a few thousand)."""
+MAX_EXPANDED_CHARS = 2 * MAX_FILE_BYTES
+"""The most characters the keys and scalar values of a document may add up to once its aliases are
+expanded: twice what a file without aliases can hold, so an alias may repeat text but not multiply it."""
 _INDICATORS = "[{-:?"
 """Characters without one of which no nesting level can open: fewer than :data:`_CHEAP_DEPTH_BOUND` of
 them in a text bounds its depth without parsing it."""
@@ -167,9 +172,11 @@ def _check_depth(text: str) -> None:
 
 def _check_expansion(root: yaml.Node) -> None:
     """Refuse an alias inside the collection it refers to, nesting deeper than :data:`MAX_DEPTH` and
-    documents that expand to more than :data:`MAX_EXPANDED_NODES` values; each node is visited once.
+    documents that expand to more than :data:`MAX_EXPANDED_NODES` values or :data:`MAX_EXPANDED_CHARS`
+    characters; each node is visited once (an alias shares its anchor's node, and so its sizes).
     """
     sizes: dict[int, int] = {}
+    chars: dict[int, int] = {}
     on_path: set[int] = set()
     # An explicit stack: (node, depth, children left to enter); a node's size is known once it is left.
     stack: list[tuple[yaml.Node, int, list[yaml.Node]]] = []
@@ -197,13 +204,22 @@ def _check_expansion(root: yaml.Node) -> None:
             continue
         stack.pop()
         on_path.discard(id(node))
-        size = 1 + sum(sizes[id(child)] for child in _children(node))
+        children = _children(node)
+        size = 1 + sum(sizes[id(child)] for child in children)
         if size > MAX_EXPANDED_NODES:
             raise YamlSyntaxError(
                 f"its aliases expand to more than {MAX_EXPANDED_NODES} values, more than PARE reads",
                 node.start_mark.line + 1,
             )
+        length = len(node.value) if isinstance(node, yaml.ScalarNode) else 0
+        length += sum(chars[id(child)] for child in children)
+        if length > MAX_EXPANDED_CHARS:
+            raise YamlSyntaxError(
+                f"its aliases expand to more than {MAX_EXPANDED_CHARS:,} characters, more than PARE reads",
+                node.start_mark.line + 1,
+            )
         sizes[id(node)] = size
+        chars[id(node)] = length
 
 
 def _children(node: yaml.Node) -> list[yaml.Node]:

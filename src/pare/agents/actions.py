@@ -37,7 +37,8 @@ Errors, each with its own message and :attr:`~pare.errors.ActionFormatError.kind
 
 * an empty answer; no ``Action:`` (also: nothing but reasoning); no JSON object after it; a JSON array;
 * JSON that does not parse, with dedicated messages for single quotes, trailing commas, Python's
-  ``True``/``False``/``None``, comments, ``NaN``/``Infinity`` and an object cut off before its end;
+  ``True``/``False``/``None``, comments, ``NaN``/``Infinity`` (and numbers too large for a double, such
+  as ``1e999``, which would be infinite) and an object cut off before its end;
 * more than one ``Action:`` or more than one JSON object: exactly one tool call per answer;
 * ``action`` missing, not a string, or blank; keys other than ``action`` and ``action_input``;
   ``action_input`` present but not an object (``null`` and ``""`` included: a tool without input takes
@@ -47,6 +48,7 @@ Errors, each with its own message and :attr:`~pare.errors.ActionFormatError.kind
 from __future__ import annotations
 
 import json
+import math
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -111,15 +113,25 @@ class ParsedAction:
 
 
 class _NonFiniteNumberError(ValueError):
-    """``NaN``, ``Infinity`` or ``-Infinity`` in the JSON."""
+    """A number no file of the run can hold: ``NaN``, ``Infinity`` or ``-Infinity``, or a number too large
+    for a double (``1e999``), which Python would read as infinite; the message names it and says why.
+    """
 
 
 def _reject_constant(name: str) -> NoReturn:
-    raise _NonFiniteNumberError(name)
+    raise _NonFiniteNumberError(f"{name}, which is not a JSON number")
+
+
+def _finite_float(text: str) -> float:
+    value = float(text)
+    if math.isinf(value):
+        shown = text if len(text) <= 40 else f"{text[:20]}...{text[-10:]}"
+        raise _NonFiniteNumberError(f"{shown}, a number too large to hold (it would be infinite)")
+    return value
 
 
 # strict=False: raw line breaks and tabs inside strings are kept as written.
-_DECODER = json.JSONDecoder(strict=False, parse_constant=_reject_constant)
+_DECODER = json.JSONDecoder(strict=False, parse_constant=_reject_constant, parse_float=_finite_float)
 
 
 def _fail(kind: str, problem: str) -> NoReturn:
@@ -266,7 +278,7 @@ def parse_tool_arguments(tool: str, arguments: str) -> dict[str, Any]:
         value, end = _DECODER.raw_decode(text)
     except _NonFiniteNumberError as exc:
         raise ActionFormatError(
-            f"The arguments of {tool} contain {exc}, which is not a JSON number; write a number or a string.",
+            f"The arguments of {tool} contain {exc}; write a number or a string.",
             kind="non_finite_number",
         ) from None
     except (ValueError, RecursionError) as exc:
@@ -297,7 +309,7 @@ def _decode_object(text: str, start: int, observations: Sequence[re.Match[str]])
     except _NonFiniteNumberError as exc:
         _fail(
             "non_finite_number",
-            f"Your Action JSON contains {exc}, which is not a JSON number; write a number or a string.",
+            f"Your Action JSON contains {exc}; write a number or a string.",
         )
     except json.JSONDecodeError as exc:
         _invalid_json(text, start, exc, observations)
@@ -385,6 +397,8 @@ def _read_call(call: dict[str, Any]) -> tuple[str, dict[str, Any]]:
     if isinstance(args, str):
         try:
             decoded = _DECODER.decode(args)
+        except _NonFiniteNumberError as exc:
+            _fail("non_finite_number", f'"action_input" holds {exc}; write a number or a string.')
         except (ValueError, RecursionError):
             decoded = None
         if not isinstance(decoded, dict):

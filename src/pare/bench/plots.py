@@ -14,6 +14,7 @@ from typing import Any
 from pare.bench.metrics import ConfigurationMetrics, Estimate
 from pare.errors import UserInputError
 from pare.install import install_command
+from pare.output_paths import make_output_folder
 
 __all__ = ["PANELS", "axis_label", "plot_sweep"]
 
@@ -88,7 +89,7 @@ def plot_sweep(
     except ImportError as error:
         raise UserInputError(f"plotting needs matplotlib: {install_command('plots')}") from error
 
-    out_dir.mkdir(parents=True, exist_ok=True)
+    make_output_folder(out_dir, "the figures' folder")
     png, svg = out_dir / f"{stem}.png", out_dir / f"{stem}.svg"
     # the salt fixes the SVG's element ids, which are otherwise random, so equal inputs give equal files
     with matplotlib.rc_context({"svg.hashsalt": "pare", "svg.fonttype": "path"}):

@@ -20,15 +20,16 @@ from rich.progress import (
 from pare.agents.models.limiter import LimiterState
 from pare.bench.records import EpisodeRecord
 from pare.bench.throttling import throttling_status
+from pare.terminal_text import make_console, printable
 
 
 class RichProgress:
     """A rich progress bar fed by the runner (see :class:`pare.bench.runner.ProgressSink`)."""
 
     def __init__(self, console: Console | None = None) -> None:
-        self.console = console or Console(stderr=True)
+        self.console = console or make_console(stderr=True)
         self.progress = Progress(
-            TextColumn("[bold]{task.description}"),
+            TextColumn("{task.description}", style="bold", markup=False),  # the run's label, as text
             BarColumn(),
             MofNCompleteColumn(),
             TextColumn("{task.fields[successes]} succeeded"),
@@ -56,7 +57,7 @@ class RichProgress:
         self.progress.start()
         successes, failed, cost = self._fields()
         self.task = self.progress.add_task(
-            label,
+            printable(label),
             total=total,
             completed=done,
             successes=successes,

@@ -23,6 +23,7 @@ from pare.bench.metrics import TOTAL, ConfigurationMetrics, Estimate, GroupMetri
 from pare.bench.records import DECISIONS, RESOLUTIONS
 from pare.bench.report_sections import SECTIONS as SECTIONS  # re-exported: reports are asked by section
 from pare.errors import UserInputError, did_you_mean
+from pare.terminal_text import plain_text
 
 __all__ = [
     "SECTIONS",
@@ -316,7 +317,8 @@ def _tables(metrics: Sequence[ConfigurationMetrics], sections: Iterable[str]) ->
 def render_terminal(
     metrics: Sequence[ConfigurationMetrics], console: Console, *, sections: Iterable[str] = SECTIONS
 ) -> None:
-    """Print the chosen sections as rich tables; coverage problems only when there are any.
+    """Print the chosen sections as rich tables; coverage problems only when there are any. Every cell
+    is text, never markup: labels, ids and failure messages come from run folders and providers.
 
     Raises:
         UserInputError: On an unknown section name.
@@ -329,16 +331,18 @@ def render_terminal(
         if index:
             console.print()
         table = Table(
-            title=report.title,
+            title=plain_text(report.title),
             title_justify="left",
             title_style=f"bold {report.style}" if report.style else "bold",
-            caption=report.note,
+            caption=plain_text(report.note),
             caption_justify="left",
         )
         for position, column in enumerate(report.columns):
-            table.add_column(column, justify="left" if position < report.text_columns else "right")
+            table.add_column(
+                plain_text(column), justify="left" if position < report.text_columns else "right"
+            )
         for row, style in zip(report.rows, report.row_styles, strict=True):
-            table.add_row(*row, style=style)
+            table.add_row(*(plain_text(cell) for cell in row), style=style)
         console.print(table)
 
 

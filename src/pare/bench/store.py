@@ -45,8 +45,9 @@ from pare.agents.models.secrets import redact_secrets
 from pare.bench import _store_writer
 from pare.bench.records import EpisodeRecord
 from pare.bench.run_requests import REQUESTS
-from pare.bench.runconfig import RunConfig
+from pare.bench.runconfig import MAX_RUNS, RunConfig
 from pare.errors import UserInputError
+from pare.output_paths import make_output_folder
 from pare.scenarios.model import Scenario
 from pare.yaml_source import UnreadableFile, read_text_file
 
@@ -207,7 +208,7 @@ class RunStore:
         Refuses a folder made by a different configuration, or whose finished episodes ran a scenario
         that has changed since.
         """
-        path.mkdir(parents=True, exist_ok=True)
+        make_output_folder(path, "the run folder")
         lock = _acquire_lock(path)
         try:
             store = cls(path=path, manifest={}, _lock=lock)
@@ -604,6 +605,10 @@ class LoadedRun:
     sweep_point: dict[str, Any]
 
 
+MAX_PLANNED_EPISODES = 1_000_000
+"""The most episodes a run folder's plan may list for reports (a thousand scenarios of a thousand runs)."""
+
+
 def load_run(path: Path) -> LoadedRun:
     """Read one run folder (no lock needed: lines are only ever appended)."""
     file = path / MANIFEST
@@ -615,9 +620,25 @@ def load_run(path: Path) -> LoadedRun:
     plan = manifest.get("plan", {})
     runs = plan.get("runs", 1) if isinstance(plan, dict) else None
     scenarios = plan.get("scenarios", {}) if isinstance(plan, dict) else None
-    if not isinstance(runs, int) or runs < 1 or not isinstance(scenarios, dict | list):
+    if (
+        not isinstance(runs, int)
+        or isinstance(runs, bool)
+        or runs < 1
+        or not isinstance(scenarios, dict | list)
+    ):
         raise UserInputError(
             f"{file}: its 'plan' is not a run plan (runs and scenarios); the file is damaged"
+        )
+    # Every planned episode is listed (the missing ones are reported): a damaged plan would fill the memory.
+    if runs > MAX_RUNS:
+        raise UserInputError(
+            f"{file}: its plan has {runs} runs per scenario, more than a run can have ({MAX_RUNS}); "
+            "the file is damaged"
+        )
+    if len(scenarios) * runs > MAX_PLANNED_EPISODES:
+        raise UserInputError(
+            f"{file}: its plan has {len(scenarios)} scenarios x {runs} runs, more than the "
+            f"{MAX_PLANNED_EPISODES:,} episodes a report reads; the file is damaged"
         )
     planned = [(str(scenario_id), run) for scenario_id in sorted(scenarios) for run in range(1, runs + 1)]
     sweep_point = manifest.get("sweep_point", {})

@@ -32,6 +32,7 @@ from pare.bench.runconfig import RunConfig, build_config, read_config_file, set_
 from pare.bench.runner import ProgressSink, RunSummary, run_benchmark
 from pare.bench.store import SWEEP_FILE
 from pare.errors import UserInputError
+from pare.output_paths import make_output_folder
 
 
 class SweepSpec(BaseModel):
@@ -180,7 +181,7 @@ def run_sweep(
     """
     configs = point_configs(spec, base)
     root = sweep_folder(spec)
-    root.mkdir(parents=True, exist_ok=True)
+    make_output_folder(root, "the sweep folder")
     description = {
         "grid": {path: [value_label(v) for v in values] for path, values in spec.grid.items()},
         "points": [{"folder": point.folder(), "params": point.params} for point, _ in configs],

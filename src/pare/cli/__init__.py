@@ -45,12 +45,17 @@ def version() -> None:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line with ``argv`` and return its exit code."""
+    from pare.terminal_text import show_warnings_as_text
+
+    show_warnings_as_text()
     try:
         app(args=list(argv) if argv is not None else None, prog_name="pare")
     except SystemExit as done:  # the CLI framework exits with the command's code, usage errors with 2
         return done.code if isinstance(done.code, int) else (0 if done.code is None else 1)
     except UserInputError as error:
-        typer.secho(f"error: {error}", err=True, fg=typer.colors.RED)
+        from pare.terminal_text import printable  # the message may quote a file or a model: shown as text
+
+        typer.secho(f"error: {printable(error)}", err=True, fg=typer.colors.RED)
         return 2
     return 0
 

@@ -81,9 +81,8 @@ def doctor(
     import asyncio
     import logging
 
-    from rich.console import Console
-
     from pare.agents.models.doctor import check_roles
+    from pare.terminal_text import make_console
 
     if output_format not in ("text", "json"):
         raise UserInputError(f"--format is text or json, not '{output_format}'")
@@ -98,7 +97,7 @@ def doctor(
     roles: dict[str, ModelConfig] = dict(config.models.roles())
     if generator_model is not None:
         roles["generator"] = generator_config(generator_model, generator_provider, generator_endpoint)
-    console = Console()
+    console = make_console()
     if not roles:
         console.print(
             "No role has a model, so there is nothing to check: an oracle run calls no provider. Name the "
@@ -131,13 +130,15 @@ def generator_config(model: str, provider: str, endpoint: str | None) -> ModelCo
 
 
 def print_checks(checks: list[RoleCheck], console: Console) -> None:
-    """One block per configuration checked: the outcome line, then what was sent, then advice."""
+    """One block per configuration checked: the outcome line, then what was sent, then advice (the
+    model's answer and the provider's words shown as text: see :mod:`pare.terminal_text`).
+    """
+    from pare.terminal_text import markup_safe, plain_text
+
     for check in checks:
         roles = " + ".join(check.roles)
-        if check.ok:
-            head = f"[green]ok[/green]    {roles}: {check.model} at {check.endpoint}"
-        else:
-            head = f"[red]FAIL[/red]  {roles}: {check.model} at {check.endpoint}"
+        where = f"{markup_safe(check.model)} at {markup_safe(check.endpoint)}"
+        head = f"[green]ok[/green]    {roles}: {where}" if check.ok else f"[red]FAIL[/red]  {roles}: {where}"
         console.print(head, highlight=False)
         lines: list[str] = [f"key: {_key(check)}", f"sent: {_params(check.sent)}"]
         for adjustment in check.adjustments:
@@ -153,7 +154,7 @@ def print_checks(checks: list[RoleCheck], console: Console) -> None:
         else:
             lines.append(f"problem: {check.problem}")
         for line in lines:
-            console.print(f"      {line}", highlight=False, soft_wrap=False)
+            console.print(plain_text(f"      {line}"), highlight=False, soft_wrap=False)
     failed = sum(not check.ok for check in checks)
     if failed:
         console.print(f"[red]{failed} of {len(checks)} model setting(s) failed[/red]: fix them before a run.")

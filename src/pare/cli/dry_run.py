@@ -17,13 +17,17 @@ def print_plan(config: RunConfig, console: Console, *, as_json: bool = False) ->
     """Plan the run ``config`` describes (no provider called, no folder made) and print it."""
     from pare.bench.plan_estimate import plan_run
     from pare.bench.runner import select_scenarios
+    from pare.terminal_text import markup_safe
 
     plan = plan_run(config, select_scenarios(config))
     if as_json:
-        console.out(json.dumps(plan.to_dict(), indent=2, ensure_ascii=False), highlight=False)
+        from pare.terminal_text import printable_json
+
+        console.out(printable_json(json.dumps(plan.to_dict(), indent=2, ensure_ascii=False)), highlight=False)
         return
     console.print(
-        f"[bold]dry run[/bold]: no provider is called and no folder is made. Configuration: {plan.label}",
+        f"[bold]dry run[/bold]: no provider is called and no folder is made. Configuration: "
+        f"{markup_safe(plan.label)}",
         highlight=False,
     )
     _print_roles(plan.roles, console)
@@ -39,6 +43,8 @@ def print_plan(config: RunConfig, console: Console, *, as_json: bool = False) ->
 
 def _print_roles(roles: list[RoleLine], console: Console) -> None:
     from rich.table import Table
+
+    from pare.terminal_text import markup_safe, plain_text
 
     table = Table(title="Roles", title_justify="left", show_edge=False)
     for column in ("role", "model", "backend", "endpoint", "sends", "note"):
@@ -59,13 +65,15 @@ def _print_roles(roles: list[RoleLine], console: Console) -> None:
             notes.append(f"from {line.inherited_from}")
         if line.native_tools:
             notes.append("native tools")
-        notes.append(f"prices: {line.prices or 'unknown'}")
-        table.add_row(line.role, line.model, line.backend, line.endpoint, sends, "; ".join(notes))
+        notes.append(f"prices: {markup_safe(line.prices or 'unknown')}")
+        cells = (line.model, line.backend, line.endpoint, sends)
+        table.add_row(line.role, *(plain_text(cell) for cell in cells), "; ".join(notes))
     console.print(table)
     judge = next(line for line in roles if line.role == "judge")
     if judge.inherited_from == "user":
         console.print(
-            f"[yellow]note[/yellow]: free-text checks would be judged by the user's model ({judge.model}). "
+            f"[yellow]note[/yellow]: free-text checks would be judged by the user's model "
+            f"({markup_safe(judge.model)}). "
             "Choose the judge with --judge-model (and --judge-provider, --judge-endpoint), or "
             "--set models.deterministic_judge=true.",
             highlight=False,
@@ -73,6 +81,8 @@ def _print_roles(roles: list[RoleLine], console: Console) -> None:
 
 
 def _print_keys(keys: list[KeyStatus], console: Console) -> None:
+    from pare.terminal_text import markup_safe
+
     if not keys:
         return
     console.print("[bold]API keys[/bold] (values are never shown)")
@@ -80,11 +90,11 @@ def _print_keys(keys: list[KeyStatus], console: Console) -> None:
         roles = ", ".join(status.roles)
         if status.variable is None:
             state = {True: "[green]found[/green]", False: "[red]missing[/red]", None: "-"}[status.found]
-            console.print(f"  {state}  {roles}: {status.note}", highlight=False)
+            console.print(f"  {state}  {roles}: {markup_safe(status.note)}", highlight=False)
             continue
         state = "[green]found[/green]" if status.found else "[red]missing[/red]"
-        console.print(f"  {status.variable}: {state} ({roles})", highlight=False)
-    missing = [status.variable for status in keys if status.found is False and status.variable]
+        console.print(f"  {markup_safe(status.variable)}: {state} ({roles})", highlight=False)
+    missing = [markup_safe(status.variable) for status in keys if status.found is False and status.variable]
     if missing:
         console.print(
             f"  the run would stop at its start until {' and '.join(missing)} "
@@ -94,19 +104,23 @@ def _print_keys(keys: list[KeyStatus], console: Console) -> None:
 
 
 def _print_episodes(plan: RunPlan, console: Console) -> None:
+    from pare.terminal_text import markup_safe
+
     count = plan.episodes
-    where = f"{count.folder} ({'exists' if count.folder_exists else 'new'})"
+    where = f"{markup_safe(count.folder)} ({'exists' if count.folder_exists else 'new'})"
     console.print(
         f"[bold]Episodes[/bold]: {count.scenarios} scenarios x {count.runs} runs = {count.planned}; "
         f"{count.finished} already finished; {count.to_run} to run. Folder: {where}",
         highlight=False,
     )
     if count.refused:
-        console.print(f"  [red]refused[/red]: {count.refused}", highlight=False)
+        console.print(f"  [red]refused[/red]: {markup_safe(count.refused)}", highlight=False)
 
 
 def _print_estimate(estimate: Estimate, plan: RunPlan, console: Console) -> None:
     from rich.table import Table
+
+    from pare.terminal_text import plain_text
 
     table = Table(
         title=f"Estimate for the {estimate.episodes} episodes to run (typical - upper bound; not a quote)",
@@ -118,7 +132,7 @@ def _print_estimate(estimate: Estimate, plan: RunPlan, console: Console) -> None
     for role in estimate.roles:
         table.add_row(
             role.role,
-            role.model,
+            plain_text(role.model),
             _span(role.calls, _count),
             _span(role.prompt_tokens, _count),
             _span(role.completion_tokens, _count),
@@ -163,7 +177,7 @@ def _print_estimate(estimate: Estimate, plan: RunPlan, console: Console) -> None
     if plan.cache == "replay":
         notes.append("--cache replay: every call is read from the cache, so no provider is called.")
     for note in notes:
-        console.print(note, highlight=False, markup=False)
+        console.print(plain_text(note), highlight=False)
 
 
 def _span(span: Span, show: Callable[[float, float], str]) -> str:

@@ -96,13 +96,12 @@ def generate(
     with its problems sent back to the model; the story is checked for uniqueness against the library.
     Running the same command again resumes.
     """
-    from rich.console import Console
-
     from pare.agents.models.capabilities import is_reasoning_model
     from pare.bench.runconfig import parse_assignment, set_path
     from pare.generate import build_generate_config
     from pare.generate import generate as run_generation
     from pare.generate.progress import RichGenerationProgress
+    from pare.terminal_text import make_console, markup_safe
 
     generator = generator_settings(
         model=model,
@@ -136,13 +135,14 @@ def generate(
     for text in sets or []:
         set_path(data, *parse_assignment(text))
     config = build_generate_config(data)
-    console = Console()
+    console = make_console()
     sink = RichGenerationProgress() if progress else None
     try:
         summary = run_generation(config, progress=sink)
     except KeyboardInterrupt:
         console.print(
-            f"[yellow]interrupted[/yellow]: finished candidates are kept in {config.folder}; run the same "
+            f"[yellow]interrupted[/yellow]: finished candidates are kept in {markup_safe(config.folder)}; "
+            "run the same "
             "command again to resume."
         )
         raise typer.Exit(130) from None
@@ -185,8 +185,13 @@ def generator_settings(
 
 
 def print_summary(summary: GenerationSummary, console: Console) -> None:
-    """Each candidate of the session with how it ended and why, the cost, and what to do next."""
+    """Each candidate of the session with how it ended and why, the cost, and what to do next; what the
+    generator wrote (ids, problems) and the providers' words are shown as text (see
+    :mod:`pare.terminal_text`).
+    """
     from rich.table import Table
+
+    from pare.terminal_text import markup_safe, plain_text
 
     table = Table(title=f"{len(summary.records)} candidates generated in {summary.seconds:.1f} s")
     for column in ("slot", "outcome", "scenario", "stage", "answers", "cost", "why"):
@@ -199,19 +204,22 @@ def print_summary(summary: GenerationSummary, console: Console) -> None:
             why += ": " + "; ".join(record.problems[:3]) + (" ..." if len(record.problems) > 3 else "")
         cost = str(record.usage.get("total", {}).get("cost", ""))
         table.add_row(
-            record.slot,
+            plain_text(record.slot),
             f"[{colours[record.status]}]{record.status}[/{colours[record.status]}]",
-            record.scenario_id or "",
-            record.stage or "",
-            answers,
-            cost,
-            why,
+            plain_text(record.scenario_id or ""),
+            plain_text(record.stage or ""),
+            plain_text(answers),
+            plain_text(cost),
+            plain_text(why),
         )
     console.print(table)
     if summary.skipped:
         console.print(f"{summary.skipped} candidate(s) were finished in earlier sessions")
     for slot, reason in summary.unfinished.items():
-        console.print(f"[red]{slot} unfinished[/red] (run again to resume): {reason}", highlight=False)
+        console.print(
+            f"[red]{markup_safe(slot)} unfinished[/red] (run again to resume): {markup_safe(reason)}",
+            highlight=False,
+        )
     total = summary.usage.get("total", {})
     console.print(
         f"model calls: {total.get('calls', 0)}, tokens {total.get('total_tokens', 0)}, "
@@ -220,5 +228,6 @@ def print_summary(summary: GenerationSummary, console: Console) -> None:
     passed = summary.count("passed")
     console.print(
         f"{passed} passed, {summary.count('duplicate')} duplicate, {summary.count('failed')} failed; "
-        f"candidates in {summary.path}; review them with: pare scenarios review {summary.path}"
+        f"candidates in {markup_safe(summary.path)}; review them with: pare scenarios review "
+        f"{markup_safe(summary.path)}"
     )

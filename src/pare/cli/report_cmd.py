@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
@@ -68,9 +69,9 @@ def report(
     acceptance rates, read actions, the decision analysis, cost per role, per-app and per-tag results,
     and coverage.
     """
-    from rich.console import Console
-
     from pare.bench.report import render_csv, render_json, render_latex, render_markdown, render_terminal
+    from pare.output_paths import write_output_file
+    from pare.terminal_text import make_console, printable, printable_json
 
     sections = tuple(section or SECTIONS)
     unknown = [name for name in sections if name not in SECTIONS]
@@ -81,10 +82,11 @@ def report(
     metrics = collect_metrics(runs)
     if output_format is Format.terminal:
         if output is not None:
-            with output.open("w", encoding="utf-8") as handle:
-                render_terminal(metrics, Console(file=handle, width=200), sections=sections)
+            buffer = io.StringIO()
+            render_terminal(metrics, make_console(file=buffer, width=200), sections=sections)
+            write_output_file(output, buffer.getvalue(), "--output")
         else:
-            render_terminal(metrics, Console(), sections=sections)
+            render_terminal(metrics, make_console(), sections=sections)
         return
     if output_format is Format.markdown:
         text = render_markdown(metrics, sections=sections)
@@ -95,9 +97,10 @@ def report(
     else:
         text = render_json(metrics)
     if output is not None:
-        output.write_text(text, encoding="utf-8")
-    else:
-        typer.echo(text, nl=not text.endswith("\n"))
+        write_output_file(output, text, "--output")
+    else:  # to the terminal: labels and failure messages come from run folders
+        shown = printable_json(text) if output_format is Format.json else printable(text)
+        typer.echo(shown, nl=not text.endswith("\n"))
 
 
 def plot(

@@ -107,9 +107,11 @@ def print_summary(summary: RunSummary, console: Console) -> None:
     from pare.bench.report import render_terminal
     from pare.bench.throttling import throttling_summary
     from pare.cli.report_cmd import collect_metrics
+    from pare.terminal_text import markup_safe
 
     console.print(
-        f"[bold]{summary.label}[/bold]: {summary.complete} episodes run in {summary.seconds:.1f} s"
+        f"[bold]{markup_safe(summary.label)}[/bold]: {summary.complete} episodes run in "
+        f"{summary.seconds:.1f} s"
         + (f", {summary.skipped} already recorded" if summary.skipped else "")
         + (f", [red]{len(summary.failed)} failed (missing coverage)[/red]" if summary.failed else "")
     )
@@ -121,7 +123,8 @@ def print_summary(summary: RunSummary, console: Console) -> None:
     render_terminal(
         metrics, console, sections=("main", "cost", "coverage") if used_models else ("main", "coverage")
     )
-    console.print(f"results: {summary.path}   full report: pare report {summary.path}")
+    where = markup_safe(summary.path)
+    console.print(f"results: {where}   full report: pare report {where}")
 
 
 def run(
@@ -214,9 +217,8 @@ def run(
 
     With no model configured, the scenarios' oracle plays both roles: the whole pipeline, offline.
     """
-    from rich.console import Console
-
     from pare.bench.runner import run_benchmark
+    from pare.terminal_text import make_console, markup_safe
 
     if output_format not in ("text", "json"):
         raise UserInputError(f"--format is text or json, not '{output_format}'")
@@ -253,7 +255,7 @@ def run(
         judge=(judge_model, judge_provider, judge_endpoint),
     )
     config = load_config(config_file, collect_overrides(sets=sets, flags=flags, models=models))
-    console = Console()
+    console = make_console()
     if dry_run:
         from pare.cli.dry_run import print_plan
 
@@ -267,7 +269,8 @@ def run(
         summary = run_benchmark(config, progress=progress_sink(progress))
     except KeyboardInterrupt:
         console.print(
-            f"[yellow]interrupted[/yellow]: every finished episode is recorded in {config.output_dir()}; "
+            f"[yellow]interrupted[/yellow]: every finished episode is recorded in "
+            f"{markup_safe(config.output_dir())}; "
             "run the same command again to resume."
         )
         raise typer.Exit(130) from None
@@ -280,6 +283,8 @@ def run(
 
 def print_roles(config: RunConfig, console: Console) -> None:
     """Which model plays each role, said before anything runs (and costs)."""
+    from pare.terminal_text import plain_text
+
     roles = config.models.roles()
     parts = []
     for role in ("user", "observe", "execute"):
@@ -287,16 +292,19 @@ def print_roles(config: RunConfig, console: Console) -> None:
         parts.append(f"{role} {model.model if model is not None else 'oracle'}")
     judge = config.judge_provenance()
     parts.append(f"judge {judge['model'] or 'deterministic fallbacks'}")
-    console.print("models: " + ", ".join(parts), highlight=False, markup=False)
+    console.print(plain_text("models: " + ", ".join(parts)), highlight=False)
     print_judge_note(config, console)
 
 
 def print_judge_note(config: RunConfig, console: Console) -> None:
     """Say when the judge of free-text checks was not chosen but taken from the user's role."""
+    from pare.terminal_text import markup_safe
+
     judge = config.judge_provenance()
     if judge["inherited_from"] == "user":
         console.print(
-            f"[yellow]note[/yellow]: free-text checks are judged by the user's model ({judge['model']}), "
+            f"[yellow]note[/yellow]: free-text checks are judged by the user's model "
+            f"({markup_safe(judge['model'])}), "
             "since no judge was set; choose one with --judge-model (and --judge-provider, --judge-endpoint) "
             "or --set models.deterministic_judge=true.",
             highlight=False,
@@ -310,6 +318,7 @@ def warn_about_broken_oracles(config: RunConfig, console: Console) -> None:
     """
     from pare.bench.runner import select_scenarios
     from pare.bench.selftest import oracle_breaches
+    from pare.terminal_text import plain_text
 
     for scenario in select_scenarios(config).values():
         breaches = oracle_breaches(scenario)
@@ -320,7 +329,7 @@ def warn_about_broken_oracles(config: RunConfig, console: Console) -> None:
                 highlight=False,
             )
             for line in breaches[:5]:
-                console.print(f"  {line}", highlight=False, markup=False)
+                console.print(plain_text(f"  {line}"), highlight=False)
 
 
 def sweep(
@@ -340,10 +349,9 @@ def sweep(
     progress: Annotated[bool, typer.Option("--progress/--no-progress", help="Show progress bars.")] = True,
 ) -> None:
     """Run a grid of configurations (each point a run folder inside the sweep folder); resumes too."""
-    from rich.console import Console
-
     from pare.bench.runconfig import parse_assignment
     from pare.bench.sweep import load_sweep, run_sweep, sweep_folder
+    from pare.terminal_text import make_console
 
     axes: list[tuple[str, list[Any]]] = []
     for text in grid or []:
@@ -353,7 +361,7 @@ def sweep(
         axes.append((path, values))
     overrides = [parse_assignment(text) for text in sets or []]
     spec, base = load_sweep(config_file, grid=axes, base_overrides=overrides, output=output)
-    console = Console()
+    console = make_console()
     try:
         summaries = run_sweep(spec, base, progress=lambda: progress_sink(progress))
     except KeyboardInterrupt:
@@ -371,6 +379,8 @@ def sweep(
 def _print_sweep(folder: Path, console: Console) -> None:
     from pare.bench.report import render_terminal
     from pare.cli.report_cmd import collect_metrics
+    from pare.terminal_text import markup_safe
 
     render_terminal(collect_metrics([folder]), console, sections=("main", "coverage"))
-    console.print(f"results: {folder}   report: pare report {folder}   figures: pare plot {folder}")
+    where = markup_safe(folder)
+    console.print(f"results: {where}   report: pare report {where}   figures: pare plot {where}")

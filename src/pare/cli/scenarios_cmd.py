@@ -67,8 +67,9 @@ def list_scenarios(
     split: SplitFilter = None,
 ) -> None:
     """List scenarios with their apps, tags and difficulty."""
-    from rich.console import Console
     from rich.table import Table
+
+    from pare.terminal_text import make_console, plain_text
 
     scenarios = _chosen(paths, split, app_name, tag, difficulty)
     table = Table(title=f"{len(scenarios)} scenarios")
@@ -80,9 +81,9 @@ def list_scenarios(
             scenario.difficulty,
             ", ".join(scenario.apps),
             ", ".join(scenario.tags),
-            scenario.title,
+            plain_text(scenario.title),
         )
-    Console().print(table)
+    make_console().print(table)
 
 
 @app.command("show")
@@ -90,23 +91,22 @@ def show(
     scenario_id: Annotated[str, typer.Argument(help="A scenario id, or the path of a scenario file.")],
 ) -> None:
     """Show one scenario: story, apps, events, the oracle's proposal and the goals' checks."""
-    from rich.console import Console
-
     from pare.scenarios.library import load_scenarios, select
     from pare.scenarios.times import parse_time
+    from pare.terminal_text import make_console, markup_safe, plain_text
 
     path = Path(scenario_id)
     if path.suffix in (".yaml", ".yml"):
         scenario = load_scenarios([path])[0]
     else:
         scenario = select(load_scenarios(), ids=[scenario_id])[0]
-    console = Console()
-    console.print(f"[bold]{scenario.id}[/bold] — {scenario.title}")
+    console = make_console()
+    console.print(f"[bold]{scenario.id}[/bold] — {markup_safe(scenario.title)}")
     console.print(
         f"{scenario.difficulty}; tags: {', '.join(scenario.tags)}; apps: {', '.join(scenario.apps)}"
     )
     console.print(f"starts {scenario.start.isoformat()}")
-    console.print(f"\n{scenario.story.strip()}\n")
+    console.print(plain_text(f"\n{scenario.story.strip()}\n"))
     seeded = ", ".join(
         f"{app} ({sum(len(v) if isinstance(v, list | dict) else 1 for v in data.values())})"
         for app, data in scenario.seed.items()
@@ -121,19 +121,18 @@ def show(
                 when = f"{event.delay} after {event.after}"
             else:
                 when = f"{event.delay} after the first matching action"
-            console.print(f"  {event.id}: {event.tool} at {when}", markup=False)
+            console.print(plain_text(f"  {event.id}: {event.tool} at {when}"))
     console.print("[bold]oracle[/bold]:")
     for step in scenario.oracle.user:
-        console.print(
-            f"  user: {step.tool}({', '.join(f'{k}={v!r}' for k, v in step.args.items())})", markup=False
-        )
+        args = ", ".join(f"{k}={v!r}" for k, v in step.args.items())
+        console.print(plain_text(f"  user: {step.tool}({args})"))
     for intervention in scenario.oracle.interventions:
-        console.print(f"  proposal: {intervention.proposal}", markup=False)
+        console.print(plain_text(f"  proposal: {intervention.proposal}"))
         for action in intervention.actions:
-            console.print(f"    then {action.tool}", markup=False)
+            console.print(plain_text(f"    then {action.tool}"))
     console.print("[bold]goals[/bold]:")
     for goal in scenario.goals:
-        console.print(f"  {goal.id}: {goal.description} ({len(goal.checks)} checks)", markup=False)
+        console.print(plain_text(f"  {goal.id}: {goal.description} ({len(goal.checks)} checks)"))
 
 
 PARALLEL_FROM = 10
@@ -199,11 +198,12 @@ def check(
     import functools
     import time
 
-    from rich.console import Console
     from rich.table import Table
 
     from pare.bench import collector
     from pare.bench.processes import map_in_processes, resolve_jobs
+    from pare.errors import UserInputError
+    from pare.terminal_text import make_console, markup_safe, plain_text
 
     workers = resolve_jobs(jobs)
     judge = (
@@ -214,9 +214,12 @@ def check(
     began = time.perf_counter()
     with collector.paused():  # the library: long-lived objects only (see pare.bench.collector)
         scenarios = _chosen(paths, split, app_name, tag, difficulty)
+    if not scenarios:  # a gate that checked nothing has passed nothing
+        filtered = bool(split or app_name or tag or difficulty)
+        raise UserInputError(_nothing_to_check(paths, filtered=filtered))
     if jobs == 0 and len(scenarios) < PARALLEL_FROM:
         workers = 1  # starting worker processes would cost more than it saves
-    console = Console()
+    console = make_console()
     table = Table(title=f"self-test of {len(scenarios)} scenarios")
     table.add_column("scenario", overflow="fold")
     table.add_column("oracle\n(must pass;\nturns)", justify="center")
@@ -255,11 +258,11 @@ def check(
                 _print_details(console, scenario, verdict, outcomes)
     console.print(table)
     for line in warnings:
-        console.print(f"[yellow]warning[/yellow] {line}", highlight=False)
+        console.print(f"[yellow]warning[/yellow] {markup_safe(line)}", highlight=False)
     if breaches:
         console.print(f"[red]{len(breaches)} breach(es):[/red]")
         for line in breaches:
-            console.print(f"  {line}", markup=False)
+            console.print(plain_text(f"  {line}"))
         raise typer.Exit(1)
     wall = time.perf_counter() - began
     on = f"{workers} processes" if workers > 1 and len(scenarios) > 1 else "one process"
@@ -283,6 +286,16 @@ def _judge_config(model: str, provider: str, endpoint: str | None, key_env: str 
     except ValidationError as error:
         problems = "; ".join(f"{'.'.join(map(str, e['loc']))}: {e['msg']}" for e in error.errors())
         raise UserInputError(f"--judge-* flags: {problems}") from None
+
+
+def _nothing_to_check(paths: list[Path] | None, *, filtered: bool) -> str:
+    from pare.scenarios.library import scenario_files
+
+    where = ", ".join(str(path) for path in paths) if paths else "the library"
+    if filtered and scenario_files(paths):
+        filters = "--split, --app, --tag, --difficulty"
+        return f"no scenario in {where} matches the filters ({filters}): nothing to check"
+    return f"no scenario was found in {where} (scenario files end in .yaml): nothing to check"
 
 
 def self_test(
@@ -330,27 +343,29 @@ def _print_details(
 ) -> None:
     from rich.table import Table
 
+    from pare.terminal_text import plain_text
+
     runs = Table(title=scenario.id, title_justify="left")
     for column in ("run", "must", "got", "turns", "why"):
         runs.add_column(column, overflow="fold")
     for run in verdict.runs:
         must = "pass" if run.expected_success else "fail"
         turns = "" if run.turns is None else str(run.turns)
-        runs.add_row(run.run, must, _mark(run.ok, _outcome(run)), turns, run.why)
+        runs.add_row(plain_text(run.run), must, _mark(run.ok, _outcome(run)), turns, plain_text(run.why))
     console.print(runs)
     for run in verdict.runs:
         happened = "; ".join(event.describe(scenario.start) for event in run.events) or "none"
-        console.print(f"  [{run.run}] events: {happened}", markup=False, highlight=False)
+        console.print(plain_text(f"  [{run.run}] events: {happened}"), highlight=False)
         if run.after_last_turn:
             late = ", ".join(run.after_last_turn)
-            console.print(f"  [{run.run}] after the last turn: {late}", markup=False, highlight=False)
+            console.print(plain_text(f"  [{run.run}] after the last turn: {late}"), highlight=False)
     for name, outcome in outcomes.items():
         for goal in outcome.goals:
             for item in goal.checks:
                 mark = "ok " if item.passed else "NO "
-                console.print(f"  [{name}] {mark}{goal.id}: {item.detail}", markup=False)
+                console.print(plain_text(f"  [{name}] {mark}{goal.id}: {item.detail}"))
         for change in outcome.side_effects:
-            console.print(f"  [{name}] NO side effect: {change.describe()}", markup=False)
+            console.print(plain_text(f"  [{name}] NO side effect: {change.describe()}"))
 
 
 @app.command("stats")
@@ -384,11 +399,11 @@ def sample(
     """A stratified sample of the library (balanced by app, tag, difficulty, kind and app mix), with its
     profile beside the library's; --write stores it as a split (the ablation split is made this way).
     """
-    from rich.console import Console
     from rich.table import Table
 
     from pare.scenarios.library import load_scenarios, write_split
     from pare.scenarios.sampling import stratified_sample
+    from pare.terminal_text import make_console, markup_safe
 
     scenarios = load_scenarios(paths or None)
     if size > len(scenarios):
@@ -399,7 +414,7 @@ def sample(
         table.add_column(column, justify="left" if column == "feature" else "right")
     for name in sorted(drawn.library):
         table.add_row(name, f"{drawn.library[name]:.0%}", f"{drawn.sample.get(name, 0.0):.0%}")
-    console = Console()
+    console = make_console()
     console.print(table)
     name, gap = drawn.largest_gap
     console.print(f"largest difference: {name} ({gap:.1%})")
@@ -412,7 +427,7 @@ def sample(
         "proportions."
     )
     write_split(write, description, drawn.ids)
-    console.print(f"split '{write}' written with {size} scenarios")
+    console.print(f"split '{markup_safe(write)}' written with {size} scenarios")
 
 
 class Against(StrEnum):
@@ -453,11 +468,11 @@ def similar(
     compared with the library they would join. Exits 1 when a pair reaches the threshold: the same story
     with names changed.
     """
-    from rich.console import Console
     from rich.table import Table
 
     from pare.scenarios.library import BENCH_DIR, load_scenarios, scenario_files
     from pare.scenarios.similarity import THRESHOLD, similarities
+    from pare.terminal_text import make_console, plain_text
 
     threshold = THRESHOLD if threshold is None else threshold
 
@@ -489,13 +504,13 @@ def similar(
             f"{pair.tools:.2f}",
             f"{pair.first} ~ {pair.second}",
         )
-    console = Console()
+    console = make_console()
     console.print(table)
     alike = [pair for pair in pairs if pair.score >= threshold]
     if alike:
         console.print(f"[red]{len(alike)} pair(s) tell the same story:[/red]")
         for pair in alike:
-            console.print(f"  {pair.first} ~ {pair.second} ({pair.score:.2f})", markup=False)
+            console.print(plain_text(f"  {pair.first} ~ {pair.second} ({pair.score:.2f})"))
         raise typer.Exit(1)
     console.print(f"no pair reaches {threshold:.2f}")
 
@@ -510,6 +525,7 @@ def schema(
     ] = False,
 ) -> None:
     """Print the JSON Schema of scenario files (for editors and validators)."""
+    from pare.output_paths import write_output_file
     from pare.scenarios.schema import SCHEMA_FILE, schema_text
 
     if path:
@@ -519,7 +535,7 @@ def schema(
     if output is None:
         typer.echo(text, nl=False)
     else:
-        output.write_text(text, encoding="utf-8")
+        write_output_file(output, text, "--output")
         typer.echo(f"wrote {output}")
 
 
@@ -601,7 +617,9 @@ def match(
     if text == "-":
         text = sys.stdin.read().removesuffix("\n")  # the line break that ends what was piped in
     trial = try_matcher(matcher, text, anchor)
+    from pare.terminal_text import printable
+
     for line in trial.lines:
-        typer.echo(line)
+        typer.echo(printable(line))
     if not trial.passed:
         raise typer.Exit(1)

@@ -40,6 +40,10 @@ def view(
         ) from None
     site = Site(Catalog.open(runs))
     if export is not None:
+        if not export.exists():  # a path through a file, or where the system refuses a folder: said here
+            from pare.output_paths import make_output_folder
+
+            make_output_folder(export, "the --export folder")
         written = export_site(site, export)
         typer.echo(f"wrote {written} files; open {export / 'index.html'}")
         return

@@ -19,6 +19,7 @@ import hashlib
 import json
 import os
 import threading
+import uuid
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any, Literal
@@ -29,6 +30,7 @@ from pare import __version__
 from pare.bench.store import MAX_EPISODES_BYTES, MAX_MANIFEST_BYTES, provenance, read_run_file
 from pare.errors import UserInputError
 from pare.generate.config import GenerateConfig
+from pare.output_paths import make_output_folder
 from pare.scenarios.schema import SCHEMA_FILE
 
 MANIFEST = "manifest.json"
@@ -71,7 +73,11 @@ def transcript_hash(messages: list[dict[str, Any]]) -> str:
 
 
 def _write_atomically(path: Path, text: str) -> None:
-    temporary = path.with_name(path.name + ".tmp")
+    """Write ``text`` to a temporary file beside ``path``, then rename it: ``path`` is whole or absent.
+    The temporary file's name is short and unique, whatever the length of ``path``'s (a name at the
+    file system's limit would otherwise have no room for a suffix).
+    """
+    temporary = path.with_name(f".{uuid.uuid4().hex[:16]}.tmp")  # created as any file: the umask's mode
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         temporary.write_text(text, encoding="utf-8")
@@ -79,6 +85,9 @@ def _write_atomically(path: Path, text: str) -> None:
     except OSError as error:  # a full disk, a read-only folder: never a half-written file
         temporary.unlink(missing_ok=True)
         raise _write_failure(path, error) from None
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise
 
 
 def _write_failure(path: Path, error: OSError) -> UserInputError:
@@ -105,7 +114,7 @@ class GenerationFolder:
         manifest = folder.path / MANIFEST
         if manifest.exists():
             folder._check_same(manifest)
-        folder.path.mkdir(parents=True, exist_ok=True)
+        make_output_folder(folder.path, "the candidates' folder")
         _write_atomically(
             manifest,
             json.dumps(

@@ -8,13 +8,14 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TaskID, TextColumn, TimeElapsedColumn
 
 from pare.generate.folder import CandidateRecord
+from pare.terminal_text import make_console
 
 
 class RichGenerationProgress:
     """A rich progress bar fed by :func:`pare.generate.generate`."""
 
     def __init__(self, console: Console | None = None) -> None:
-        self.console = console or Console(stderr=True)
+        self.console = console or make_console(stderr=True)
         self.progress = Progress(
             TextColumn("[bold]generating"),
             BarColumn(),

@@ -13,6 +13,7 @@ from typing import Any
 
 from pare.errors import UserInputError, did_you_mean
 from pare.generate.folder import read_provenance
+from pare.output_paths import make_output_folder
 from pare.scenarios.loader import load_scenario
 from pare.scenarios.model import Scenario
 from pare.scenarios.schema import SCHEMA_FILE
@@ -86,7 +87,7 @@ def accept(folder: Path, scenario_id: str, library: Path, *, note: str = "") -> 
     """
     source = _find(folder, scenario_id)
     load_scenario(source)  # a broken file never enters a library
-    library.mkdir(parents=True, exist_ok=True)
+    make_output_folder(library, "the library folder")
     target = library / source.name
     if target.exists():
         raise UserInputError(f"{target} exists: the library already has a scenario '{scenario_id}'")

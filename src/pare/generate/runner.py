@@ -15,6 +15,7 @@ from pare.generate.context import worked_example
 from pare.generate.folder import CACHE, CandidateRecord, GenerationFolder, slot_name
 from pare.generate.pipeline import Batch, Generators, generate_candidate
 from pare.generate.prompts import system_prompt
+from pare.output_paths import make_output_folder
 from pare.scenarios.library import load_scenarios, scenario_files
 from pare.scenarios.loader import load_scenario
 from pare.scenarios.model import Scenario
@@ -94,6 +95,7 @@ def generate(config: GenerateConfig, *, progress: GenerationProgress | None = No
     started = time.perf_counter()
     for role, model in (("generator", config.generator), ("judge", config.judge_model)):
         ModelClient(model, role).api_key()  # a missing key fails before any folder is made
+    make_output_folder(config.folder, "the candidates' folder")  # a path that cannot be one: said at once
     library, files = _library(config)
     folder = GenerationFolder.open(config)
     written = _written(folder)

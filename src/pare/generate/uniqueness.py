@@ -121,7 +121,7 @@ def read_verdict(text: str) -> tuple[bool, str | None, str]:
         raise JudgeAnswerError("The answer holds no JSON object.")
     try:
         data = json.loads(found.group(0))
-    except json.JSONDecodeError as error:
+    except (ValueError, RecursionError) as error:  # invalid JSON, an integer of too many digits, too deep
         raise JudgeAnswerError(f"The JSON object cannot be read ({error}).") from None
     if not isinstance(data, dict) or not isinstance(data.get("duplicate"), bool):
         raise JudgeAnswerError('The object needs "duplicate": true or false.')

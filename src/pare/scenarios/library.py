@@ -7,12 +7,12 @@ import json
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 
-import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from pare.errors import UserInputError, did_you_mean
 from pare.scenarios.loader import ScenarioError, load_scenario
 from pare.scenarios.model import Scenario
+from pare.yaml_source import YamlSyntaxError, load_yaml, read_text_file
 
 BENCH_DIR = Path(__file__).parent / "bench"
 """Where the library's scenario files live, one ``<id>.yaml`` each."""
@@ -91,9 +91,8 @@ def get_scenario(scenario_id: str) -> Scenario:
 def splits() -> dict[str, list[str]]:
     """Split name to the ids it holds; every id is checked against the library."""
     try:
-        raw = yaml.safe_load(SPLITS_FILE.read_text(encoding="utf-8"))
-        parsed = SplitsFile.model_validate(raw)
-    except (OSError, yaml.YAMLError, ValidationError) as error:
+        parsed = SplitsFile.model_validate(load_yaml(read_text_file(SPLITS_FILE)))
+    except (OSError, YamlSyntaxError, ValidationError) as error:
         raise UserInputError(f"{SPLITS_FILE}: {error}") from None
     # A scenario's id is its file's name (the loader enforces it): the splits are checked against the
     # files, without loading the library a second time in a process that loaded it by path.
@@ -156,8 +155,8 @@ SPLITS_HEADER = (
 def write_split(name: str, description: str, scenario_ids: Sequence[str], file: Path = SPLITS_FILE) -> None:
     """Add the split ``name`` to the splits file, or replace it; the other splits are kept as they are."""
     try:
-        parsed = SplitsFile.model_validate(yaml.safe_load(file.read_text(encoding="utf-8")))
-    except (OSError, yaml.YAMLError, ValidationError) as error:
+        parsed = SplitsFile.model_validate(load_yaml(read_text_file(file)))
+    except (OSError, YamlSyntaxError, ValidationError) as error:
         raise UserInputError(f"{file}: {error}") from None
     entries = dict(parsed.splits)
     entries[name] = Split(description=description, scenarios=list(scenario_ids))

@@ -50,6 +50,9 @@ Difficulty = Literal["easy", "medium", "hard"]
 ActorPattern = Literal["user", "assistant", "env", "any"]
 
 _ID = re.compile(r"^[a-z][a-z0-9_]*$")
+MAX_SCENARIO_ID_LENGTH = 100
+"""The longest scenario id: it names files (``<id>.yaml``, a run's ``trajectories/<id>/``), and file systems
+allow 255 bytes a name; the library's longest is under 60."""
 _REF = re.compile(r"^\$\{([A-Za-z0-9_-]+)(?:\.([A-Za-z0-9_.\[\]-]+))?\}$")
 
 _MATCHER_SCHEMA: dict[str, Any] = {
@@ -716,7 +719,12 @@ class Scenario(_Strict):
     """A PARE-Bench scenario."""
 
     format: Literal[1] = Field(default=1, description="Version of the scenario file format.")
-    id: str = Field(pattern=_ID.pattern, description="Lowercase words joined by underscores.")
+    id: str = Field(
+        pattern=_ID.pattern,
+        max_length=MAX_SCENARIO_ID_LENGTH,
+        description=f"Lowercase words joined by underscores; at most {MAX_SCENARIO_ID_LENGTH} characters (it "
+        "names the scenario's file).",
+    )
     title: str = Field(min_length=1)
     story: str = Field(min_length=1, description="The situation in a few sentences.")
     tags: list[Tag] = Field(min_length=1)

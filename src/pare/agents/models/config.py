@@ -177,6 +177,26 @@ class ModelConfig(BaseModel):
             )
         return value
 
+    @field_validator("api_base")
+    @classmethod
+    def _http_url(cls, value: str | None) -> str | None:
+        # A value that is not an http(s) URL would be retried as an outage, then counted as missing
+        # coverage; it is a mistake in the configuration. The value is not repeated: it may hold a key.
+        if value is None:
+            return value
+        wanted = "must be an http:// or https:// URL with a host, e.g. 'http://localhost:8000/v1'"
+        try:
+            parts = urlsplit(value)
+            _ = parts.port  # a port that is not a number raises here
+        except ValueError as error:
+            raise ValueError(f"{wanted} (this one cannot be read: {error})") from None
+        if parts.scheme.lower() not in ("http", "https") or "://" not in value:
+            given = f" (this one starts with '{parts.scheme}://')" if "://" in value and parts.scheme else ""
+            raise ValueError(wanted + given)
+        if not parts.hostname:
+            raise ValueError(f"{wanted} (this one names no host)")
+        return value
+
     @field_validator("extra")
     @classmethod
     def _no_reserved_keys(cls, value: dict[str, JsonValue]) -> dict[str, JsonValue]:
