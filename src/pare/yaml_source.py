@@ -79,6 +79,10 @@ class UnreadableFile(OSError):
     """A file that cannot be read as text: missing, not a regular file, too large, or not UTF-8."""
 
 
+READ_PIECE_BYTES = 1024 * 1024
+"""How much of a file is read at a time (the whole file is never asked for at once)."""
+
+
 def read_text_file(path: str | FilePath, *, max_bytes: int = MAX_FILE_BYTES) -> str:
     """Return the UTF-8 text of the regular file at ``path``.
 
@@ -89,21 +93,34 @@ def read_text_file(path: str | FilePath, *, max_bytes: int = MAX_FILE_BYTES) -> 
     """
     file = FilePath(path)
     try:
-        mode = os.stat(file).st_mode  # before opening: opening a FIFO blocks until a writer comes
+        found = os.stat(file)  # before opening: opening a FIFO blocks until a writer comes
     except FileNotFoundError:
         raise
     except OSError as error:
         raise UnreadableFile(f"cannot read it ({error.strerror})") from None
-    if not stat.S_ISREG(mode):
-        kind = "a folder" if stat.S_ISDIR(mode) else "not a regular file (a device, FIFO or socket)"
+    if not stat.S_ISREG(found.st_mode):
+        kind = "a folder" if stat.S_ISDIR(found.st_mode) else "not a regular file (a device, FIFO or socket)"
         raise UnreadableFile(f"cannot read it: it is {kind}")
+    too_large = UnreadableFile(f"it is larger than {max_bytes // (1024 * 1024)} MiB, more than PARE reads")
+    if found.st_size > max_bytes:
+        raise too_large
+    # Read in pieces: a read of max_bytes at once allocates that much whatever the file's size, and a
+    # file may grow after the size was taken.
+    pieces: list[bytes] = []
+    total = 0
     try:
         with open(file, "rb") as handle:
-            data = handle.read(max_bytes + 1)
+            while total <= max_bytes:
+                piece = handle.read(min(READ_PIECE_BYTES, max_bytes + 1 - total))
+                if not piece:
+                    break
+                pieces.append(piece)
+                total += len(piece)
     except OSError as error:
         raise UnreadableFile(f"cannot read it ({error.strerror})") from None
-    if len(data) > max_bytes:
-        raise UnreadableFile(f"it is larger than {max_bytes // (1024 * 1024)} MiB, more than PARE reads")
+    if total > max_bytes:
+        raise too_large
+    data = b"".join(pieces)
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError as error:

@@ -117,7 +117,8 @@ def test_a_generator_that_answers_a_bomb_fails_that_candidate_and_the_batch_goes
     title = "title: The dentist moves tomorrow's check-up"
     tags = "tags: [context_observation, multi_app_orchestration]"
     assert title in answers["story"] and tags in answers["story"]
-    bomb = answers["story"].replace(title, f"title: &s {'z' * 100_000}")  # 500 million characters
+    # 100 million characters once expanded, in an answer short enough to pass the answer cap
+    bomb = answers["story"].replace(title, f"title: &s {'z' * 20_000}")
     bomb = bomb.replace(tags, "tags: [" + ", ".join(["*s"] * 5_000) + "]")
     scripts = {1: {**{stage: [text] for stage, text in answers.items()}, "story": [bomb]}}
     folder = tmp_path / "out"
@@ -129,7 +130,7 @@ def test_a_generator_that_answers_a_bomb_fails_that_candidate_and_the_batch_goes
             assert done.returncode == 0, done.stderr[-2_000:]
     outcome = json.loads((folder / OUTCOMES).read_text(encoding="utf-8"))
     assert outcome["status"] == "failed" and outcome["stage"] == "story"
-    assert any(LIMIT in problem for problem in outcome["problems"])
+    assert any(LIMIT in problem for problem in outcome["problems"]), outcome["problems"]
     assert not list(folder.glob("*.yaml"))
 
 
