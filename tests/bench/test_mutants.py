@@ -113,6 +113,15 @@ def test_another_file_of_the_seed_attached_is_killed() -> None:
     assert played["split_message:1.1"].outcome == "passed"
 
 
+def test_an_email_kept_as_a_draft_is_killed() -> None:
+    scenario = _library()["bounced_email_typo_resend_to_contact"]
+    [draft] = [m for m in mutants(scenario) if m.operator == "send_as_draft"]
+    [saved] = [a for a in draft.solution.interventions[0].actions if a.tool == "email__save_draft"]
+    sent = next(a for a in scenario.oracle.interventions[0].actions if a.tool == "email__send_email")
+    assert saved.args == sent.args
+    assert _played(scenario)[draft.name].outcome == "killed"
+
+
 # -- a scenario whose checks leave the day open ----------------------------------------------------
 def _lunch(**extra: Any) -> Scenario:
     """Tiny scenario: the assistant puts lunch with Ann in the calendar; the checks read only the title."""

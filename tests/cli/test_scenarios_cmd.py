@@ -297,12 +297,13 @@ def test_check_with_mutants_states_the_score_and_names_each_mutant(
     _write(tmp_path, data)
     assert main(["scenarios", "check", "--mutants", str(tmp_path)]) == 0  # the score does not fail the gate
     out = capsys.readouterr().out
-    assert "mutants: 4 generated, 1 killed, 1 declared, 2 survived; rewrites: 1 of 1 pass" in out
+    assert "mutants: 5 generated, 2 killed, 1 declared, 2 survived; rewrites: 1 of 1 pass" in out
     assert "surviving mutant tiny_reply drop_action:1.2 (left out calendar__add_calendar_event)" in out
     assert main(["scenarios", "check", "--mutants", "-v", str(tmp_path)]) == 0
     out = capsys.readouterr().out
     rows = {line.split("│")[1].strip(): line for line in out.splitlines() if line.count("│") > 4}
     assert "killed" in rows["drop_action:1.1"] and "survived" in rows["shift_time:1.2:+1h"]
+    assert "killed" in rows["send_as_draft:1.1"]
     assert "declared" in rows["shift_time:1.2:+1d"] and "passed" in rows["reorder:1.1"]
 
 

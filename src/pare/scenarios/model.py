@@ -710,6 +710,7 @@ MUTANT_OPERATORS = (
     "swap_person",
     "shift_time",
     "drop_action",
+    "send_as_draft",
     "extra_write",
     "swap_item",
     "change_number",

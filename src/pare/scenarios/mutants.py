@@ -2,10 +2,10 @@
 writes itself, the way mutation testing judges a test suite.
 
 A *mutant* changes one thing in the oracle assistant's work that the story does not allow, and the checks
-must fail it: the person written to, a day or an hour, an action left out, a second write to another item
-of the seed, a quantity or price, an attached file. A *rewrite* changes how the work is done but not what
-it does, and the checks must pass it: two independent actions the other way round, a time in the text
-written another way, the message sent in two halves.
+must fail it: the person written to, a day or an hour, an action left out, an email kept as a draft, a
+second write to another item of the seed, a quantity or price, an attached file. A *rewrite* changes how
+the work is done but not what it does, and the checks must pass it: two independent actions the other way
+round, a time in the text written another way, the message sent in two halves.
 
 Both are generated from the oracle's interventions and the seed alone, deterministically: the same
 scenario gives the same mutants, in the same order, with the same names, and a choice among several
@@ -189,6 +189,32 @@ def _drop_action(oracle: _Oracle) -> Iterator[_Edit]:
         yield _Edit(_where(i, j), f"left out {action.tool}", oracle.replaced(i, j, []))
 
 
+def _send_as_draft(oracle: _Oracle) -> Iterator[_Edit]:
+    """An email saved as a draft instead of sent: a new email, or a reply to an email of the seed or of an
+    event (the draft addressed to its sender, with its subject).
+    """
+    known = [
+        *(oracle.scenario.seed.get("email", {}).get("emails", []) or []),
+        *(event.args for event in oracle.scenario.events if event.tool == "email__receive_email"),
+    ]
+    emails = {str(email.get("email_id")): email for email in known if isinstance(email, Mapping)}
+    for i, j, action in oracle.writes:
+        args = dict(action.args)
+        if action.tool == "email__reply_to_email":
+            replied = emails.get(str(args.pop("email_id", "")))
+            if replied is None:
+                continue
+            args = {
+                "recipients": [replied.get("sender")],
+                "subject": f"Re: {replied.get('subject', '')}",
+                **args,
+            }
+        elif action.tool != "email__send_email":
+            continue
+        draft = OracleAction(tool="email__save_draft", args=args)
+        yield _Edit(_where(i, j), f"{action.tool} saved as a draft, not sent", oracle.replaced(i, j, [draft]))
+
+
 def _swap_person(oracle: _Oracle) -> Iterator[_Edit]:
     """The person a write names (recipient, attendee, conversation partner) swapped for another person of
     the seed, of the same form (an address for an address, a user id for a user id, a name for a name).
@@ -260,8 +286,8 @@ def _later(text: str, shift: timedelta) -> str | None:
         moment = datetime.fromisoformat(text.replace("Z", "+00:00"))
     except ValueError:
         return None
-    if len(text) == 10:  # a date alone
-        return (moment + timedelta(days=max(shift.days, 1))).date().isoformat()
+    if len(text) == 10:  # a date alone: shifted by days only (an hour later is the same date)
+        return (moment + timedelta(days=shift.days)).date().isoformat() if shift.days else None
     later = (moment + shift).isoformat()
     return later.replace("+00:00", "Z") if text.endswith("Z") else later
 
@@ -482,6 +508,7 @@ _OPERATORS: dict[str, Operator] = {
     "swap_person": _swap_person,
     "shift_time": _shift_time,
     "drop_action": _drop_action,
+    "send_as_draft": _send_as_draft,
     "extra_write": _extra_write,
     "swap_item": _swap_item,
     "change_number": _change_number,
