@@ -282,3 +282,34 @@ def test_check_lists_the_events_each_run_set_off_and_the_branch_each_reaction_to
     # the busy user never waits: the clock still reaches Ann's email and her answer
     assert any(line.startswith("  [busy_user] events: 09:05 ann_asks; ") for line in lines)
     assert any(line.startswith("│ busy_user ") and "pass" in line for line in lines)
+
+
+def test_check_with_mutants_states_the_score_and_names_each_mutant(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
+) -> None:
+    data = fair()
+    lunch = {
+        "tool": "calendar__add_calendar_event",
+        "args": {"title": "Lunch with Ann", "start_datetime": "day+3 12:30", "end_datetime": "day+3 13:30"},
+    }
+    data["oracle"]["interventions"][0]["actions"].append(lunch)  # which no check reads
+    data["equivalent_mutants"] = {"shift_time:1.2:+1d": "Ann did not say which day lunch is."}
+    _write(tmp_path, data)
+    assert main(["scenarios", "check", "--mutants", str(tmp_path)]) == 0  # the score does not fail the gate
+    out = capsys.readouterr().out
+    assert "mutants: 5 generated, 2 killed, 1 declared, 2 survived; rewrites: 1 of 1 pass" in out
+    assert "surviving mutant tiny_reply drop_action:1.2 (left out calendar__add_calendar_event)" in out
+    assert main(["scenarios", "check", "--mutants", "-v", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    rows = {line.split("│")[1].strip(): line for line in out.splitlines() if line.count("│") > 4}
+    assert "killed" in rows["drop_action:1.1"] and "survived" in rows["shift_time:1.2:+1h"]
+    assert "killed" in rows["send_as_draft:1.1"]
+    assert "declared" in rows["shift_time:1.2:+1d"] and "passed" in rows["reorder:1.1"]
+
+
+def test_check_without_mutants_plays_none(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
+) -> None:
+    _write(tmp_path, fair())
+    assert main(["scenarios", "check", str(tmp_path)]) == 0
+    assert "mutants:" not in capsys.readouterr().out

@@ -26,6 +26,11 @@ Every run is judged with side effects (:mod:`pare.scenarios.side_effects`) again
 gate's own oracle and passing-variant runs, which is kept for the runs to come. The fixed runs that must
 fail must fail their goals: a side effect does not stand in for checks that prove nothing.
 
+With mutants on, the gate also plays the mutants and rewrites of :mod:`pare.scenarios.mutants`, judged
+like the variants (side effects included): a mutant must fail unless the scenario declares it equivalent
+(``equivalent_mutants``), a rewrite must pass. Their verdicts are reported as the library's mutation score
+and do not fail the gate (the library is not yet brought to no surviving mutant).
+
 Warnings do not fail the gate: a reactive reply that restates what the assistant was meant to find, an
 ``otherwise_ok`` that the variant's run never needed and, given a judge model, a triggering text that a
 reactive event's rule and the judge read apart.
@@ -37,7 +42,7 @@ import asyncio
 import time
 from collections.abc import Awaitable, Callable, Collection, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any, TypeVar
+from typing import Any, Literal, TypeVar
 
 from pare.agents.policy import AssistantPolicy, SilentAssistant, SilentUser, UserPolicy
 from pare.bench.envelope import envelope_solutions, expected_envelope, remember
@@ -48,6 +53,8 @@ from pare.scenarios.build import disagreements
 from pare.scenarios.checks import Judge, JudgeVerdict
 from pare.scenarios.matchers import OPERATORS, TEXT_OPERATORS, compile_matcher
 from pare.scenarios.model import Scenario, Solution
+from pare.scenarios.mutants import mutants as generated_mutants
+from pare.scenarios.mutants import rewrites as generated_rewrites
 from pare.scenarios.oracle import BusyUser, OracleAssistant, OracleUser, SlowUser, UnrelatedAssistant
 from pare.scenarios.side_effects import Envelope
 from pare.scenarios.stats import FREE_TEXT_FIELDS
@@ -107,6 +114,30 @@ class RunVerdict:
         return not self.problems and self.success == self.expected_success
 
 
+MutantOutcome = Literal["killed", "declared", "survived", "stillborn", "passed", "failed"]
+"""A mutant's verdict (killed: the checks failed it; declared: it passed and the scenario says why that is
+right; survived: it passed and nothing says why; stillborn: it passed because the app refused a call the
+oracle makes successfully, so the mutant changed nothing, and it is not counted), or a rewrite's (passed,
+as it must, or failed)."""
+
+
+@dataclass(frozen=True, slots=True)
+class MutantVerdict:
+    """One generated mutant or rewrite, played and judged."""
+
+    name: str
+    expect: Literal["fail", "pass"]
+    what: str
+    outcome: MutantOutcome
+    detail: str = ""
+    """Why: the first failed check or side effect, the reason it is declared, or why it could not run."""
+
+    @property
+    def ok(self) -> bool:
+        """Whether the checks judged it as they must (a declared mutant counts as judged)."""
+        return self.outcome in ("killed", "declared", "passed")
+
+
 @dataclass(frozen=True, slots=True)
 class ScenarioVerdict:
     """The gate's verdict on one scenario."""
@@ -118,6 +149,8 @@ class ScenarioVerdict:
     problems: tuple[str, ...] = ()
     """Breaches that belong to no single run (too few variants)."""
     warnings: tuple[str, ...] = ()
+    mutants: tuple[MutantVerdict, ...] = ()
+    """The mutants and rewrites played (with mutants on), mutants first."""
 
     @property
     def ok(self) -> bool:
@@ -144,10 +177,12 @@ def check_scenario(
     runs: Collection[str] | None = None,
     variants: bool = True,
     judge: Judge | None = None,
+    mutants: bool = False,
 ) -> ScenarioVerdict:
     """Run every self-test run (or only ``runs``) and every declared variant (unless ``variants`` is
-    false) on ``scenario``. The runs read text by the rules; with ``judge`` (a judge model), the warnings
-    also name each triggering action whose text a reactive event's rule and the judge read apart.
+    false) on ``scenario``; with ``mutants``, its generated mutants and rewrites too. The runs read text by
+    the rules; with ``judge`` (a judge model), the warnings also name each triggering action whose text a
+    reactive event's rule and the judge read apart.
     """
     began = time.perf_counter()
     verdicts = []
@@ -181,6 +216,7 @@ def check_scenario(
                 continue
             details[name], users[name] = played[0], user
         envelope = _envelope(scenario, details, settings, runner)
+        played_mutants = tuple(_mutant_verdicts(scenario, settings, runner, envelope)) if mutants else ()
     for name, _, expected, why in plays:
         if name in broken:
             verdicts.append(RunVerdict(name, expected, None, (broken[name],), why=why))
@@ -200,8 +236,67 @@ def check_scenario(
         time.perf_counter() - began,
         details,
         tuple(_declaration_problems(scenario)),
-        tuple(warnings),
+        (*warnings, *_stale_declarations(scenario, played_mutants, mutants=mutants)),
+        played_mutants,
     )
+
+
+def _mutant_verdicts(
+    scenario: Scenario, settings: EpisodeSettings | None, runner: asyncio.Runner, envelope: Envelope
+) -> Iterator[MutantVerdict]:
+    """Each generated mutant and rewrite of ``scenario``, played by the oracle policies and judged with
+    side effects against ``envelope``.
+    """
+    for mutant in [*generated_mutants(scenario), *generated_rewrites(scenario)]:
+        user, assistant = _playing(mutant.solution)(scenario)
+        played: list[EpisodeResult] = []
+        try:
+            runner.run(_kept(arun_episode(scenario, user, assistant, settings, side_effects=False), played))
+        except UserInputError as error:  # a mutant whose calls cannot even be made is no solution
+            outcome: MutantOutcome = "failed" if mutant.is_rewrite else "killed"
+            yield MutantVerdict(mutant.name, mutant.expect, mutant.what, outcome, f"could not run: {error}")
+            continue
+        result = played[0]
+        side_effects = envelope.unexpected(result.changes, scenario.allowed_changes)
+        outcome_ = result.outcome.with_side_effects(side_effects)
+        reasons = [
+            *(f"check failed: {check.goal}[{check.index}] {check.detail}" for check in outcome_.failures()),
+            *(f"side effect: {change.describe()}" for change in side_effects),
+        ]
+        why = reasons[0] if reasons else ""
+        if mutant.is_rewrite:
+            verdict: MutantOutcome = "passed" if outcome_.success else "failed"
+        elif not outcome_.success:
+            verdict = "killed"
+        elif refused := _refused_calls(result):
+            verdict, why = "stillborn", f"the app refused {refused[0]}"
+        else:
+            reason = scenario.equivalent_mutants.get(mutant.name)
+            verdict, why = ("survived", "") if reason is None else ("declared", reason)
+        yield MutantVerdict(mutant.name, mutant.expect, mutant.what, verdict, why)
+
+
+def _refused_calls(result: EpisodeResult) -> list[str]:
+    """The assistant's calls that failed in ``result`` (the oracle's never do: the gate demands it)."""
+    return [
+        f"{entry.app}.{entry.tool}: {entry.error}"
+        for entry in result.env.log
+        if entry.actor == "assistant" and not entry.ok and not entry.injected_failure
+    ]
+
+
+def _stale_declarations(
+    scenario: Scenario, played: Sequence[MutantVerdict], *, mutants: bool
+) -> Iterator[str]:
+    """Declared equivalent mutants that the generator no longer makes, or that the checks now kill."""
+    if not mutants:
+        return
+    outcomes = {verdict.name: verdict.outcome for verdict in played}
+    for name in scenario.equivalent_mutants:
+        if name not in outcomes:
+            yield f"equivalent_mutants names '{name}', which is not generated for this scenario"
+        elif outcomes[name] == "killed":
+            yield f"equivalent_mutants declares '{name}', which the checks kill: drop the declaration"
 
 
 def _with_reactions(

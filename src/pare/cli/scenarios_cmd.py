@@ -12,7 +12,7 @@ if TYPE_CHECKING:  # the library and the gate are imported by the commands: `par
     from rich.console import Console
 
     from pare.agents.models.config import ModelConfig
-    from pare.bench.selftest import RunVerdict, ScenarioVerdict
+    from pare.bench.selftest import MutantVerdict, RunVerdict, ScenarioVerdict
     from pare.scenarios.checks import Outcome
     from pare.scenarios.model import Scenario
 
@@ -164,6 +164,16 @@ def check(
             "1 only this process.",
         ),
     ] = 0,
+    with_mutants: Annotated[
+        bool,
+        typer.Option(
+            "--mutants",
+            help="Also play the oracle's generated mutants (each must fail, unless the scenario declares it "
+            "in equivalent_mutants) and rewrites (each must pass), and report the mutation score per "
+            "scenario and for the library. Surviving mutants and failing rewrites are listed; they do not "
+            "change the exit code.",
+        ),
+    ] = False,
     judge_model: Annotated[
         str | None,
         typer.Option(
@@ -193,7 +203,8 @@ def check(
     (every reply it sets off delivered, after the last turn if need be); doing nothing, the user alone, the
     user doing the task by hand and an unrelated proposal must fail; every variant must get its declared
     verdict, and neither the oracle nor a variant that passes may get a reactive event's otherwise reply
-    (unless the variant's otherwise_ok says why). Exits 1 on any breach.
+    (unless the variant's otherwise_ok says why). Exits 1 on any breach. With --mutants, also plays the
+    oracle's mutants and rewrites and reports the mutation score.
     """
     import functools
     import time
@@ -227,14 +238,20 @@ def check(
     table.add_column("busy user\n(must pass;\nturns)", justify="center")
     table.add_column(f"must fail\n({', '.join(_failing_runs())})", justify="center")
     table.add_column("variants\n(as declared)", justify="center")
+    if with_mutants:
+        table.add_column("mutants\n(killed+declared\n/counted)", justify="center")
+        table.add_column("rewrites\n(pass)", justify="center")
     table.add_column("ms", justify="right")
+    score = MutationScore()
     breaches: list[str] = []
     warnings: list[str] = []
     total = 0.0
     with collector.long_lived_frozen():
         for scenario, (verdict, outcomes) in zip(
             scenarios,
-            map_in_processes(functools.partial(self_test, judge=judge), scenarios, workers),
+            map_in_processes(
+                functools.partial(self_test, judge=judge, mutants=with_mutants), scenarios, workers
+            ),
             strict=True,
         ):
             total += verdict.seconds
@@ -250,13 +267,17 @@ def check(
                     all(run.ok for run in variants) and not verdict.problems,
                     f"{sum(run.ok for run in variants)}/{len(variants)}",
                 ),
+                *(_mutant_cells(verdict) if with_mutants else ()),
                 f"{verdict.seconds * 1000:.0f}",
             )
+            score.add(scenario.id, verdict.mutants)
             breaches.extend(verdict.breaches())
             warnings.extend(f"{scenario.id}: {line}" for line in verdict.warnings)
             if verbose:
                 _print_details(console, scenario, verdict, outcomes)
     console.print(table)
+    if with_mutants:
+        _print_score(console, score)
     for line in warnings:
         console.print(f"[yellow]warning[/yellow] {markup_safe(line)}", highlight=False)
     if breaches:
@@ -269,6 +290,66 @@ def check(
     console.print(
         f"all {len(scenarios)} scenarios pass the gate ({wall:.2f} s on {on}; {total:.2f} s of self-tests)"
     )
+
+
+class MutationScore:
+    """The mutants and rewrites of the scenarios checked, counted for the library."""
+
+    def __init__(self) -> None:
+        self.by_scenario: dict[str, tuple[MutantVerdict, ...]] = {}
+
+    def add(self, scenario_id: str, verdicts: tuple[MutantVerdict, ...]) -> None:
+        """Count ``scenario_id``'s verdicts."""
+        self.by_scenario[scenario_id] = verdicts
+
+    def count(self, outcome: str) -> int:
+        """How many mutants or rewrites got ``outcome``."""
+        return sum(v.outcome == outcome for vs in self.by_scenario.values() for v in vs)
+
+    def summary(self) -> str:
+        """The gate's summary line of the score."""
+        killed, declared, survived = self.count("killed"), self.count("declared"), self.count("survived")
+        passed, failed = self.count("passed"), self.count("failed")
+        return (
+            f"mutants: {killed + declared + survived} generated, {killed} killed, {declared} declared, "
+            f"{survived} survived; rewrites: {passed} of {passed + failed} pass"
+        )
+
+    def misjudged(self) -> list[tuple[str, MutantVerdict]]:
+        """The surviving mutants and failing rewrites, scenario by scenario."""
+        return [
+            (scenario_id, verdict)
+            for scenario_id, verdicts in self.by_scenario.items()
+            for verdict in verdicts
+            if verdict.outcome in ("survived", "failed")
+        ]
+
+
+def _mutant_cells(verdict: ScenarioVerdict) -> tuple[str, str]:
+    mutants = [m for m in verdict.mutants if m.expect == "fail" and m.outcome != "stillborn"]
+    rewrites = [m for m in verdict.mutants if m.expect == "pass"]
+    judged = sum(m.ok for m in mutants)
+    passed = sum(m.ok for m in rewrites)
+    return (
+        _mark(judged == len(mutants), f"{judged}/{len(mutants)}"),
+        _mark(passed == len(rewrites), f"{passed}/{len(rewrites)}"),
+    )
+
+
+def _print_score(console: Console, score: MutationScore) -> None:
+    from pare.terminal_text import plain_text
+
+    for scenario_id, verdict in score.misjudged():
+        kind = "surviving mutant" if verdict.expect == "fail" else "failing rewrite"
+        why = f": {verdict.detail}" if verdict.detail else ""
+        console.print(plain_text(f"  {kind} {scenario_id} {verdict.name} ({verdict.what}){why}"))
+    stillborn = score.count("stillborn")
+    if stillborn:
+        console.print(
+            f"{stillborn} stillborn mutant(s) not counted: the app refused the changed call, so nothing "
+            "changed"
+        )
+    console.print(score.summary(), highlight=False)
 
 
 def _judge_config(model: str, provider: str, endpoint: str | None, key_env: str | None) -> ModelConfig:
@@ -299,11 +380,12 @@ def _nothing_to_check(paths: list[Path] | None, *, filtered: bool) -> str:
 
 
 def self_test(
-    scenario: Scenario, judge: ModelConfig | None = None
+    scenario: Scenario, judge: ModelConfig | None = None, mutants: bool = False
 ) -> tuple[ScenarioVerdict, dict[str, Outcome]]:
     """The gate's verdict on ``scenario`` and each run's outcome, in a form that crosses processes (an
     episode's environment does not: its tools' argument models are made at run time). With ``judge``,
-    the model that reads reactive events' texts beside their rules (calls go uncached).
+    the model that reads reactive events' texts beside their rules (calls go uncached); with ``mutants``,
+    the verdicts on its generated mutants and rewrites too.
     """
     from dataclasses import replace
 
@@ -317,7 +399,7 @@ def self_test(
         from pare.bench.runner import JudgeModel
 
         model_judge = ModelJudge(JudgeModel(judge, None, f"gate/{scenario.id}", UsageLedger()))
-    verdict = check_scenario(scenario, judge=model_judge)
+    verdict = check_scenario(scenario, judge=model_judge, mutants=mutants)
     outcomes = {name: result.outcome for name, result in verdict.details.items()}
     result = replace(verdict, details={}), outcomes
     del verdict
@@ -359,6 +441,19 @@ def _print_details(
         if run.after_last_turn:
             late = ", ".join(run.after_last_turn)
             console.print(plain_text(f"  [{run.run}] after the last turn: {late}"), highlight=False)
+    if verdict.mutants:
+        mutants = Table(title=f"{scenario.id}: mutants and rewrites", title_justify="left")
+        for column in ("mutant", "must", "verdict", "what", "why"):
+            mutants.add_column(column, overflow="fold")
+        for mutant in verdict.mutants:
+            mutants.add_row(
+                plain_text(mutant.name),
+                mutant.expect,
+                _mark(mutant.ok or mutant.outcome == "stillborn", mutant.outcome),
+                plain_text(mutant.what),
+                plain_text(mutant.detail),
+            )
+        console.print(mutants)
     for name, outcome in outcomes.items():
         for goal in outcome.goals:
             for item in goal.checks:

@@ -706,6 +706,36 @@ class AllowedChange(_Strict):
         return self
 
 
+MUTANT_OPERATORS = (
+    "swap_person",
+    "shift_time",
+    "drop_action",
+    "send_as_draft",
+    "extra_write",
+    "swap_item",
+    "change_number",
+    "swap_file",
+)
+"""The operators of :mod:`pare.scenarios.mutants` whose mutants the checks must fail."""
+REWRITE_OPERATORS = ("reorder", "time_phrasing", "split_message")
+"""The operators of :mod:`pare.scenarios.mutants` whose rewrites the checks must pass."""
+
+
+def _mutant_names(value: dict[str, str]) -> dict[str, str]:
+    for name in value:
+        operator, colon, where = name.partition(":")
+        if not colon or not where:
+            raise ValueError(
+                f"'{name}' is not a mutant's name; write <operator>:<where>, e.g. drop_action:1.2"
+            )
+        if operator not in MUTANT_OPERATORS:
+            raise ValueError(
+                f"'{name}': unknown mutant operator '{operator}'.{did_you_mean(operator, MUTANT_OPERATORS)} "
+                f"Operators: {', '.join(MUTANT_OPERATORS)} (a rewrite must pass; it is never declared)"
+            )
+    return value
+
+
 class UserProfile(_Strict):
     """What the user simulator is told about the person it plays."""
 
@@ -760,6 +790,18 @@ class Scenario(_Strict):
         "variants change, each with its reason; any other change of the assistant's is a side effect and "
         "fails the episode.",
     )
+
+    equivalent_mutants: dict[str, Annotated[str, Field(min_length=1)]] = Field(
+        default_factory=dict,
+        description="Generated mutants of the oracle (pare scenarios check --mutants -v names them) that are "
+        "right after all, each with the reason a reviewer would accept: the gate counts them as declared, "
+        "not as surviving.",
+    )
+
+    @field_validator("equivalent_mutants")
+    @classmethod
+    def _known_mutants(cls, value: dict[str, str]) -> dict[str, str]:
+        return _mutant_names(value)
 
     @field_validator("start")
     @classmethod
@@ -816,8 +858,9 @@ class Scenario(_Strict):
         if isinstance(known, str):
             return known
         dumped = self.model_dump(mode="json")
-        if not dumped.get("allowed_changes"):  # a field added later: scenarios without it keep their hash
-            dumped.pop("allowed_changes", None)
+        for later in ("allowed_changes", "equivalent_mutants"):  # fields added later: scenarios without
+            if not dumped.get(later):  # them keep their hash
+                dumped.pop(later, None)
         data = json.dumps(dumped, sort_keys=True, separators=(",", ":"))
         return hashlib.sha256(data.encode("utf-8")).hexdigest()[:16]
 

@@ -1,0 +1,196 @@
+"""The gate's generated mutants (which the checks must fail) and rewrites (which they must pass)."""
+
+from __future__ import annotations
+
+import functools
+from typing import Any
+
+import pytest
+
+from pare.bench.selftest import MutantVerdict, check_scenario
+from pare.scenarios.library import load_scenarios
+from pare.scenarios.loader import ScenarioError
+from pare.scenarios.model import Scenario
+from pare.scenarios.mutants import mutants, rewrites
+from tests.scenarios.helpers import base, parse
+
+
+@functools.cache
+def _library() -> dict[str, Scenario]:
+    return {scenario.id: scenario for scenario in load_scenarios(None)}
+
+
+def _played(scenario: Scenario) -> dict[str, MutantVerdict]:
+    verdict = check_scenario(scenario, runs=("oracle",), variants=False, mutants=True)
+    return {mutant.name: mutant for mutant in verdict.mutants}
+
+
+def test_mutants_are_named_by_operator_and_the_same_every_time() -> None:
+    scenario = _library()["dress_rehearsal_clashes_with_school_pickup"]
+    first = [(m.name, m.what, m.solution) for m in mutants(scenario)]
+    assert first == [(m.name, m.what, m.solution) for m in mutants(scenario)]
+    assert [name for name, _, _ in first] == [
+        "swap_person:1.1:user_id",
+        "shift_time:1.2:+1d",
+        "shift_time:1.2:+1h",
+        "drop_action:1.1",
+        "drop_action:1.2",
+    ]
+    # the other person is one of the seed's, and the user is never chosen
+    person = dict((name, what) for name, what, _ in first)["swap_person:1.1:user_id"]
+    swapped_to = person.rpartition(" -> ")[2]
+    assert swapped_to in scenario.seed["messaging"]["users"] and swapped_to != "user-jonas"
+    assert swapped_to != scenario.seed["messaging"]["current_user_id"]
+
+
+def test_a_shifted_time_moves_the_start_and_the_end_together() -> None:
+    scenario = _library()["dress_rehearsal_clashes_with_school_pickup"]
+    by_name = {m.name: m for m in mutants(scenario)}
+    [action] = [
+        a for a in by_name["shift_time:1.2:+1d"].solution.interventions[0].actions if "title" in a.args
+    ]
+    assert (action.args["start_datetime"], action.args["end_datetime"]) == ("day+3 17:00", "day+3 19:00")
+    [action] = [
+        a for a in by_name["shift_time:1.2:+1h"].solution.interventions[0].actions if "title" in a.args
+    ]
+    assert (action.args["start_datetime"], action.args["end_datetime"]) == ("day+2 18:00", "day+2 20:00")
+
+
+def test_wrong_person_day_hour_and_left_out_action_are_killed_and_rewrites_pass() -> None:
+    played = _played(_library()["dress_rehearsal_clashes_with_school_pickup"])
+    assert {name: m.outcome for name, m in played.items()} == {
+        "swap_person:1.1:user_id": "killed",
+        "shift_time:1.2:+1d": "killed",
+        "shift_time:1.2:+1h": "killed",
+        "drop_action:1.1": "killed",
+        "drop_action:1.2": "killed",
+        "reorder:1.1": "passed",
+        "time_phrasing:1.1:content": "passed",
+        "split_message:1.1": "passed",
+    }
+    assert played["drop_action:1.2"].detail.startswith("check failed: ")
+
+
+def test_rewrites_say_the_same_thing_another_way() -> None:
+    scenario = _library()["dress_rehearsal_clashes_with_school_pickup"]
+    by_name = {m.name: m for m in rewrites(scenario)}
+    oracle = scenario.oracle.interventions[0].actions
+    reordered = by_name["reorder:1.1"].solution.interventions[0].actions
+    assert [a.tool for a in reordered] == [a.tool for a in reversed(oracle)]
+    phrased = by_name["time_phrasing:1.1:content"].solution.interventions[0].actions[0].args["content"]
+    assert "Wednesday 5pm-7pm" in phrased and "at 5:15pm" in phrased and "17:" not in phrased
+    halves = by_name["split_message:1.1"].solution.interventions[0].actions[:2]
+    assert [a.tool for a in halves] == ["messaging__send_message"] * 2
+    assert " ".join(a.args["content"] for a in halves) == oracle[0].args["content"]
+
+
+def test_another_product_a_changed_quantity_and_an_extra_write_to_a_distractor_are_killed() -> None:
+    scenario = _library()["air_purifier_filter_substitute_within_spec"]
+    played = _played(scenario)
+    for name in ("extra_write:1.4:item_id", "swap_item:1.4:item_id", "change_number:1.4:quantity"):
+        assert played[name].outcome == "killed", (name, played[name])
+    # the extra write keeps the asked one and adds another on an item no right solution touches
+    extra = next(m for m in mutants(scenario) if m.name == "extra_write:1.4:item_id")
+    carted = [
+        a.args["item_id"] for a in extra.solution.interventions[0].actions if a.tool.endswith("add_to_cart")
+    ]
+    assert carted[0] == "ff-26-h13" and carted[1] != "ff-26-h13"
+
+
+def test_a_second_unasked_write_no_check_names_is_killed_by_side_effects() -> None:
+    played = _played(_library()["dry_cleaner_ready_thursday_pickup_reminder"])
+    extra = played["extra_write:1.1:reminder_id"]
+    assert extra.outcome == "killed"
+    assert extra.detail.startswith("side effect: changed reminder.reminders ")
+
+
+def test_another_file_of_the_seed_attached_is_killed() -> None:
+    scenario = _library()["accountant_asks_for_last_three_payslips"]
+    played = _played(scenario)
+    swapped = {name: m for name, m in played.items() if name.startswith("swap_file:")}
+    assert sorted(swapped) == [f"swap_file:1.1:attachments[{i}]" for i in range(3)]
+    assert all(m.outcome == "killed" for m in swapped.values()), swapped
+    assert played["split_message:1.1"].outcome == "passed"
+
+
+def test_an_email_kept_as_a_draft_is_killed() -> None:
+    scenario = _library()["bounced_email_typo_resend_to_contact"]
+    [draft] = [m for m in mutants(scenario) if m.operator == "send_as_draft"]
+    [saved] = [a for a in draft.solution.interventions[0].actions if a.tool == "email__save_draft"]
+    sent = next(a for a in scenario.oracle.interventions[0].actions if a.tool == "email__send_email")
+    assert saved.args == sent.args
+    assert _played(scenario)[draft.name].outcome == "killed"
+
+
+# -- a scenario whose checks leave the day open ----------------------------------------------------
+def _lunch(**extra: Any) -> Scenario:
+    """Tiny scenario: the assistant puts lunch with Ann in the calendar; the checks read only the title."""
+    data = base()
+    data["oracle"]["interventions"][0]["actions"] = [
+        {
+            "tool": "calendar__add_calendar_event",
+            "args": {
+                "title": "Lunch with Ann",
+                "start_datetime": "day+3 12:30",
+                "end_datetime": "day+3 13:30",
+            },
+        }
+    ]
+    data["goals"] = [
+        {
+            "id": "lunch",
+            "description": "Lunch is in the calendar.",
+            "checks": [
+                {
+                    "state": {
+                        "path": "calendar.events",
+                        "by": "assistant",
+                        "where": {"title": "Lunch with Ann"},
+                    }
+                }
+            ],
+        }
+    ]
+    data.update(extra)
+    return parse(data)
+
+
+def test_a_mutant_the_checks_miss_survives_unless_declared_with_a_reason() -> None:
+    reason = "Ann said any day this week works."
+    verdict = check_scenario(
+        _lunch(equivalent_mutants={"shift_time:1.1:+1d": reason}),
+        runs=("oracle",),
+        variants=False,
+        mutants=True,
+    )
+    outcomes = {m.name: (m.outcome, m.detail) for m in verdict.mutants}
+    assert outcomes["shift_time:1.1:+1d"] == ("declared", reason)
+    assert outcomes["shift_time:1.1:+1h"] == ("survived", "")
+    assert outcomes["drop_action:1.1"][0] == "killed"
+    assert all(run.ok for run in verdict.runs)  # the score is reported; it does not fail a run
+
+
+def test_a_declaration_the_checks_contradict_or_the_generator_never_makes_is_warned() -> None:
+    verdict = check_scenario(
+        _lunch(equivalent_mutants={"drop_action:1.1": "not needed", "swap_person:1.1:attendees": "old"}),
+        runs=("oracle",),
+        variants=False,
+        mutants=True,
+    )
+    assert any("'drop_action:1.1', which the checks kill" in line for line in verdict.warnings)
+    assert any("'swap_person:1.1:attendees', which is not generated" in line for line in verdict.warnings)
+
+
+@pytest.mark.parametrize(
+    ("declared", "problem"),
+    [
+        ({"shift_time:1.1:+1d": ""}, "at least 1 character"),
+        ({"shift_time": "a reason"}, "write <operator>:<where>"),
+        ({"shift_tim:1.1:+1d": "a reason"}, "unknown mutant operator 'shift_tim'"),
+        ({"reorder:1.1": "a reason"}, "a rewrite must pass"),
+    ],
+)
+def test_a_bad_declaration_is_refused_with_the_reason(declared: dict[str, str], problem: str) -> None:
+    with pytest.raises(ScenarioError) as error:
+        _lunch(equivalent_mutants=declared)
+    assert problem in str(error.value)
