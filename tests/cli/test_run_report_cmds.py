@@ -129,3 +129,27 @@ def test_plot_draws_the_robustness_figure(tmp_path: Path, capsys: pytest.Capture
     assert (tmp_path / "fig" / "robustness.png").read_bytes().startswith(b"\x89PNG")
     assert main(["plot", str(folder), "--x", "world.no_such_setting", "-o", str(tmp_path / "fig")]) == 2
     assert "world.no_such_setting" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("columns", [80, 200])
+def test_the_main_table_is_never_cut_at_the_consoles_width(
+    columns: int, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("COLUMNS", str(columns))
+    folder = tmp_path / "run"
+    assert main(["run", "--split", "smoke", "--runs", "1", "--output", str(folder), "--no-progress"]) == 0
+    shown_by_run = capsys.readouterr().out
+    assert main(["report", str(folder), "--section", "main", "--section", "decisions"]) == 0
+    shown_by_report = capsys.readouterr().out
+    for shown in (shown_by_run, shown_by_report):
+        assert "…" not in shown  # no header or cell cut short
+        assert all(len(line) <= columns for line in shown.splitlines())
+        headers = ("Success@1", "Success rate ± SE", "Acceptance rate ± SE", "Coverage")
+        if columns == 80:  # one block per configuration: each value beside its whole column name
+            for header in headers:
+                [line] = [line for line in shown.splitlines() if line.strip().startswith(header + " ")]
+                assert line.startswith("  ") and line.split(header, 1)[1].strip()
+        else:  # a table: the configuration and its values on one row
+            [row] = [line for line in shown.splitlines() if line.startswith("│") and "[100.0%" in line]
+            assert row.count("│") == 12  # all 11 columns of the main table
+    assert "Gather context" in shown_by_report

@@ -112,6 +112,11 @@ def test_review_accepts_into_the_library_and_sets_rejected_aside(
     ):
         assert part in shown, part
     assert "variant:takes_friday" in shown and "2 candidate(s) still waiting" in shown
+    # each goal shows its checks, not their number: the author's sentence, then what is looked for
+    flat = " ".join(shown.split())
+    assert "checks)" not in flat
+    assert "- One check-up, not a second one beside the old: calendar.events: exactly 1" in flat
+    assert "judged for: The email accepts the Thursday 08:00 slot" in flat
 
     assert main(["scenarios", "review", str(folder), "--reject", "dentist_copy"]) == 2
     assert "--reason" in capsys.readouterr().err

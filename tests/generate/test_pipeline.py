@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import json
+import re
 import shutil
 from pathlib import Path
 
 from pare.generate import generate, read_provenance
 from pare.generate.folder import OUTCOMES, TRANSCRIPTS, transcript_hash
+from pare.generate.prompts import STAGE_HEADINGS
 from pare.generate.sections import STAGE_KEYS, STAGES, split_sections
 from pare.scenarios import load_scenario
 from pare.testing import ChatServer, failure
@@ -88,10 +90,21 @@ def test_a_gate_breach_goes_back_and_is_repaired(server: ChatServer, tmp_path: P
     }
     seed_feedback = next(text for text in feedback if "seed stage" in text)
     assert "seed.email.emails[0].subjct: unknown field" in seed_feedback
+    assert "candidate.yaml" not in seed_feedback  # the joined file's line numbers mean nothing to the model
+    [marked] = [line for line in seed_feedback.splitlines() if line.lstrip().startswith("> |")]
+    assert "subjct: Roadmap review" in marked  # the offending line, quoted
     played = next(text for text in feedback if "events stage" in text)
     assert "[oracle] assistant call #6 calendar.edit_calendar_event failed: The event would end" in played
     gate_feedback = next(text for text in feedback if "validation stage" in text)
     assert "[variant:takes_friday]" in gate_feedback and "played" in gate_feedback
+    # the slack rule can be kept only knowing the turns: the played stages say them
+    assert re.search(r"Turns taken, of the 10 an episode has: the oracle \d+, the slow user", played)
+    validation_prompt = next(
+        request["messages"][1]["content"]
+        for request in server.requests
+        if request["messages"][1]["content"].startswith(STAGE_HEADINGS["validation"])
+    )
+    assert re.search(r"the oracle \d+, the slow user \(.*\) \d+", validation_prompt)
 
 
 def test_a_retold_library_story_is_dropped_with_the_judges_reason(

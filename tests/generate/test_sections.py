@@ -65,4 +65,31 @@ def test_one_mistake_goes_back_to_the_generator_once_with_its_places() -> None:
     assert scenario is None
     [problem] = problems
     assert "oracle.user[1].args.email_id, oracle.interventions[0].actions[0].args.email_id" in problem
-    assert problem.endswith("(2 places)")
+    assert problem.splitlines()[0].endswith("(2 places)")
+
+
+def test_a_loader_problem_quotes_its_line_instead_of_numbering_the_joined_file() -> None:
+    data = base()
+    data["seed"]["email"]["emails"][0]["subjct"] = "Typo"
+    sections = split_sections(to_yaml(data), ORDER).sections
+    _, [problem] = load_partial(sections, "seed")
+    assert "candidate.yaml" not in problem
+    assert "subjct" in problem.splitlines()[0]
+    assert "the `seed` section" in problem
+    [marked] = [line for line in problem.splitlines() if line.lstrip().startswith(">")]
+    assert "subjct: Typo" in marked
+    assert (
+        len([line for line in problem.splitlines() if " | " in line]) == 3
+    )  # the line and a neighbour each side
+
+
+def test_a_yaml_error_found_after_the_faulty_section_says_something_above_is_left_open() -> None:
+    sections = split_sections(to_yaml(base()), ORDER).sections
+    sections["user"] = "user: {persona: Busy parent, goal: [unclosed\n"
+    story = {key: text for key, text in sections.items() if key in STAGE_KEYS["story"]}
+    _, [problem] = load_partial(story, "story")
+    assert "not valid YAML" in problem
+    assert "stand-in for `oracle`" in problem and "left open" in problem
+    _, [problem] = load_partial(sections, "seed")
+    assert "where `seed` starts: something above it is left open" in problem
+    assert "goal: [unclosed" in problem

@@ -57,8 +57,9 @@ class Reminder(BaseModel):
         default=None, description="the last moment an occurrence may fall on; None repeats forever"
     )
     set_for: SimTime = Field(
+        json_schema_extra={"optional": True},  # _set_for_the_due_time fills it in: not required in seed data
         description="the due time as it was set (when added, or when someone last moved it): unlike "
-        "due_datetime, it stays put as a repeating reminder fires; the due time when left out"
+        "due_datetime, it stays put as a repeating reminder fires; the due time when left out",
     )
     announced: bool = Field(
         default=False,

@@ -16,14 +16,16 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+from rich.cells import cell_len
 from rich.console import Console
+from rich.padding import Padding
 from rich.table import Table
 
 from pare.bench.metrics import TOTAL, ConfigurationMetrics, Estimate, GroupMetrics, UsageSummary
 from pare.bench.records import DECISIONS, RESOLUTIONS
 from pare.bench.report_sections import SECTIONS as SECTIONS  # re-exported: reports are asked by section
 from pare.errors import UserInputError, did_you_mean
-from pare.terminal_text import plain_text
+from pare.terminal_text import plain_text, printable
 
 __all__ = [
     "SECTIONS",
@@ -320,6 +322,10 @@ def render_terminal(
     """Print the chosen sections as rich tables; coverage problems only when there are any. Every cell
     is text, never markup: labels, ids and failure messages come from run folders and providers.
 
+    A table whose cells do not fit the console on one line each (most CI logs are 80 columns) would have
+    its headers cut ("Succ…") and its values split: it is printed as one block per row instead, each
+    value beside its full column name.
+
     Raises:
         UserInputError: On an unknown section name.
     """
@@ -330,20 +336,69 @@ def render_terminal(
     for index, report in enumerate(tables):
         if index:
             console.print()
-        table = Table(
-            title=plain_text(report.title),
-            title_justify="left",
-            title_style=f"bold {report.style}" if report.style else "bold",
-            caption=plain_text(report.note),
-            caption_justify="left",
+        widths = _cell_widths(report)
+        if sum(widths) + _BORDERS_PER_COLUMN * len(widths) + 1 > console.width:
+            _print_blocks(report, console)
+        else:
+            console.print(_rich_table(report, widths))
+
+
+_BORDERS_PER_COLUMN = 3
+"""What a rich table adds to each column: a rule and a space either side."""
+
+
+def _cell_widths(report: _Report) -> list[int]:
+    """Each column's width: its widest cell, or its header's longest word. The table is drawn only when
+    every cell fits on one line (headers may wrap at their spaces): narrower, rich would cut headers to
+    "Succ…" and split values.
+    """
+    widths = [max(cell_len(word) for word in printable(column).split() or [""]) for column in report.columns]
+    for row in report.rows:
+        for position, cell in enumerate(row):
+            widths[position] = max(widths[position], cell_len(printable(cell)))
+    return widths
+
+
+def _rich_table(report: _Report, widths: Sequence[int]) -> Table:
+    table = Table(
+        title=plain_text(report.title),
+        title_justify="left",
+        title_style=_title_style(report),
+        caption=plain_text(report.note),
+        caption_justify="left",
+    )
+    for position, column in enumerate(report.columns):
+        table.add_column(
+            plain_text(column),
+            justify="left" if position < report.text_columns else "right",
+            min_width=widths[position],
         )
-        for position, column in enumerate(report.columns):
-            table.add_column(
-                plain_text(column), justify="left" if position < report.text_columns else "right"
-            )
-        for row, style in zip(report.rows, report.row_styles, strict=True):
-            table.add_row(*(plain_text(cell) for cell in row), style=style)
-        console.print(table)
+    for row, style in zip(report.rows, report.row_styles, strict=True):
+        table.add_row(*(plain_text(cell) for cell in row), style=style)
+    return table
+
+
+def _title_style(report: _Report) -> str:
+    return f"bold {report.style}" if report.style else "bold"
+
+
+def _print_blocks(report: _Report, console: Console) -> None:
+    """``report`` for a narrow console: its title, then per row a heading (the row's names) and one line
+    per other column, ``column  value``; the note last.
+    """
+    console.print(plain_text(report.title, _title_style(report)))
+    names = report.columns[report.text_columns :]
+    for row, style in zip(report.rows, report.row_styles, strict=True):
+        heading = " · ".join(cell for cell in row[: report.text_columns] if cell)
+        console.print(plain_text(heading, f"bold {style}" if style else "bold"))
+        lines = Table.grid(padding=(0, 2))
+        lines.add_column(style="dim")
+        lines.add_column(justify="left")
+        for name, cell in zip(names, row[report.text_columns :], strict=True):
+            lines.add_row(plain_text(name), plain_text(cell))
+        console.print(Padding(lines, (0, 0, 0, 2)))
+    if report.note:
+        console.print(plain_text(report.note, "dim"))
 
 
 def render_markdown(metrics: Sequence[ConfigurationMetrics], *, sections: Iterable[str] = SECTIONS) -> str:

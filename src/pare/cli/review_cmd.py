@@ -18,6 +18,7 @@ from rich.table import Table
 from pare.bench.selftest import check_scenario
 from pare.errors import UserInputError
 from pare.generate.review import PendingCandidate, accept, pending, reject
+from pare.scenarios.checks import check_sentences
 from pare.scenarios.library import BENCH_DIR
 from pare.scenarios.model import Scenario
 from pare.scenarios.times import parse_time
@@ -120,8 +121,11 @@ def show_candidate(candidate: PendingCandidate, console: Console) -> None:
         console.print(plain_text(f"  {event.id}: {event.tool} {_when(scenario, event)}"))
     _print_oracle(scenario, console)
     console.print("[bold]goals[/bold]:")
+    sentences = check_sentences(scenario)
     for goal in scenario.goals:
-        console.print(plain_text(f"  {goal.id}: {goal.description} ({len(goal.checks)} checks)"))
+        console.print(plain_text(f"  {goal.id}: {goal.description}"))
+        for sentence in sentences[goal.id]:
+            console.print(plain_text(f"    - {sentence}"))
     console.print("[bold]variants[/bold]:")
     for variant in scenario.variants:
         fails = f" (fails {', '.join(variant.fails)})" if variant.fails else ""

@@ -12,8 +12,10 @@ from __future__ import annotations
 from collections.abc import Collection, Mapping
 from dataclasses import dataclass
 
+from pare.bench.episode import EpisodeSettings
 from pare.bench.selftest import ScenarioVerdict, check_scenario
 from pare.generate.config import GenerateConfig
+from pare.generate.quoting import describe_problem
 from pare.generate.sections import STAGE_KEYS, STAGES, assemble, top_key
 from pare.scenarios.loader import ScenarioError, parse_scenario
 from pare.scenarios.model import Scenario
@@ -40,6 +42,32 @@ class StageCheck:
     scenario: Scenario | None = None
     verdict: ScenarioVerdict | None = None
 
+    @property
+    def turns(self) -> str:
+        """The turns the played runs took against the limit (empty when nothing was played)."""
+        return turns_taken(self.verdict) if self.verdict is not None else ""
+
+
+SLACK_RUNS: dict[str, str] = {
+    "oracle": "the oracle",
+    "slow_user": "the slow user (an extra step before each of the user's)",
+    "busy_user": "the busy user",
+}
+"""The runs whose turns the slack rule is about, as the generator is told them."""
+
+
+def turns_taken(verdict: ScenarioVerdict) -> str:
+    """One sentence: the turns each slack run took, of the episode's limit, so the slack can be judged."""
+    limit = EpisodeSettings().max_turns
+    taken = [
+        f"{SLACK_RUNS[run.run]} {run.turns}"
+        for run in verdict.runs
+        if run.run in SLACK_RUNS and run.turns is not None
+    ]
+    if not taken:
+        return ""
+    return f"Turns taken, of the {limit} an episode has: {', '.join(taken)}."
+
 
 def written_keys(stage: str) -> set[str]:
     """The top-level keys written by ``stage`` and the stages before it."""
@@ -57,7 +85,8 @@ def load_partial(sections: Mapping[str, str], stage: str) -> tuple[Scenario | No
     except ScenarioError as error:
         written = [problem for problem in error.problems if top_key(problem.path) in keys or not problem.path]
         # only the placeholders are wrong: nothing the stage can fix, so say it whole
-        return None, [str(group) for group in group_problems(written or error.problems)]
+        groups = group_problems(written or error.problems)
+        return None, [describe_problem(group, text, sections) for group in groups]
 
 
 def check_stage(

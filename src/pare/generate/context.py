@@ -9,6 +9,7 @@ import json
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from pare.apps.registry import get_app_class
 from pare.apps.screens import BACK, STAY
@@ -28,10 +29,46 @@ class Example:
     text: str
 
 
+REPEATED_DESCRIPTION = 120
+"""A description at least this long is written out once in the generator's schema; later places say
+where it is (the matcher's description alone is about 2,000 characters, at eight places)."""
+
+
 @functools.cache
 def schema_text() -> str:
-    """The JSON Schema of scenario files, compact (it travels in every stage's prompt)."""
-    return json.dumps(scenario_json_schema(), separators=(",", ":"), ensure_ascii=False)
+    """The JSON Schema of scenario files, compact (it travels in every stage's prompt), each long
+    description written once.
+    """
+    return json.dumps(describe_once(scenario_json_schema()), separators=(",", ":"), ensure_ascii=False)
+
+
+def describe_once(schema: Any) -> Any:
+    """``schema`` with each long description said at its first place only (later places read "Same as the
+    description of X.y.", ``$defs`` names and properties as a model reads them), and without the titles
+    that only repeat the name they are under.
+    """
+    first: dict[str, str] = {}
+
+    def walk(node: Any, place: tuple[str, ...]) -> Any:
+        if isinstance(node, list):
+            return [walk(item, place) for item in node]
+        if not isinstance(node, dict):
+            return node
+        copy: dict[str, Any] = {}
+        for key, value in node.items():
+            if key == "title" and place and value in (place[-1], place[-1].replace("_", " ").title()):
+                continue  # a title made from the name it is under says nothing more
+            if key == "description" and isinstance(value, str) and len(value) >= REPEATED_DESCRIPTION:
+                named = ".".join(place)
+                said = first.setdefault(value, named)
+                copy[key] = value if said == named else f"Same as the description of {said}."
+            elif key in ("$defs", "properties"):
+                copy[key] = {name: walk(item, (*place, name)) for name, item in value.items()}
+            else:
+                copy[key] = walk(value, place)
+        return copy
+
+    return walk(schema, ())
 
 
 def worked_example(
@@ -63,15 +100,13 @@ def app_reference(app: str) -> str:
     cls = get_app_class(app)
     lines = [f"### {cls.title} ({cls.name}): {cls.description}".rstrip(": ")]
     if cls.screens:
-        lines.append("User screens (root first); each action as `name(args) [kind] -> screen`:")
+        lines.append("User screens:")
         for screen in cls.screens:
             lines.append(f"- screen {screen.screen_name()}:")
             for spec in screen.actions.values():
                 targets = ", ".join({STAY: "(stay)", BACK: "(back)"}.get(t, t) for t in spec.leads_to)
                 lines.append(f"  - {spec.signature} [{spec.kind}] -> {targets}")
-    lines.append(
-        "Agent tools (assistant in execute mode: read and write; observe mode: read only; events: env):"
-    )
+    lines.append("Agent tools:")
     for spec in cls.tools.values():
         actors = ",".join(sorted(spec.actors))
         signature = spec.qualified_name + spec.signature[len(spec.name) :]
@@ -91,9 +126,17 @@ def seed_reference(app: str) -> str:
     return "\n".join(seed_format(app))
 
 
+REFERENCE_KEY = (
+    "How to read the apps below. User screens: root first; each user action as "
+    "`name(args) [kind] -> screen`. Agent tools: `app__tool(args) [kind; actors]` (the assistant in "
+    "execute mode reads and writes, in observe mode only reads; the world's events use the env tools)."
+)
+"""Said once above the apps' references, not in each app's."""
+
+
 def apps_reference(apps: Sequence[str], *, seed: bool, tools: bool) -> str:
     """The chosen apps' references (seed formats, screens and tools), with the phone's core apps' tools."""
-    parts = []
+    parts = [REFERENCE_KEY] if tools else []
     for app in apps:
         if tools:
             parts.append(app_reference(app))

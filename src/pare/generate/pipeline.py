@@ -98,6 +98,8 @@ class _Candidate:
     sections: dict[str, str] = field(default_factory=dict)
     attempts: dict[str, int] = field(default_factory=dict)
     hashes: dict[str, str] = field(default_factory=dict)
+    turns: str = ""
+    """What the runs played at the last finished stage took (the validation stage is told)."""
     started: float = field(default_factory=time.perf_counter)
 
 
@@ -161,6 +163,7 @@ async def _stage(
         difficulty=difficulty,
         difficulties=config.difficulty,
         taken=batch.taken_titles(),
+        turns=work.turns,
     )
     messages = [ChatMessage.system(batch.system), ChatMessage.user(prompt)]
     position = STAGES.index(stage)
@@ -175,7 +178,7 @@ async def _stage(
         split = split_sections(extract_yaml(answer.text), allowed)
         trial = {**work.sections, **split.sections}
         missing = [key for key in REQUIRED[stage] if key not in trial]
-        played = False
+        played, turns = False, ""
         if answer.cut_from is not None:  # a runaway answer: cut to the cap, never taken as sections
             problems = [
                 f"your answer was {answer.cut_from:,} characters long, more than the generator may write, "
@@ -187,7 +190,7 @@ async def _stage(
             check = await asyncio.to_thread(
                 check_stage, stage, trial, config, taken_ids=frozenset(batch.taken_ids)
             )
-            problems, played = check.problems, check.played
+            problems, played, turns = check.problems, check.played, check.turns
             if not problems and stage == "story" and check.scenario is not None:
                 if check.scenario.id in batch.taken_ids:  # taken by a candidate in flight meanwhile
                     problems = [f"id: '{check.scenario.id}' is taken by another scenario; choose another"]
@@ -195,13 +198,16 @@ async def _stage(
                     batch.taken_ids.add(check.scenario.id)
             if not problems:
                 work.sections = trial
+                work.turns = check.turns
                 return check, [message.to_openai() for message in messages]
         if attempt <= config.stage_retries:
             left = config.stage_retries - attempt + 1
             shown = list(problems[:MAX_PROBLEMS])
             if len(problems) > MAX_PROBLEMS:
                 shown.append(f"... and {len(problems) - MAX_PROBLEMS} more")
-            messages.append(ChatMessage.user(feedback_prompt(stage, shown, played=played, left=left)))
+            messages.append(
+                ChatMessage.user(feedback_prompt(stage, shown, played=played, left=left, turns=turns))
+            )
     raise StageFailed(
         stage, problems, [message.to_openai() for message in messages], config.stage_retries + 1
     )

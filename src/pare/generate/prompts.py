@@ -56,9 +56,10 @@ def stage_prompt(
     difficulty: str | None = None,
     difficulties: Sequence[str] = (),
     taken: Sequence[str] = (),
+    turns: str = "",
 ) -> str:
     """The first message of ``stage``: what it must write, with what it needs (earlier sections, the apps'
-    seed formats, screens and tools).
+    seed formats, screens and tools, and ``turns``: what the runs played so far took).
     """
     if stage == "story":
         return render(
@@ -74,11 +75,13 @@ def stage_prompt(
             taken=taken,
         )
     reference = apps_reference(apps, seed=stage != "events", tools=stage != "seed")
-    return render(f"{stage}.j2", apps=apps, candidate=candidate, reference=reference)
+    return render(f"{stage}.j2", apps=apps, candidate=candidate, reference=reference, turns=turns)
 
 
-def feedback_prompt(stage: str, problems: Sequence[str], *, played: bool, left: int) -> str:
-    """What goes back to the model when a stage's answer has problems."""
+def feedback_prompt(stage: str, problems: Sequence[str], *, played: bool, left: int, turns: str = "") -> str:
+    """What goes back to the model when a stage's answer has problems (with ``turns``, the turns the
+    played runs took).
+    """
     position = STAGES.index(stage)
     earlier = [key for previous in STAGES[1:position] for key in STAGE_KEYS[previous]]
     return render(
@@ -89,6 +92,7 @@ def feedback_prompt(stage: str, problems: Sequence[str], *, played: bool, left: 
         keys=STAGE_KEYS[stage],
         earlier=earlier,
         left=left,
+        turns=turns,
     )
 
 

@@ -341,6 +341,10 @@ class _Rule(ABC):
         :mod:`pare.scenarios.explain`). Callers that need only the verdict pass ``explain=False``.
         """
 
+    @abstractmethod
+    def wanted(self) -> str:
+        """What the check looks for, as its verdicts say it (for a person reading the scenario)."""
+
 
 class _ActionRule(_Rule):
     def __init__(self, check: Check, action: ActionCheck, start: datetime) -> None:
@@ -348,6 +352,9 @@ class _ActionRule(_Rule):
         self.pattern = _Pattern(action, start)
         self.count = as_count(action.count, _AT_LEAST_ONE)
         self.counted = self.count.describe()
+
+    def wanted(self) -> str:
+        return f"{self.counted} {self.pattern.own_text}"
 
     def verdict(self, context: _Context, *, explain: bool = True) -> tuple[bool, str]:
         log = context.log
@@ -372,6 +379,9 @@ class _NoActionRule(_Rule):
         self.pattern = CompiledPattern.of(pattern, start)
         self.described = self.pattern.describe()
 
+    def wanted(self) -> str:
+        return f"no {self.described}"
+
     def verdict(self, context: _Context, *, explain: bool = True) -> tuple[bool, str]:
         found = self.pattern.find(context.log, context.reader)
         if not found:
@@ -393,6 +403,12 @@ class _StateRule(_Rule):
         self.counted = self.count.describe()
         self.read = self.where.read()
         """The item fields the check reads: what an actor must have written for an item to be its work."""
+
+    def wanted(self) -> str:
+        made = f", made by the {self.state.by}" if self.state.by is not None else ""
+        if self.value is not None:
+            return f"{self.state.path} matches {self.value_text}{made}"
+        return f"{self.state.path}: {self.counted} items matching {self.condition}{made}"
 
     def verdict(self, context: _Context, *, explain: bool = True) -> tuple[bool, str]:
         check, start, view = self.state, context.start, context.state
@@ -487,6 +503,13 @@ class _JudgeRule(_Rule):
         self.fallback = compile_matcher(judge.fallback)
         self.fallback_text = self.fallback.describe()
 
+    def wanted(self) -> str:
+        check = self.judge
+        return (
+            f"'{check.field}' of {self.pattern.own_text} judged for: {check.criterion} "
+            f"(without a judge model: {self.fallback_text})"
+        )
+
     def verdict(self, context: _Context, *, explain: bool = True) -> tuple[bool, str]:
         check = self.judge
         pattern, described = self.pattern.of(context)
@@ -567,6 +590,19 @@ class CompiledGoals:
 _COMPILED: dict[int, tuple[Scenario, CompiledGoals]] = {}
 """Each scenario's compiled goals, by the scenario object's id (kept with it, so the id is not reused
 while the entry lives). A scenario is immutable once loaded; a changed copy is another object."""
+
+
+def check_sentences(scenario: Scenario) -> dict[str, list[str]]:
+    """Each goal's checks as sentences, by goal id: the check's own ``description`` when it has one, then
+    what the check looks for (``pare scenarios review`` shows them).
+    """
+    sentences: dict[str, list[str]] = {}
+    for goal, rules in compiled_goals(scenario).goals:
+        sentences[goal.id] = [
+            f"{rule.description.rstrip('. ')}: {rule.wanted()}" if rule.description else rule.wanted()
+            for rule in rules
+        ]
+    return sentences
 
 
 def compiled_goals(scenario: Scenario) -> CompiledGoals:

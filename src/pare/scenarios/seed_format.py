@@ -89,7 +89,7 @@ def _type(annotation: Any) -> str:
 
 def _notes(info: FieldInfo, annotation: Any) -> list[str]:
     parts = []
-    if info.is_required():
+    if info.is_required() and not _filled_in(info):
         parts.append("required")
     elif info.default is not PydanticUndefined and info.default not in (None, [], {}, ""):
         default = info.default.value if isinstance(info.default, Enum) else info.default
@@ -99,6 +99,14 @@ def _notes(info: FieldInfo, annotation: Any) -> list[str]:
     if info.description:
         parts.append(info.description)
     return parts
+
+
+def _filled_in(info: FieldInfo) -> bool:
+    """Whether a field without a default is filled in by its model when left out (it says so with
+    ``json_schema_extra={"optional": True}``; its description says with what).
+    """
+    extra = info.json_schema_extra
+    return isinstance(extra, dict) and extra.get("optional") is True
 
 
 def _mentions_time(annotation: Any) -> bool:
