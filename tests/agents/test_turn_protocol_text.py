@@ -17,7 +17,9 @@ from pare.agents.prompts import example_for, observe_system_prompt, user_system_
 from pare.agents.scripted import ScriptedModel
 from pare.bench import EpisodeSettings, run_episode
 from pare.bench.episode import EpisodeResult, duration_words
+from pare.bench.runconfig import ProtocolSettings
 from pare.env import Environment
+from pare.sim.budget import DEFAULT_BUDGET
 from tests.agents.test_scripted_actors import WAIT_ASSISTANT, WAIT_USER
 from tests.scenarios.helpers import base, parse
 
@@ -46,11 +48,13 @@ ASSISTANT = [
 
 
 def _play(
-    max_turns: int, user_script: list[str] = USER, assistant_script: list[str] = ASSISTANT
+    max_turns: int, user_script: list[str] = USER, assistant_script: list[str] = ASSISTANT, ttl: int = 3
 ) -> tuple[LLMUser, LLMAssistant, EpisodeResult]:
     user = LLMUser(ScriptedModel(list(user_script), fallback=WAIT_USER))
     assistant = LLMAssistant(ScriptedModel(list(assistant_script), fallback=WAIT_ASSISTANT))
-    result = run_episode(SCENARIO, user, assistant, EpisodeSettings(max_turns=max_turns))
+    result = run_episode(
+        SCENARIO, user, assistant, EpisodeSettings(max_turns=max_turns, proposal_ttl_turns=ttl)
+    )
     return user, assistant, result
 
 
@@ -110,6 +114,18 @@ def test_the_pending_proposal_shows_the_turns_left_and_is_withdrawn_after_the_la
     assert result.expired_at == {"proposal-1": 5}
     views = [step.view for step in result.steps if step.view is not None]
     assert [view.get("proposal_turns_left") for view in views] == [None, None, 3, 2, 1]
+
+
+def test_a_proposal_waits_four_turns_by_default_and_the_prompts_say_so() -> None:
+    # checking one thing in another app takes three actions (home, open the app, open the item): four
+    # turns leave room for the answer after it
+    assert EpisodeSettings().proposal_ttl_turns == 4 == EpisodeSettings().budget().proposal_ttl_turns
+    assert ProtocolSettings().proposal_ttl_turns == 4 == DEFAULT_BUDGET.proposal_ttl_turns
+    env = Environment(["email"])
+    assert "A proposal waits 4 turns for your answer" in " ".join(user_system_prompt(env).split())
+    assert "answer it in the 4 turns after the one you proposed in" in " ".join(
+        observe_system_prompt(env).split()
+    )
 
 
 def test_execution_is_told_after_the_acceptance_with_every_call_in_order() -> None:

@@ -75,8 +75,10 @@ class EpisodeSettings(BaseModel):
     execute_steps: int = Field(
         default=10, ge=1, le=MAX_STEPS, description="Assistant actions to carry out an accepted task."
     )
+    # 4, not 3: checking "the one thing you need first" in another app takes three actions (home, open the
+    # app, open the item) before the answer; docs/what-models-see.md, "How long a proposal waits"
     proposal_ttl_turns: int = Field(
-        default=3,
+        default=4,
         ge=1,
         le=MAX_TURNS,
         description="Turns a proposal may wait for an answer before it expires.",
