@@ -24,7 +24,7 @@ BUDGETS = (DEFAULT_BUDGET, TurnBudget(max_turns=4, user_steps=2, proposal_ttl_tu
 
 def _direct(role: str, env: Environment, native_tools: bool, **context: Any) -> str:
     """The role's template rendered with every value, as prompts were before skeletons."""
-    context.update(apps=prompts._apps(env), example=prompts._EXAMPLES[role], native_tools=native_tools)
+    context.update(apps=prompts._apps(env), example=prompts.example_for(env, role), native_tools=native_tools)
     text: str = prompts._templates().get_template(f"{role}.j2").render(**context)
     return text.strip() + "\n"
 

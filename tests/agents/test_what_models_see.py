@@ -65,12 +65,12 @@ def test_each_actor_is_told_its_budget_and_the_life_of_a_proposal() -> None:
     user = user_system_prompt(_env(), budget=budget)
     flat_user = " ".join(user.split())
     assert "the session lasts 7 turns: then it ends, whatever is unfinished" in flat_user
-    assert "A proposal waits 2 turns for your answer; unanswered, it is withdrawn" in flat_user
+    assert "A proposal waits 2 turns for your answer, and shows how many it has left" in flat_user
     assert "If you cannot judge it yet" in flat_user and "reject it" in flat_user
     observe = " ".join(observe_system_prompt(_env(), budget=budget).split())
     assert "Your turn ends when you propose or wait, or after 4 actions" in observe
     assert "the session lasts 7 turns" in observe
-    assert "Unanswered for 2 turns: it is withdrawn" in observe
+    assert "Unanswered: the user can answer it in the 2 turns after the one you proposed in" in observe
     assert "Rejected: nothing is done" in observe
     execute = " ".join(
         execute_system_prompt(_env(), Task("Reply to Ann.", "", "proposal-1"), max_steps=6).split()
@@ -178,5 +178,5 @@ def test_an_expired_proposal_is_announced_to_the_user_and_the_next_one_shown_onc
     env.agent_ui.expire_pending()
     env.call("assistant", "agent_ui__send_message_to_user", {"content": "Reply to Ann: no."}, mode="observe")
     text = env.user_view().render()
-    assert "withdrew its proposal, which you did not answer" in text and "Reply to Ann: yes." in text
+    assert "withdrew its proposal: its last turn to answer ended" in text and "Reply to Ann: yes." in text
     assert text.count("Reply to Ann: no.") == 1

@@ -17,9 +17,9 @@ from typing import Any, Protocol
 from pare.agents.actions import parse_action, parse_tool_arguments
 from pare.agents.models.reasoning import join_reasoning, split_reasoning
 from pare.agents.models.types import ChatMessage, Completion
-from pare.agents.policy import Action, AssistantPolicy, Task, UserPolicy
+from pare.agents.policy import Action, AssistantPolicy, Ending, Task, UserPolicy
 from pare.agents.prompts import execute_system_prompt, observe_system_prompt, user_system_prompt
-from pare.env import AssistantObservation, Environment, NamedTool, ToolResult, UserView
+from pare.env import AssistantObservation, Environment, NamedTool, ToolResult, TurnMark, UserView
 from pare.errors import ActionFormatError
 from pare.sim.budget import DEFAULT_BUDGET, TurnBudget
 from pare.sim.log import AssistantMode
@@ -178,6 +178,17 @@ class LLMUser(UserPolicy):
         self.conversation.tell(_observation_text(previous, view.render(self.described)))
         return await self.conversation.decide(view.tools)
 
+    def finish(self, ending: Ending, previous: ToolResult | None, notifications: list[str]) -> str | None:
+        """End the conversation with the last action's result, what arrived since and the end itself."""
+        lines = []
+        if notifications:
+            lines.append("New notifications:")
+            lines.extend(f"- {notification}" for notification in notifications)
+        lines.append(ending.text())
+        text = _observation_text(previous, "\n".join(lines))
+        self.conversation.tell(text)
+        return text
+
 
 class LLMAssistant(AssistantPolicy):
     """The proactive assistant: an observe conversation that lasts the episode, and a fresh execute
@@ -199,11 +210,17 @@ class LLMAssistant(AssistantPolicy):
         self.execute_steps = DEFAULT_BUDGET.execute_steps
         """What execute mode's prompt says it may take: the turn loop's limit, given to :meth:`start`."""
         self.env: Environment | None = None
+        self.observe_budget = DEFAULT_BUDGET.observe_steps
+        self._turn: TurnMark | None = None
+        """The turn observe mode is in, from the turn's first observation."""
+        self._steps_taken = 0
+        """Actions taken so far in the current observe turn, or for the current task in execute mode."""
 
     def start(self, env: Environment, budget: TurnBudget = DEFAULT_BUDGET) -> None:
         """Write the observe-mode system prompt for this episode's phone."""
         self.env = env
         self.execute_steps = budget.execute_steps
+        self.observe_budget = budget.observe_steps
         self.observer.reset(
             observe_system_prompt(env, native_tools=self.observer.native_tools, budget=budget)
         )
@@ -211,8 +228,26 @@ class LLMAssistant(AssistantPolicy):
     async def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
         """Show the model what happened (and its last action's result); take its next action."""
         self._env()  # fails clearly when start() was not called
-        self.observer.tell(_observation_text(previous, observation.render() if observation else ""))
+        if observation is not None:
+            self._turn = observation.turn
+            self._steps_taken = 0
+            body = observation.render()
+        else:  # a later action of the same turn: where it stands in the turn
+            turn = f"Turn {self._turn.turn} of {self._turn.of}; " if self._turn is not None else ""
+            body = f"{turn}action {self._steps_taken + 1} of {self.observe_budget} this turn."
+        self._steps_taken += 1
+        self.observer.tell(_observation_text(previous, body))
         return await self.observer.decide(self._tools(self.observer, "observe"))
+
+    def finish(
+        self, ending: Ending, observation: AssistantObservation, previous: ToolResult | None
+    ) -> str | None:
+        """End the observe conversation with its last action's result, what happened since it last
+        looked, and the end itself.
+        """
+        text = _observation_text(previous, f"{observation.render()}\n{ending.text()}")
+        self.observer.tell(text)
+        return text
 
     async def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
         """Carry out the accepted task in a fresh conversation."""
@@ -222,9 +257,13 @@ class LLMAssistant(AssistantPolicy):
                 env, task, max_steps=self.execute_steps, native_tools=self.executor.native_tools
             )
             self.executor.reset(prompt)
-            self.executor.tell(EXECUTE_OPENING)
+            self._steps_taken = 0
+        self._steps_taken += 1
+        count = f"Action {self._steps_taken} of {self.execute_steps}."
+        if task is not None:
+            self.executor.tell(f"{EXECUTE_OPENING}\n\n{count}")
         else:
-            self.executor.tell(_observation_text(previous))
+            self.executor.tell(_observation_text(previous, count))
         return await self.executor.decide(self._tools(self.executor, "execute"))
 
     def _tools(self, conversation: Conversation, mode: AssistantMode) -> Sequence[NamedTool]:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 
 from pare.env import AssistantObservation, Environment, ToolResult, UserView
 from pare.sim.budget import DEFAULT_BUDGET as DEFAULT_BUDGET  # re-exported: the actors are told it
@@ -65,6 +65,33 @@ class Task:
     proposal_id: str
 
 
+EndReason = Literal["max_turns", "idle", "context_limit"]
+"""Why an episode ended: its turn limit, nothing left to happen, or a prompt beyond a model's context."""
+
+_ENDINGS: dict[EndReason, str] = {
+    "max_turns": "that was its last turn",
+    "idle": "nothing more was going to happen",
+    "context_limit": "a conversation grew longer than its model can read",
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Ending:
+    """How an episode ended, as the closing observation tells each actor."""
+
+    turn: int
+    """The last turn played."""
+    max_turns: int
+    reason: EndReason
+
+    def text(self) -> str:
+        """The closing sentence: the session is over, after which turn, and why."""
+        return (
+            f"The session is over after turn {self.turn} of {self.max_turns}: {_ENDINGS[self.reason]}. "
+            "Nothing more will happen and no answer is expected."
+        )
+
+
 class UserPolicy(ABC):
     """Plays the user: one action per call, from the user's view of the phone."""
 
@@ -76,6 +103,13 @@ class UserPolicy(ABC):
     @abstractmethod
     async def step(self, view: UserView, previous: ToolResult | None) -> Action:
         """The next action, given what the user sees and the result of the previous action."""
+
+    def finish(self, ending: Ending, previous: ToolResult | None, notifications: list[str]) -> str | None:
+        """Called once after the last turn, with the result of the user's last action and the
+        notifications that came after it; a model-backed user ends its conversation with them (no model
+        call) and returns the text it added. Others return ``None``.
+        """
+        return None
 
 
 class AssistantPolicy(ABC):
@@ -97,6 +131,15 @@ class AssistantPolicy(ABC):
         """Execute mode: ``task`` is given on the first step (then ``None``); any app tool, ending with
         a report through ``agent_ui__send_message_to_user``.
         """
+
+    def finish(
+        self, ending: Ending, observation: AssistantObservation, previous: ToolResult | None
+    ) -> str | None:
+        """Called once after the last turn, with what happened since observe mode last looked and the
+        result of its last action; a model-backed assistant ends its observe conversation with them (no
+        model call) and returns the text it added. Others return ``None``.
+        """
+        return None
 
 
 class SilentUser(UserPolicy):

@@ -14,7 +14,7 @@ import re
 from collections.abc import Hashable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import jinja2
 
@@ -71,24 +71,102 @@ def example_answer(thought: str, tool: str, args: dict[str, Any]) -> str:
     return f"Thought: {thought}\n\nAction:\n{action}<end_action>"
 
 
-_EXAMPLES = {
-    "user": example_answer(
-        "A new email notification came in; I want to read it, so I open the email app.",
-        "open_app",
-        {"app_name": "email"},
+Role = Literal["user", "observe", "execute"]
+
+
+@dataclass(frozen=True, slots=True)
+class _Example:
+    """An example answer a prompt may show: a call of ``tool`` with arguments in the tool's own formats."""
+
+    thought: str
+    tool: str
+    args: dict[str, Any]
+
+    def answer(self) -> str:
+        return example_answer(self.thought, self.tool, self.args)
+
+
+_ASSISTANT_EXAMPLES: dict[str, tuple[_Example, ...]] = {
+    "observe": (
+        _Example(
+            "The user received an invitation for Friday 7 March; I check the calendar for that day before "
+            "proposing.",
+            "calendar__get_calendar_events_from_to",
+            {"start_datetime": "2025-03-07 00:00", "end_datetime": "2025-03-07 23:59"},
+        ),
+        _Example(
+            "A new email asks about Friday's dinner; I look for earlier emails about it before proposing.",
+            "email__search_emails",
+            {"query": "dinner friday"},
+        ),
+        _Example(
+            "A message mentions the weekend plans; I search the conversations for them before proposing.",
+            "messaging__search",
+            {"query": "weekend"},
+        ),
+        _Example(
+            "The user is looking at groceries; I check what is in the cart first.", "shopping__list_cart", {}
+        ),
+        _Example(
+            "The user is searching for a flat; I check which flats they saved first.",
+            "apartment__list_saved_apartments",
+            {},
+        ),
+        _Example(
+            "A note may hold what the user needs; I search the notes.",
+            "notes__search_notes",
+            {"query": "list"},
+        ),
     ),
-    "observe": example_answer(
-        "The user received an invitation for Friday; I check the calendar for that day before proposing.",
-        "calendar__get_calendar_events_from_to",
-        {"start_datetime": "2025-03-07 00:00:00", "end_datetime": "2025-03-07 23:59:00"},
-    ),
-    "execute": example_answer(
-        "I need the email's sender and id before I reply.",
-        "email__search_emails",
-        {"query": "dinner friday"},
+    "execute": (
+        _Example(
+            "I need the email's sender and id before I reply.",
+            "email__search_emails",
+            {"query": "dinner friday"},
+        ),
+        _Example(
+            "I need the conversation's id before I write to it.", "messaging__search", {"query": "weekend"}
+        ),
+        _Example("I need the event's id before I move it.", "calendar__search_events", {"query": "dentist"}),
+        _Example(
+            "I need the product's item id before I add it to the cart.",
+            "shopping__search_product",
+            {"product_name": "coffee"},
+        ),
+        _Example("I need the note's id before I change it.", "notes__search_notes", {"query": "list"}),
     ),
 }
-"""The example answer each role's prompt shows."""
+"""The example answers the assistant's prompts may show, in order of preference: a prompt shows the first
+whose tool the phone has (the files app, which every phone has, is the last resort)."""
+
+_FILES_EXAMPLE = _Example("I look at the user's files first.", "files__list_directory", {"path": "/"})
+
+_EXAMPLES: dict[tuple[Role, tuple[type[App], ...]], str] = {}
+
+
+def example_for(env: Environment, role: Role) -> str:
+    """The example answer ``role``'s prompt shows on ``env``'s phone: a call of a tool the role has on it,
+    with arguments in the tool's own formats (chosen once per set of apps).
+    """
+    key = (role, _phone(env))
+    example = _EXAMPLES.get(key)
+    if example is None:
+        example = _EXAMPLES[key] = _choose_example(env, role).answer()
+    return example
+
+
+def _choose_example(env: Environment, role: Role) -> _Example:
+    if role == "user":
+        app = next((line.name for line in _apps(env) if line.name != "files"), "files")
+        return _Example(
+            f"A new {app} notification came in; I want to see it, so I open the {app} app.",
+            "open_app",
+            {"app_name": app},
+        )
+    available = {tool.name for tool in env.assistant_tools(role)}
+    return next(
+        (example for example in _ASSISTANT_EXAMPLES[role] if example.tool in available), _FILES_EXAMPLE
+    )
 
 
 def _now(env: Environment) -> str:
@@ -193,9 +271,17 @@ _USER_NOTIFICATIONS: dict[DetailLevel, str] = {
 }
 
 
+_WHOLE_FOR_THE_USER = (
+    " Your assistant's messages to you (its reports, and the notice that a proposal was withdrawn) are"
+    " always shown in full."
+)
+"""What arrives whole whatever the user's level: the notifications posted ``always_full``."""
+
+
 def _user_notifications(env: Environment) -> str:
     policy = env.config.notifications
-    return _USER_NOTIFICATIONS[policy.user].format(words=policy.preview_words)
+    text = _USER_NOTIFICATIONS[policy.user].format(words=policy.preview_words)
+    return text if policy.user == "full" else text + _WHOLE_FOR_THE_USER
 
 
 def _assistant_notifications(env: Environment) -> str:
@@ -221,7 +307,7 @@ def user_system_prompt(
         apps=_apps(env),
         budget=budget,
         notification_policy=_user_notifications(env),
-        example=_EXAMPLES["user"],
+        example=example_for(env, "user"),
     )
 
 
@@ -240,7 +326,7 @@ def observe_system_prompt(
         wait_tool=ASSISTANT_WAIT,
         tools=_assistant_tool_lists(env).observe,
         execute_tools=_assistant_tool_lists(env).execute_only,
-        example=_EXAMPLES["observe"],
+        example=example_for(env, "observe"),
     )
 
 
@@ -254,7 +340,7 @@ def execute_system_prompt(env: Environment, task: Task, *, max_steps: int, nativ
         report_tool=SEND_MESSAGE,
         max_steps=max_steps,
         tools=_assistant_tool_lists(env).execute,
-        example=_EXAMPLES["execute"],
+        example=example_for(env, "execute"),
     )
 
 

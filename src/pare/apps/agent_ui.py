@@ -137,7 +137,7 @@ class AgentUIApp(App):
         if status == "expired":  # the user is told it is gone, so that a later proposal is not a surprise
             self.notify(
                 "proposal_expired",
-                "Your assistant withdrew its proposal, which you did not answer",
+                "Your assistant withdrew its proposal: its last turn to answer ended without an answer",
                 body=proposal.content,
                 recipients=("user",),
                 always_full=True,

@@ -20,7 +20,7 @@ assistant's email) are delivered, up to ``reaction_horizon`` after the end, with
 from __future__ import annotations
 
 import asyncio
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from datetime import datetime, timedelta
 from typing import Any, Literal
 
@@ -32,13 +32,15 @@ from pare.agents.policy import (
     WAIT,
     Action,
     AssistantPolicy,
+    Ending,
+    EndReason,
     Task,
     TurnBudget,
     UserPolicy,
 )
 from pare.bench.envelope import expected_envelope
 from pare.bench.state_diff import state_changes
-from pare.env import EnvConfig, Environment, ToolResult, UserView
+from pare.env import AssistantObservation, EnvConfig, Environment, ToolResult, TurnMark, UserView
 from pare.errors import ModelRequestError
 from pare.scenarios.build import build_environment
 from pare.scenarios.checks import Judge, Outcome, evaluate, goals_met
@@ -47,8 +49,6 @@ from pare.scenarios.side_effects import Change, assistant_changes
 from pare.sim.log import AssistantMode, LogEntry
 from pare.sim.noise import NOISE_EVENT_PREFIX
 
-EndReason = Literal["max_turns", "idle", "context_limit"]
-"""Why an episode ended: its turn limit, nothing left to happen, or a prompt beyond a model's context."""
 StepActor = Literal["user", "assistant"]
 
 
@@ -75,8 +75,10 @@ class EpisodeSettings(BaseModel):
     execute_steps: int = Field(
         default=10, ge=1, le=MAX_STEPS, description="Assistant actions to carry out an accepted task."
     )
+    # 4, not 3: checking "the one thing you need first" in another app takes three actions (home, open the
+    # app, open the item) before the answer; docs/what-models-see.md, "How long a proposal waits"
     proposal_ttl_turns: int = Field(
-        default=3,
+        default=4,
         ge=1,
         le=MAX_TURNS,
         description="Turns a proposal may wait for an answer before it expires.",
@@ -150,9 +152,10 @@ class Step:
 
 def view_record(view: UserView) -> dict[str, Any]:
     """What a trajectory keeps of the user's view: the app and screen, what changed on it, the
-    notifications as truncated for the user, the pending proposal and the actions on offer.
+    notifications as truncated for the user, the pending proposal (and the turns left to answer it) and
+    the actions on offer, and why the clock jumped to this turn when it did.
     """
-    return {
+    record: dict[str, Any] = {
         "time": view.time,
         "app": view.app,
         "screen": view.screen,
@@ -162,6 +165,11 @@ def view_record(view: UserView) -> dict[str, Any]:
         "pending_proposal": view.pending_proposal,
         "tools": view.tool_names,
     }
+    if view.proposal_turns_left is not None:
+        record["proposal_turns_left"] = view.proposal_turns_left
+    if view.turn is not None and view.turn.clock_jump is not None:
+        record["clock_jump"] = view.turn.clock_jump
+    return record
 
 
 @dataclass(frozen=True, slots=True)
@@ -214,6 +222,9 @@ class EpisodeResult:
     changes: list[Change] = field(default_factory=list)
     """What the assistant changed in the apps' data (:func:`~pare.scenarios.side_effects.assistant_changes`);
     those no solution of the scenario makes are the outcome's side effects."""
+    closing: dict[str, str] = field(default_factory=dict)
+    """The closing observation that ended each model-backed actor's conversation, by role (``user``,
+    ``assistant``); actors without a conversation have none."""
 
     @property
     def success(self) -> bool:
@@ -222,7 +233,8 @@ class EpisodeResult:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready form: settings-independent facts, the steps, the log and the verdict
-        (``after_last_turn`` only when replies were set in motion by then).
+        (``after_last_turn`` only when replies were set in motion by then, ``closing`` only for actors
+        that keep a conversation).
         """
         data: dict[str, Any] = {
             "scenario_id": self.scenario_id,
@@ -239,6 +251,8 @@ class EpisodeResult:
         }
         if self.after_last_turn is not None:
             data["after_last_turn"] = self.after_last_turn.to_dict()
+        if self.closing:
+            data["closing"] = dict(self.closing)
         return data
 
 
@@ -287,6 +301,23 @@ def run_episode(
     return played[0]
 
 
+JUMP_ALL_WAITED = "nothing was happening until the next event"
+"""Why the clock jumped when the user and the assistant both waited."""
+JUMP_NOTHING_NEW = "nothing new had arrived for a while, so the day moved on to the next event"
+"""Why the clock jumped when the user kept using the phone with nothing new (``attention_turns``)."""
+
+
+def duration_words(span: timedelta) -> str:
+    """``span`` in words to the minute, e.g. ``1 hour 5 minutes`` (``less than a minute`` below one)."""
+    minutes = int(span.total_seconds() // 60)
+    if minutes < 1:
+        return "less than a minute"
+    days, rest = divmod(minutes, 24 * 60)
+    hours, minutes = divmod(rest, 60)
+    parts = [(days, "day"), (hours, "hour"), (minutes, "minute")]
+    return " ".join(f"{count} {unit}{'s' if count != 1 else ''}" for count, unit in parts if count)
+
+
 def _from_the_story(entry: LogEntry) -> bool:
     """Whether ``entry`` is the world acting on the scenario's timeline: a scheduled event or an app's
     wakeup (a reminder falling due), not a distractor.
@@ -320,6 +351,9 @@ class _Episode:
         """The last turn in which something arrived from the world (the start counts as turn 1)."""
         self.user_previous: ToolResult | None = None
         self.assistant_previous: ToolResult | None = None
+        self.mark = TurnMark(0, settings.max_turns)
+        """The turn under way as the actors are told it; its clock jump goes to each actor's first look."""
+        self.jump_told: set[StepActor] = set()
 
     async def run(self, judge: Judge | None, *, side_effects: bool) -> EpisodeResult:
         env = self.env
@@ -332,6 +366,7 @@ class _Episode:
             if error.kind != "context_length":
                 raise
             ended = "context_limit"  # the model cannot take the episode further: judge what it achieved
+        closing = self._close(ended)
         # The order matters: the world's pending replies first, then the final state, then the checks.
         after = self._after_last_turn()
         final = env.snapshot(shared=True)  # read only: evaluated and diffed
@@ -364,7 +399,25 @@ class _Episode:
             state_diff=state_changes(self.start_state, final),
             after_last_turn=after,
             changes=changes,
+            closing=closing,
         )
+
+    def _close(self, ended: EndReason) -> dict[str, str]:
+        """Tell each actor the session is over, with what it had not seen yet: the result of its last
+        action, the user's notifications since (the assistant's report of a task carried out in the last
+        turn), the assistant's observation since it last looked. No model is called; notifications are
+        not app data, so taking them changes no state the checks read.
+        """
+        ending = Ending(self.turn, self.settings.max_turns, ended)
+        closing: dict[str, str] = {}
+        user_text = self.user.finish(ending, self.user_previous, self.env.notifications.take_unread("user"))
+        if user_text is not None:
+            closing["user"] = user_text
+        observation = replace(self.env.assistant_observation(), turn=replace(self.mark, clock_jump=None))
+        assistant_text = self.assistant.finish(ending, observation, self.assistant_previous)
+        if assistant_text is not None:
+            closing["assistant"] = assistant_text
+        return closing
 
     def _after_last_turn(self) -> AfterLastTurn | None:
         """Deliver the replies already set in motion and due within the horizon, as a phase of its own
@@ -383,14 +436,17 @@ class _Episode:
         """Play turns until the limit or until nothing can happen any more."""
         env = self.env
         active_until = resume_at = env.clock.now
+        jump: str | None = None
         for turn in range(1, self.settings.max_turns + 1):
             self.turn = turn
             env.begin_turn()
             before = len(env.log)
+            last_turn_began = env.clock.now
             # time passes at the start of the turn, so what it brings is logged under the turn that sees it;
             # noise arrives only while someone was active, the rest of a jump is quiet
             env.advance_to(active_until)
             env.advance_to(resume_at, quiet=True)
+            self._mark_turn(turn, env.clock.now - last_turn_began, jump)
             if any(_from_the_story(entry) for entry in env.log.since(before)):
                 self.last_arrival = turn
             user_waited = await self._user_turn(turn)
@@ -399,11 +455,31 @@ class _Episode:
             everyone_waited = user_waited and assistant_waited and env.agent_ui.pending is None
             if everyone_waited and (env.next_event_time() is None or self._settled()):
                 return "idle"
-            active_until, resume_at = self._next_time(turn, user_waited, assistant_waited)
+            active_until, resume_at, jump = self._next_time(turn, user_waited, assistant_waited)
         return "max_turns"
 
-    def _next_time(self, turn: int, user_waited: bool, assistant_waited: bool) -> tuple[datetime, datetime]:
-        """Where the clock goes before the next turn: (until when distractors may arrive, when it starts).
+    def _mark_turn(self, turn: int, moved: timedelta, jump: str | None) -> None:
+        """What the actors are told of this turn: its number and, when the clock moved further than a
+        turn takes, by how much and why (``jump``, from :meth:`_next_time`).
+        """
+        told = None
+        if turn > 1 and jump is not None and moved > self.settings.turn_duration:
+            told = f"the clock jumped {duration_words(moved)}: {jump}"
+        self.mark = TurnMark(turn, self.settings.max_turns, told)
+        self.jump_told = set()
+
+    def _turn_mark(self, actor: StepActor) -> TurnMark:
+        """The turn's mark for ``actor``'s next look: the clock jump is told once, at the first."""
+        if actor in self.jump_told:
+            return replace(self.mark, clock_jump=None)
+        self.jump_told.add(actor)
+        return self.mark
+
+    def _next_time(
+        self, turn: int, user_waited: bool, assistant_waited: bool
+    ) -> tuple[datetime, datetime, str | None]:
+        """Where the clock goes before the next turn: (until when distractors may arrive, when it starts,
+        why it jumps past a turn's duration, or ``None`` when it does not).
 
         Someone acted: ``turn_duration`` later. The assistant has nothing in hand (it waited, no proposal
         pending) and the user waited too: straight to the next scheduled event, quietly. The assistant has
@@ -417,12 +493,12 @@ class _Episode:
         active = now + self.settings.turn_duration
         upcoming = env.next_event_time()
         if upcoming is None or not assistant_waited or env.agent_ui.pending is not None:
-            return active, active
+            return active, active, None
         if user_waited:
-            return now, max(upcoming, now)
+            return now, max(upcoming, now), JUMP_ALL_WAITED
         if turn - self.last_arrival + 1 > self.settings.attention_turns:
-            return active, max(upcoming, active)
-        return active, active
+            return active, max(upcoming, active), JUMP_NOTHING_NEW
+        return active, active, None
 
     def _settled(self) -> bool:
         """For a scenario that ends when met: every goal is met now, so what is still to come cannot
@@ -439,7 +515,9 @@ class _Episode:
         """The user's steps; True when the user only waited."""
         waited = True
         for _ in range(self.settings.user_steps):
-            view = self.env.user_view()
+            view = replace(
+                self.env.user_view(), turn=self._turn_mark("user"), proposal_turns_left=self._turns_left(turn)
+            )
             action = await self.user.step(view, self.user_previous)
             result = self._perform("user", action, None)
             self._record(turn, "user", None, action, result, view_record(view))
@@ -448,6 +526,18 @@ class _Episode:
                 break
             waited = False
         return waited
+
+    def _turns_left(self, turn: int) -> int | None:
+        """Turns the pending proposal may still be answered in, this one included (``None``: none pending).
+
+        A proposal made in turn ``t`` can be answered in turns ``t + 1`` to ``t + proposal_ttl_turns``;
+        unanswered by the end of the user's part of the last, it is withdrawn (:meth:`_expire_stale`).
+        """
+        pending = self.env.agent_ui.pending
+        if pending is None:
+            return None
+        asked = self.proposed_at.get(pending.proposal_id, turn)
+        return max(1, self.settings.proposal_ttl_turns - (turn - asked) + 1)
 
     def _expire_stale(self, turn: int) -> None:
         pending = self.env.agent_ui.pending
@@ -480,7 +570,9 @@ class _Episode:
         return None
 
     async def _observe(self, turn: int) -> bool:
-        observation = self.env.assistant_observation()
+        observation: AssistantObservation = replace(
+            self.env.assistant_observation(), turn=self._turn_mark("assistant")
+        )
         previous = self.assistant_previous  # the result of its last action, which ended its last turn
         for step in range(self.settings.observe_steps):
             action = await self.assistant.observe(observation if step == 0 else None, previous)

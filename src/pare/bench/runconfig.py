@@ -160,7 +160,7 @@ class ProtocolSettings(BaseModel):
     user_steps: int = Field(default=1, ge=1, le=MAX_STEPS)
     observe_steps: int = Field(default=5, ge=1, le=MAX_STEPS)
     execute_steps: int = Field(default=10, ge=1, le=MAX_STEPS)
-    proposal_ttl_turns: int = Field(default=3, ge=1, le=MAX_TURNS)
+    proposal_ttl_turns: int = Field(default=4, ge=1, le=MAX_TURNS)
     turn_duration: timedelta = Field(default=timedelta(minutes=1), gt=timedelta(0), le=MAX_TURN_DURATION)
     max_format_retries: int = Field(
         default=2, ge=0, le=20, description="Times a malformed model answer is sent back within one step."

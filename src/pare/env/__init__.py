@@ -2,7 +2,7 @@
 
 from pare.env.config import EnvConfig
 from pare.env.environment import Environment
-from pare.env.views import AssistantObservation, NamedTool, ToolResult, UserView, describe_action
+from pare.env.views import AssistantObservation, NamedTool, ToolResult, TurnMark, UserView, describe_action
 
 __all__ = [
     "AssistantObservation",
@@ -10,6 +10,7 @@ __all__ = [
     "Environment",
     "NamedTool",
     "ToolResult",
+    "TurnMark",
     "UserView",
     "describe_action",
 ]

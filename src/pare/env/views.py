@@ -72,6 +72,10 @@ class UserView:
     screen_update: Any = None
     """What the screen on view displays now, when its app's data changed since the user last saw it
     (a message arriving in the open conversation)."""
+    turn: TurnMark | None = None
+    """Which turn this is, and why the clock jumped to it if it did: set by the turn loop."""
+    proposal_turns_left: int | None = None
+    """Turns the pending proposal may still be answered in, this one included: set by the turn loop."""
 
     @property
     def tool_names(self) -> list[str]:
@@ -85,7 +89,7 @@ class UserView:
         shown: those are listed by signature only, so that a long episode does not repeat every screen's
         descriptions each turn. New lines are added to it. ``None`` describes every tool.
         """
-        lines = [f"Current time: {self.time}"]
+        lines = [time_line(self.time, self.turn)]
         if self.app is None:
             lines.append("You are on the home screen.")
         else:
@@ -100,6 +104,8 @@ class UserView:
         if self.pending_proposal:
             answer = "accept_proposal or reject_proposal"
             lines.append(f"The assistant proposes ({answer}): {self.pending_proposal}")
+            if self.proposal_turns_left is not None:
+                lines.append(_proposal_clock(self.proposal_turns_left))
         lines.append("Available tools:")
         abridged = False
         for tool in self.tools:
@@ -127,15 +133,27 @@ class AssistantObservation:
     executed: list[LogEntry] = field(default_factory=list)
     """The assistant's own execute-mode calls since it last observed: the changes it made for an
     accepted task, and its report. Observe mode remembers what execute mode did."""
+    turn: TurnMark | None = None
+    """Which turn this is, and why the clock jumped to it if it did: set by the turn loop."""
 
     def render(self) -> str:
-        """A plain-text rendering for a model's prompt."""
-        lines = [f"Current time: {self.time}"]
+        """A plain-text rendering for a model's prompt.
+
+        The user's actions and what execute mode did are told in the order they happened: the actions
+        up to the acceptance, the task carried out, then what the user did after it.
+        """
+        lines = [time_line(self.time, self.turn)]
+        started = self.executed[0].index if self.executed else None
+        before = [entry for entry in self.user_actions if started is None or entry.index < started]
+        after = [entry for entry in self.user_actions if started is not None and entry.index > started]
+        if before:
+            lines.append("User actions:")
+            lines.extend(f"- {describe_action(entry)}" for entry in before)
         if self.executed:
             lines.extend(_execution_lines(self.executed))
-        if self.user_actions:
-            lines.append("User actions:")
-            lines.extend(f"- {describe_action(entry)}" for entry in self.user_actions)
+        if after:
+            lines.append("User actions since:")
+            lines.extend(f"- {describe_action(entry)}" for entry in after)
         if self.notifications:
             lines.append("Notifications:")
             lines.extend(f"- {n}" for n in self.notifications)
@@ -144,17 +162,48 @@ class AssistantObservation:
         return "\n".join(lines)
 
 
+@dataclass(frozen=True, slots=True)
+class TurnMark:
+    """Where an observation stands in the episode: turn ``turn`` of ``of``, and, when the clock jumped
+    further than a turn takes to get here, by how much and why (``clock_jump``).
+    """
+
+    turn: int
+    of: int
+    clock_jump: str | None = None
+
+
+def time_line(time: str, turn: TurnMark | None) -> str:
+    """The first line of an observation: the turn, then the current time and why it jumped if it did."""
+    line = f"Current time: {time}"
+    if turn is None:
+        return line
+    if turn.clock_jump:
+        line += f" ({turn.clock_jump})"
+    return f"Turn {turn.turn} of {turn.of}. {line}"
+
+
+def _proposal_clock(turns_left: int) -> str:
+    if turns_left <= 1:
+        return "This is the last turn to answer it: unanswered, it is withdrawn at the end of this turn."
+    return f"It can be answered this turn and {turns_left - 1} more; then, unanswered, it is withdrawn."
+
+
+_CALL_LABELS = {"read": "read", "write": "change"}
+
+
 def _execution_lines(entries: list[LogEntry]) -> list[str]:
-    """What the assistant did for its accepted task: each change it made (or tried), then its report."""
-    changes = [entry for entry in entries if entry.kind == "write"]
+    """What the assistant did for its accepted task: every call in order, the reads named as such, then
+    its report.
+    """
     reports = [entry for entry in entries if entry.app == "agent_ui" and entry.tool == "send_message_to_user"]
-    reads = sum(1 for entry in entries if entry.kind == "read")
-    lines = ["You carried out the task the user accepted (execute mode):"]
-    lines.extend(f"- {describe_action(entry)}" for entry in changes)
-    if not changes:
+    calls = [entry for entry in entries if entry not in reports]
+    lines = ["You carried out the task the user accepted (execute mode), in this order:"]
+    for entry in calls:
+        label = _CALL_LABELS.get(entry.kind or "", "call")
+        lines.append(f"- {label}: {describe_action(entry)}")
+    if not any(entry.kind == "write" for entry in calls):
         lines.append("- no change was made")
-    if reads:
-        lines.append(f"- and {reads} read call{'s' if reads != 1 else ''}")
     for report in reports:
         lines.append(f"Your report to the user: {report.args.get('content', '')}")
     if not reports:

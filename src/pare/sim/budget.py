@@ -17,7 +17,7 @@ class TurnBudget:
     user_steps: int = 1
     observe_steps: int = 5
     execute_steps: int = 10
-    proposal_ttl_turns: int = 3
+    proposal_ttl_turns: int = 4
     turn_minutes: float = 1.0
     """Simulated minutes one turn takes when someone acted (time jumps further when everyone waits)."""
 
