@@ -429,8 +429,8 @@ def test_a_price_range_and_the_sold_out_variants_on_the_front_page() -> None:
                 "name": "Headphones",
                 "brand": "Sonique",
                 "price": "$199.00-$209.50",
-                "in_stock": ["Black"],
-                "out_of_stock": ["Silver"],
+                "in_stock": [{"item_id": "b", "name": "Black", "price": 199.0}],
+                "out_of_stock": [{"item_id": "s", "name": "Silver", "price": 209.5}],
             }
         ],
         "cart": {"items": 0, "subtotal": 0.0},

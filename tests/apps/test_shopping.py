@@ -262,18 +262,27 @@ def test_listing_shows_price_range_and_availability(env: Environment) -> None:
     listed = {p["product_id"]: p for p in ok(env.call("user", "list_products", {"limit": 20}))["products"]}
     assert (listed["prod-trail"]["min_price"], listed["prod-trail"]["max_price"]) == (89.99, 94.99)
     assert listed["prod-trail"]["variant_count"] == 3
-    # black is in stock, silver is not: the listing says which, not a plain "in stock"
+    # black is in stock, silver is not: the listing says which, not a plain "in stock", with the item ids
+    # add_to_cart takes, so that ordering from a search needs no lookup per product
     assert (listed["prod-headphones"]["in_stock"], listed["prod-headphones"]["out_of_stock"]) == (
-        ["Black"],
-        ["Silver"],
+        [{"item_id": "hp-black", "name": "Black", "price": 199.0}],
+        [{"item_id": "hp-silver", "name": "Silver", "price": 199.0}],
     )
-    assert listed["prod-trail"]["out_of_stock"] == ["Blue / 43"]
+    assert [v["name"] for v in listed["prod-trail"]["out_of_stock"]] == ["Blue / 43"]
     world(env, "update_item_stock", item_id="hp-black", new_stock=0)
     listed = {p["product_id"]: p for p in ok(env.call("user", "list_products", {"limit": 20}))["products"]}
     assert listed["prod-headphones"]["in_stock"] == []
-    assert listed["prod-headphones"]["out_of_stock"] == ["Black", "Silver"]
+    assert [v["item_id"] for v in listed["prod-headphones"]["out_of_stock"]] == ["hp-black", "hp-silver"]
     found = ok(env.call("user", "search_products", {"query": "headphones"}))
-    assert (found[0]["in_stock"], found[0]["out_of_stock"]) == ([], ["Black", "Silver"])
+    assert found[0]["in_stock"] == []
+    assert [v["name"] for v in found[0]["out_of_stock"]] == ["Black", "Silver"]
+
+
+def test_a_searched_variant_goes_into_the_cart_by_the_item_id_the_search_gave(env: Environment) -> None:
+    found = agent(env, "search_product", product_name="headphones")
+    item_id = found[0]["in_stock"][0]["item_id"]
+    cart = agent(env, "add_to_cart", item_id=item_id)
+    assert item_id in [line["item_id"] for line in cart["lines"]]
 
 
 def test_search_products_matches_every_word(env: Environment) -> None:

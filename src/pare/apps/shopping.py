@@ -259,6 +259,14 @@ class ShoppingState(BaseModel):
 # -- what the tools return -------------------------------------------------------------------------------
 
 
+class VariantRow(BaseModel):
+    """A variant as a product list shows it: the item id ``add_to_cart`` takes, its name and price."""
+
+    item_id: str
+    name: str
+    price: float
+
+
 class ProductSummary(BaseModel):
     """A product as listed: its price range and which of its variants are in stock.
 
@@ -274,8 +282,10 @@ class ProductSummary(BaseModel):
     min_price: float
     max_price: float
     variant_count: int
-    in_stock: list[str] = Field(description="the names of the variants in stock; [] when none is")
-    out_of_stock: list[str] = Field(description="the names of the variants sold out; [] when none is")
+    in_stock: list[VariantRow] = Field(
+        description="the variants in stock, with the item ids add_to_cart takes; [] when none is"
+    )
+    out_of_stock: list[VariantRow] = Field(description="the variants sold out; [] when none is")
 
 
 class ProductPage(BaseModel):
@@ -352,6 +362,10 @@ def _by_name(products: Iterable[Product]) -> list[Product]:
     return sorted(products, key=lambda p: (p.name.lower(), p.product_id))
 
 
+def _variant_row(variant: Variant) -> VariantRow:
+    return VariantRow(item_id=variant.item_id, name=variant.name or variant.item_id, price=variant.price)
+
+
 def _summary(product: Product) -> ProductSummary:
     prices = [v.price for v in product.variants.values()] or [0.0]
     return ProductSummary(
@@ -363,8 +377,8 @@ def _summary(product: Product) -> ProductSummary:
         min_price=min(prices),
         max_price=max(prices),
         variant_count=len(product.variants),
-        in_stock=[v.name or v.item_id for v in product.variants.values() if v.stock > 0],
-        out_of_stock=[v.name or v.item_id for v in product.variants.values() if v.stock == 0],
+        in_stock=[_variant_row(v) for v in product.variants.values() if v.stock > 0],
+        out_of_stock=[_variant_row(v) for v in product.variants.values() if v.stock == 0],
     )
 
 
@@ -1043,10 +1057,10 @@ def _product_row(summary: ProductSummary) -> dict[str, Any]:
         "name": summary.name,
         "brand": summary.brand,
         "price": _fmt(_cents(low)) if low == high else f"{_fmt(_cents(low))}-{_fmt(_cents(high))}",
-        "in_stock": summary.in_stock,
+        "in_stock": [variant.model_dump() for variant in summary.in_stock],
     }
     if summary.out_of_stock:
-        row["out_of_stock"] = summary.out_of_stock
+        row["out_of_stock"] = [variant.model_dump() for variant in summary.out_of_stock]
     return row
 
 
