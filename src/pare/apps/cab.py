@@ -49,6 +49,8 @@ SPEED_KMH = 30
 PEAK_HOURS = frozenset({7, 8, 9, 16, 17, 18})
 PEAK_MULTIPLIER = Decimal("1.25")
 QUOTE_GRACE = timedelta(minutes=15)
+NO_RIDE_UNDER_WAY = "No ride is under way (none is booked). get_ride_history lists past rides."
+"""What the current ride's status reads when there is none: a normal state, so a result and not an error."""
 """How long after its pickup time a quotation can still be ordered."""
 
 
@@ -488,16 +490,16 @@ class CabApp(App):
         return self._store(self._quote(start, end, service, pickup))
 
     @tool("read")
-    def get_current_ride_status(self) -> Ride:
+    def get_current_ride_status(self) -> Ride | str:
         """Get the ride under way (booked and not yet completed or cancelled): its status, driver and
         vehicle.
 
         Returns:
-            the current ride.
+            the current ride, or a sentence saying that none is under way (a state, not an error).
         """
         ride = self.current_ride()
         if ride is None:
-            raise ToolError("There is no ride under way. get_ride_history lists past rides.")
+            return NO_RIDE_UNDER_WAY
         return ride
 
     @tool("read")
