@@ -5,6 +5,7 @@ from typing import Any
 
 import pytest
 
+from pare.apps.text import PAGE
 from pare.env import Environment
 from pare.errors import UserInputError
 from tests.conftest import err, make_env, ok, screen_of
@@ -438,8 +439,12 @@ def test_agent_read_api(env: Environment) -> None:
         return ok(env.call("assistant", f"email__{tool}", args, mode="observe"))
 
     page = call("list_emails")
-    assert [e["email_id"] for e in page["emails"]] == INBOX_ORDER
+    assert [e["email_id"] for e in page["emails"]] == INBOX_ORDER[:PAGE]
     assert (page["total"], page["offset"], page["folder"]) == (7, 0, "INBOX")
+    assert page["showing"] == "1-5 of 7; offset=5 shows the next"
+    page = call("list_emails", offset=5)
+    assert [e["email_id"] for e in page["emails"]] == INBOX_ORDER[PAGE:]
+    assert page["showing"] == "6-7 of 7 (the last)"
     page = call("list_emails", folder="archive", offset=1, limit=1)
     assert [e["email_id"] for e in page["emails"]] == ["e-checklist"]
     assert page["total"] == 2

@@ -6,6 +6,7 @@ from typing import Any
 
 import pytest
 
+from pare.apps.text import PAGE
 from pare.env import Environment
 from pare.env.random_walk import RandomUser
 from pare.errors import UserInputError
@@ -238,7 +239,7 @@ def test_show_all_notes_from_the_folders(env: Environment) -> None:
 def test_list_notes_pinned_first_then_most_recently_updated(env: Environment) -> None:
     page = user(env, "list_notes")
     assert page["folder"] == "Notes"
-    assert ids(page["notes"]) == NOTES_ORDER[:10]
+    assert ids(page["notes"]) == NOTES_ORDER[:PAGE]
     assert (page["total"], page["offset"]) == (12, 0)
     assert env.log[-1].kind == "read"
     page = user(env, "list_notes", offset=10, limit=5)
@@ -335,6 +336,7 @@ def test_open_folder_replaces_the_list(env: Environment) -> None:
         "notes": [],
         "total": 0,
         "offset": 0,
+        "showing": "all 0",
     }
     assert stack(env) == ["List(folder='Archive')"]
 
@@ -706,7 +708,7 @@ def test_unknown_argument_is_rejected_and_the_draft_kept(env: Environment) -> No
 def test_agent_reads(env: Environment) -> None:
     assert agent(env, "get_note_by_id", note_id="note-lisbon")["attachments"] == [PASSPORT]
     page = agent(env, "list_notes")
-    assert ids(page["notes"]) == NOTES_ORDER[:10] and page["total"] == 12
+    assert ids(page["notes"]) == NOTES_ORDER[:PAGE] and page["total"] == 12
     page = agent(env, "list_notes", folder="RECIPES", offset=1, limit=1)
     assert (page["folder"], ids(page["notes"]), page["total"], page["offset"]) == (
         "Recipes",

@@ -6,6 +6,7 @@ from datetime import UTC, datetime, timedelta
 import pytest
 
 from pare.apps.reminder import ReminderEdit, Repetition, next_occurrence
+from pare.apps.text import PAGE
 from pare.env import Environment
 from pare.env.random_walk import RandomUser
 from pare.errors import UserInputError
@@ -161,8 +162,11 @@ def test_list_due_reminders_shows_those_due_now_or_before(env: Environment) -> N
 
 def test_list_upcoming_reminders(env: Environment) -> None:
     shown = ok(env.call("user", "list_upcoming_reminders"))
-    assert ids(shown["reminders"]) == UPCOMING[:10]
+    assert ids(shown["reminders"]) == UPCOMING[:PAGE]
     assert shown["total"] == len(UPCOMING) == 11
+    assert shown["showing"] == "1-5 of 11; offset=5 shows the next"
+    shown = ok(env.call("user", "list_upcoming_reminders", {"offset": 10}))
+    assert ids(shown["reminders"]) == UPCOMING[10:]
     shown = ok(env.call("user", "list_upcoming_reminders", {"limit": 3}))
     assert ids(shown["reminders"]) == ["rem-dentist", "rem-vitamins", "rem-slides"]
     assert shown["total"] == 11
@@ -180,7 +184,7 @@ def test_lists_follow_the_clock(env: Environment) -> None:
 
 @pytest.mark.parametrize("limit", [0, 101])
 def test_list_upcoming_rejects_a_bad_limit(env: Environment, limit: int) -> None:
-    err(env.call("user", "list_upcoming_reminders", {"limit": limit}), "limit must be between 1 and 100")
+    err(env.call("user", "list_upcoming_reminders", {"limit": limit}), "limit between 1 and 100")
     assert screen_of(env) == "List"
 
 
@@ -449,7 +453,7 @@ def test_agent_reads(env: Environment) -> None:
     upcoming = agent(env, "get_upcoming_reminders", limit=4)
     assert ids(upcoming["reminders"]) == UPCOMING[:4]
     assert upcoming["total"] == 11
-    assert ids(agent(env, "get_upcoming_reminders")["reminders"]) == UPCOMING[:10]
+    assert ids(agent(env, "get_upcoming_reminders")["reminders"]) == UPCOMING[:PAGE]
     shown = agent(env, "get_reminder", reminder_id="rem-plants")
     assert shown == {
         "reminder_id": "rem-plants",

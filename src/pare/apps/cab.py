@@ -21,6 +21,7 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from pare.apps.base import App, DatedRecord
+from pare.apps.paging import Paged, showing_screen
 from pare.apps.screens import Screen, Transition, action, back_to, push, replace
 from pare.apps.text import PAGE, short_time
 from pare.apps.tools import tool
@@ -190,8 +191,10 @@ class CabState(BaseModel):
         return self
 
 
-class RidePage(BaseModel):
+class RidePage(Paged):
     """One page of rides, most recent first."""
+
+    rows_field = "rides"
 
     rides: list[Ride]
     total: int
@@ -515,7 +518,7 @@ class CabApp(App):
         return self.require_ride(ride_id)
 
     @tool("read")
-    def get_ride_history(self, offset: int = 0, limit: int = 10) -> RidePage:
+    def get_ride_history(self, offset: int = 0, limit: int = PAGE) -> RidePage:
         """List every ride booked, the current one included, most recently booked first, a page at a time.
 
         Args:
@@ -723,6 +726,7 @@ class CabHome(Screen):
             "current_ride": current,
             "total_rides": history.total,
             "recent_rides": [_ride_row(ride) for ride in history.rides if ride is not current],
+            **showing_screen(history.rides, history.total, "get_ride_history(offset={offset})"),
         }
 
     @action("Options", kind="read")
@@ -754,7 +758,7 @@ class CabHome(Screen):
         return push(RideDetail(ride_id=ride.ride_id), ride)
 
     @action(kind="read")
-    def get_ride_history(self, app: CabApp, offset: int = 0, limit: int = 10) -> RidePage:
+    def get_ride_history(self, app: CabApp, offset: int = 0, limit: int = PAGE) -> RidePage:
         """Show your rides, most recent first.
 
         Args:

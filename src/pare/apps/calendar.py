@@ -9,6 +9,7 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from pare.apps.base import App
+from pare.apps.paging import Paged, showing_screen
 from pare.apps.screens import BACK, Screen, Transition, action, back, back_to, push, replace
 from pare.apps.text import PAGE, optional_text, unique_names
 from pare.apps.tools import tool
@@ -67,8 +68,10 @@ class CalendarState(BaseModel):
         return self
 
 
-class EventPage(BaseModel):
+class EventPage(Paged):
     """One page of events."""
+
+    rows_field = "events"
 
     events: list[CalendarEvent]
     total: int
@@ -300,7 +303,7 @@ class CalendarApp(App):
 
     @tool("read")
     def get_calendar_events_from_to(
-        self, start_datetime: SimTime, end_datetime: SimTime, offset: int = 0, limit: int = 10
+        self, start_datetime: SimTime, end_datetime: SimTime, offset: int = 0, limit: int = PAGE
     ) -> EventPage:
         """List the events that overlap a time window, sorted by start time, a page at a time.
 
@@ -511,6 +514,7 @@ class Agenda(Screen):
             shown["attendee"] = listing.attendee
         shown["total"] = len(listing.events)
         shown["events"] = [_row(event, listing.day) for event in listing.events[:PAGE]]
+        shown.update(showing_screen(shown["events"], len(listing.events), "list_events()"))
         return shown
 
     def listing(self, app: CalendarApp) -> AgendaDay:

@@ -7,6 +7,7 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field
 
 from pare.apps.base import App
+from pare.apps.paging import Paged, showing_screen
 from pare.apps.screens import BACK, Screen, Transition, action, back, back_to, push
 from pare.apps.text import PAGE
 from pare.apps.tools import tool
@@ -64,8 +65,10 @@ class ContactsState(BaseModel):
     contacts: dict[str, Contact] = Field(default_factory=dict)
 
 
-class ContactPage(BaseModel):
+class ContactPage(Paged):
     """One page of contacts."""
+
+    rows_field = "contacts"
 
     contacts: list[Contact]
     total: int
@@ -95,7 +98,7 @@ class ContactsApp(App):
 
     # -- agent API -----------------------------------------------------------------------------------
     @tool("read")
-    def get_contacts(self, offset: int = 0, limit: int = 10) -> ContactPage:
+    def get_contacts(self, offset: int = 0, limit: int = PAGE) -> ContactPage:
         """List contacts sorted by name, a page at a time.
 
         Args:
@@ -275,10 +278,14 @@ class ContactList(Screen):
         open_contact takes and what an address book row shows.
         """
         page = app.get_contacts(limit=PAGE)
-        return {"total": page.total, "contacts": [_row(contact) for contact in page.contacts]}
+        return {
+            "total": page.total,
+            "contacts": [_row(contact) for contact in page.contacts],
+            **showing_screen(page.contacts, page.total, "list_contacts(offset={offset})"),
+        }
 
     @action(kind="read")
-    def list_contacts(self, app: ContactsApp, offset: int = 0, limit: int = 10) -> ContactPage:
+    def list_contacts(self, app: ContactsApp, offset: int = 0, limit: int = PAGE) -> ContactPage:
         """Show a page of contacts.
 
         Args:

@@ -15,6 +15,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 
 from pare.apps.base import App, DatedRecord
 from pare.apps.files import DirectoryEntry, FilesApp, browse, files_of, normalize_path
+from pare.apps.paging import Paged, showing_screen
 from pare.apps.screens import BACK, Screen, Transition, action, back, push, replace
 from pare.apps.text import PAGE, preview, short_time
 from pare.apps.tools import tool
@@ -117,8 +118,10 @@ class EmailState(BaseModel):
         return self
 
 
-class EmailPage(BaseModel):
+class EmailPage(Paged):
     """One page of a folder, newest first."""
+
+    rows_field = "emails"
 
     folder: Folder
     emails: list[Email]
@@ -252,7 +255,7 @@ class EmailApp(App):
 
     # -- agent API: reading --------------------------------------------------------------------------
     @tool("read")
-    def list_emails(self, folder: Folder = Folder.INBOX, offset: int = 0, limit: int = 10) -> EmailPage:
+    def list_emails(self, folder: Folder = Folder.INBOX, offset: int = 0, limit: int = PAGE) -> EmailPage:
         """List the emails of a folder, newest first, a page at a time.
 
         Args:
@@ -670,10 +673,11 @@ class Mailbox(Screen):
             "total": len(emails),
             "unread": sum(not email.is_read for email in emails),
             "emails": [_row(email, outgoing) for email in emails[:PAGE]],
+            **showing_screen(emails[:PAGE], len(emails), "list_emails(offset={offset})"),
         }
 
     @action(kind="read")
-    def list_emails(self, app: EmailApp, offset: int = 0, limit: int = 10) -> EmailPage:
+    def list_emails(self, app: EmailApp, offset: int = 0, limit: int = PAGE) -> EmailPage:
         """Show a page of this folder's emails, newest first.
 
         Args:

@@ -11,6 +11,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from pare.apps.base import App, DatedRecord
 from pare.apps.files import DirectoryEntry, FilesApp, browse, files_of, normalize_path
+from pare.apps.paging import Paged, showing_screen
 from pare.apps.screens import Screen, Transition, action, push
 from pare.apps.text import PAGE, preview, short_time
 from pare.apps.tools import tool
@@ -155,16 +156,21 @@ class ConversationMatch(ConversationSummary):
     matching_messages: list[MessageView]
 
 
-class ConversationPage(BaseModel):
+class ConversationPage(Paged):
     """One page of conversations, most recently updated first."""
+
+    rows_field = "conversations"
 
     conversations: list[ConversationSummary]
     total: int
     offset: int
 
 
-class ConversationMessages(BaseModel):
+class ConversationMessages(Paged):
     """One page of a conversation's messages, newest first."""
+
+    rows_field = "messages"
+    total_field = "total_messages"
 
     conversation_id: str
     is_group: bool
@@ -376,7 +382,7 @@ class MessagingApp(App):
 
     # -- agent API: reading ----------------------------------------------------------------------------
     @tool("read")
-    def list_recent_conversations(self, offset: int = 0, limit: int = 5) -> ConversationPage:
+    def list_recent_conversations(self, offset: int = 0, limit: int = PAGE) -> ConversationPage:
         """List conversations, most recently updated first, with their participants and last message.
 
         Args:
@@ -391,7 +397,7 @@ class MessagingApp(App):
 
     @tool("read")
     def list_conversations_by_participant(
-        self, user_id: str, offset: int = 0, limit: int = 5
+        self, user_id: str, offset: int = 0, limit: int = PAGE
     ) -> ConversationPage:
         """List the conversations (one-to-one and group) a given person takes part in, latest first.
 
@@ -830,11 +836,15 @@ class ConversationList(Screen):
         total; the conversation ids are those open_conversation takes.
         """
         ordered = app._recent_first(list(app.state.conversations.values()))
-        return {"total": len(ordered), "conversations": [_row(app, c) for c in ordered[:PAGE]]}
+        return {
+            "total": len(ordered),
+            "conversations": [_row(app, c) for c in ordered[:PAGE]],
+            **showing_screen(ordered[:PAGE], len(ordered), "list_recent_conversations(offset={offset})"),
+        }
 
     @action(kind="read")
     def list_recent_conversations(
-        self, app: MessagingApp, offset: int = 0, limit: int = 5
+        self, app: MessagingApp, offset: int = 0, limit: int = PAGE
     ) -> ConversationPage:
         """Show conversations, most recent first.
 

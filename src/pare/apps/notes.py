@@ -10,6 +10,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 
 from pare.apps.base import App, DatedRecord
 from pare.apps.files import DirectoryEntry, FilesApp, browse, files_of, normalize_path
+from pare.apps.paging import Paged, showing_screen
 from pare.apps.screens import BACK, Screen, Transition, action, back, back_to, push, replace
 from pare.apps.text import PAGE, preview, short_time
 from pare.apps.tools import tool
@@ -84,8 +85,10 @@ class NotesState(BaseModel):
         return self
 
 
-class NotePage(BaseModel):
+class NotePage(Paged):
     """One page of a folder's notes, or of every folder's."""
+
+    rows_field = "notes"
 
     folder: str | None = Field(description="the folder listed; null when the notes of every folder are")
     notes: list[Note]
@@ -271,7 +274,7 @@ class NotesApp(App):
         return f"Deleted note {note_id} ({note.title or 'untitled'})."
 
     @tool("read")
-    def list_notes(self, folder: str = DEFAULT_FOLDER, offset: int = 0, limit: int = 10) -> NotePage:
+    def list_notes(self, folder: str = DEFAULT_FOLDER, offset: int = 0, limit: int = PAGE) -> NotePage:
         """List the notes of a folder, a page at a time: pinned notes first, then most recently updated.
 
         Args:
@@ -552,11 +555,12 @@ class NoteList(Screen):
             "folder": folder or "all folders",
             "total": len(notes),
             "notes": [_row(note) for note in notes[:PAGE]],
+            **showing_screen(notes[:PAGE], len(notes), "list_notes(offset={offset})"),
             "folders": app.folder_counts(),
         }
 
     @action(kind="read")
-    def list_notes(self, app: NotesApp, offset: int = 0, limit: int = 10) -> NotePage:
+    def list_notes(self, app: NotesApp, offset: int = 0, limit: int = PAGE) -> NotePage:
         """Show a page of the notes on screen (this folder's, or every folder's): pinned first, then most
         recently updated.
 

@@ -13,6 +13,7 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from pare.apps.base import App, DatedRecord
+from pare.apps.paging import Paged, showing_screen
 from pare.apps.screens import Screen, Transition, action, push, replace
 from pare.apps.text import PAGE, short_time
 from pare.apps.tools import tool
@@ -288,8 +289,10 @@ class ProductSummary(BaseModel):
     out_of_stock: list[VariantRow] = Field(description="the variants sold out; [] when none is")
 
 
-class ProductPage(BaseModel):
+class ProductPage(Paged):
     """One page of products."""
+
+    rows_field = "products"
 
     products: list[ProductSummary]
     total: int
@@ -543,7 +546,7 @@ class ShoppingApp(App):
 
     # -- agent API: the store ------------------------------------------------------------------------
     @tool("read")
-    def list_all_products(self, offset: int = 0, limit: int = 10) -> ProductPage:
+    def list_all_products(self, offset: int = 0, limit: int = PAGE) -> ProductPage:
         """List the store's products sorted by name, a page at a time.
 
         Args:
@@ -1090,6 +1093,7 @@ class ShopHome(Screen):
         shown: dict[str, Any] = {
             "total_products": page.total,
             "products": [_product_row(summary) for summary in page.products],
+            **showing_screen(page.products, page.total, "list_products(offset={offset})"),
             "cart": {"items": cart.item_count, "subtotal": cart.subtotal},
         }
         orders = app.orders_newest_first()
@@ -1098,7 +1102,7 @@ class ShopHome(Screen):
         return shown
 
     @action(kind="read")
-    def list_products(self, app: ShoppingApp, offset: int = 0, limit: int = 10) -> ProductPage:
+    def list_products(self, app: ShoppingApp, offset: int = 0, limit: int = PAGE) -> ProductPage:
         """Show a page of the store's products, sorted by name.
 
         Args:
@@ -1242,7 +1246,11 @@ class OrdersScreen(Screen):
     def display(self, app: ShoppingApp) -> dict[str, Any]:
         """The most recent orders (id, status, total, what they hold), with the number of orders."""
         orders = app.orders_newest_first()
-        return {"total": len(orders), "orders": [_order_row(order) for order in orders[:PAGE]]}
+        return {
+            "total": len(orders),
+            "orders": [_order_row(order) for order in orders[:PAGE]],
+            **showing_screen(orders[:PAGE], len(orders), "list_orders()"),
+        }
 
     @action(kind="read")
     def list_orders(self, app: ShoppingApp) -> list[Order]:
