@@ -579,7 +579,7 @@ def test_a_list_screen_says_when_it_shows_part_and_how_to_see_the_rest(
 def test_the_sample_world_has_partial_lists_to_say_so_about() -> None:
     env = make_env(APPS, sample_world())
     partial = []
-    for app, steps, rows, total in LIST_SCREENS:
+    for app, steps, _rows, _total in LIST_SCREENS:
         user(env, "open_app", app_name=app)
         for action, args in steps:
             user(env, action, **args)
