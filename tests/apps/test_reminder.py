@@ -475,8 +475,12 @@ def test_add_reminder(env: Environment) -> None:
         title=" Pick up the dry cleaning ",
         due_datetime="2025-03-04 17:00",
         description=" Ticket 4411 ",
-    )
+    )["id"]
     assert new_id == "reminder-1"
+    assert env.log[-1].result == {
+        "done": "Added reminder reminder-1 'Pick up the dry cleaning', due Tue 2025-03-04 17:00.",
+        "id": "reminder-1",
+    }
     assert reminders(env)[new_id] == {
         "reminder_id": new_id,
         "title": "Pick up the dry cleaning",
@@ -495,7 +499,7 @@ def test_add_reminder(env: Environment) -> None:
         due_datetime="2025-03-07T16:00:00+01:00",
         repetition="WEEKLY",
         repeat_until="2025-04-30 00:00",
-    )
+    )["id"]
     assert second == "reminder-2"
     stored = reminders(env)[second]
     assert (stored["due_datetime"], stored["repetition"], stored["repeat_until"]) == (
@@ -505,7 +509,7 @@ def test_add_reminder(env: Environment) -> None:
     )
     agent(env, "delete_reminder", reminder_id=second)
     assert (
-        agent(env, "add_reminder", title="Again", due_datetime="2025-03-05 10:00") == "reminder-3"
+        agent(env, "add_reminder", title="Again", due_datetime="2025-03-05 10:00")["id"] == "reminder-3"
     )  # not reused
 
 
@@ -800,7 +804,7 @@ def test_a_deleted_reminder_is_never_announced(env: Environment) -> None:
 
 
 def test_a_reminder_added_for_a_past_time_is_announced_at_once(env: Environment) -> None:
-    new_id = agent(env, "add_reminder", title="Take the pizza out", due_datetime="2025-03-03 08:55")
+    new_id = agent(env, "add_reminder", title="Take the pizza out", due_datetime="2025-03-03 08:55")["id"]
     env.deliver_due_events()
     assert announced(env) == [("03-03 09:00", new_id)]
     assert reminders(env)[new_id]["announced"] is True
@@ -877,7 +881,9 @@ def test_set_for_keeps_the_time_a_repeating_reminder_was_set_for_as_it_fires() -
     """A check on the final state can tell a daily reminder set for tomorrow from one set for next week,
     although both have moved on by the time the episode ends."""
     env = make_env(["reminder"])
-    new_id = agent(env, "add_reminder", title="Stretch", due_datetime="2025-03-04 08:00", repetition="daily")
+    new_id = agent(env, "add_reminder", title="Stretch", due_datetime="2025-03-04 08:00", repetition="daily")[
+        "id"
+    ]
     env.advance_to(datetime(2025, 3, 6, 9, 0, tzinfo=UTC))
     stored = reminders(env)[new_id]
     assert stored["due_datetime"] == "2025-03-07T08:00:00Z"

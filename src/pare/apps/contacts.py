@@ -7,6 +7,7 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field
 
 from pare.apps.base import App
+from pare.apps.done import Done
 from pare.apps.paging import Paged, showing_screen
 from pare.apps.screens import BACK, Screen, Transition, action, back, back_to, push
 from pare.apps.text import PAGE
@@ -173,7 +174,7 @@ class ContactsApp(App):
         company: str | None = None,
         relationship: str | None = None,
         notes: str | None = None,
-    ) -> str:
+    ) -> Done:
         """Add a contact to the address book.
 
         Args:
@@ -189,7 +190,7 @@ class ContactsApp(App):
             notes: free-form notes.
 
         Returns:
-            the new contact's id.
+            who was added, and the new contact's id.
         """
         if not first_name.strip():
             raise ToolError("A contact needs a first name.")
@@ -207,7 +208,8 @@ class ContactsApp(App):
             relationship=relationship,
             notes=notes,
         )
-        return contact_id
+        contact = self.state.contacts[contact_id]
+        return Done(done=f"Added {contact.full_name} to the contacts as {contact_id}.", id=contact_id)
 
     @tool("write")
     def edit_contact(self, contact_id: str, updates: ContactUpdate) -> Contact:
@@ -346,7 +348,7 @@ class ContactList(Screen):
             email=email,
             relationship=relationship,
             notes=notes,
-        )
+        ).id
         return push(ContactDetail(contact_id=contact_id), app.require(contact_id))
 
 

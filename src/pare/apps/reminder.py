@@ -11,6 +11,7 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from pare.apps.base import App
+from pare.apps.done import Done
 from pare.apps.paging import Paged, showing_screen
 from pare.apps.screens import Screen, Transition, action, back_to, push, replace
 from pare.apps.text import PAGE, preview, short_time
@@ -217,7 +218,7 @@ class ReminderApp(App):
         description: str = "",
         repetition: Repetition = Repetition.NONE,
         repeat_until: SimTime | None = None,
-    ) -> str:
+    ) -> Done:
         """Add a reminder. When it falls due, the user and the assistant are notified.
 
         Args:
@@ -231,7 +232,7 @@ class ReminderApp(App):
                 "2025-03-31 23:59"; leave it out to repeat forever.
 
         Returns:
-            the new reminder's id.
+            what was added and when it falls due, and the new reminder's id.
         """
         if not title.strip():
             raise ToolError("A reminder needs a title.")
@@ -248,7 +249,11 @@ class ReminderApp(App):
             repeat_until=until,
             set_for=due,
         )
-        return reminder_id
+        repeats = "" if repetition is Repetition.NONE else f", repeating {repetition.value}"
+        until_text = "" if until is None else f" until {until:%a %Y-%m-%d %H:%M}"
+        when = f"due {due:%a %Y-%m-%d %H:%M}{repeats}{until_text}"
+        done = f"Added reminder {reminder_id} '{title.strip()}', {when}."
+        return Done(done=done, id=reminder_id)
 
     @tool("write")
     def update_reminder(self, reminder_id: str, updates: ReminderUpdate) -> Reminder:
@@ -604,7 +609,7 @@ class ReminderEdit(Screen):
                 description=self.description,
                 repetition=self.repetition,
                 repeat_until=self.repeat_until,
-            )
+            ).id
             return replace(ReminderDetail(reminder_id=reminder_id), app.require(reminder_id))
         reminder = app.require(self.reminder_id)
         draft = self.draft().model_dump(exclude={"reminder_id"})
