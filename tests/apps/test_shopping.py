@@ -7,6 +7,7 @@ from typing import Any
 
 import pytest
 
+from pare.bench import EpisodeSettings
 from pare.env import Environment
 from pare.env.random_walk import RandomUser
 from pare.errors import UserInputError
@@ -976,3 +977,22 @@ def test_a_random_user_walks_every_screen_without_breaking() -> None:
     screens = {entry.app_screen[1] for entry in env.log if entry.app_screen}
     assert {"Home", "Product", "Variant", "Cart", "Orders", "OrderDetail"} <= screens
     assert sum(entry.ok for entry in env.log) / len(env.log) > 0.5
+
+
+def test_a_six_item_order_fits_the_execute_budget_with_the_ids_a_listing_gives(env: Environment) -> None:
+    """One listing gives every in-stock variant's item id, so six items, the checkout and the report take
+    9 of the 10 execute actions (no lookup per product, no guessed ids).
+    """
+    agent(env, "remove_from_cart", item_id="trail-blue-42")
+    agent(env, "remove_from_cart", item_id="hoodie-blue-m", quantity=2)
+    calls = 1
+    listing = agent(env, "list_all_products", limit=100)
+    wanted = [product["in_stock"][0]["item_id"] for product in listing["products"] if product["in_stock"]][:6]
+    assert len(wanted) == 6
+    for item_id in wanted:
+        agent(env, "add_to_cart", item_id=item_id)
+        calls += 1
+    order = agent(env, "checkout")
+    calls += 1
+    assert sorted(item["item_id"] for item in order["items"]) == sorted(wanted)
+    assert calls + 1 <= EpisodeSettings().execute_steps  # and the report to the user
