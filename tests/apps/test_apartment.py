@@ -5,6 +5,7 @@ from typing import Any
 
 import pytest
 
+from pare.apps.text import PAGE
 from pare.env import Environment
 from pare.env.random_walk import RandomUser
 from pare.errors import UserInputError
@@ -227,8 +228,10 @@ def test_opens_on_home(env: Environment) -> None:
 
 def test_list_apartments_pages_sorted_by_name(env: Environment) -> None:
     page = ok(env.call("user", "list_apartments"))
-    assert ids(page["apartments"]) == BY_NAME[:10]
+    # a page as long as the home screen's, and it says how to see the rest
+    assert ids(page["apartments"]) == BY_NAME[:PAGE]
     assert (page["total"], page["offset"]) == (14, 0)
+    assert page["showing"] == "1-5 of 14; offset=5 shows the next"
     page = ok(env.call("user", "list_apartments", {"offset": 10, "limit": 10}))
     assert ids(page["apartments"]) == BY_NAME[10:]
     assert ok(env.call("user", "list_apartments", {"offset": 20}))["apartments"] == []
@@ -282,7 +285,7 @@ def on_search(env: Environment) -> Environment:
 
 def test_search_without_filters_lists_everything_by_price(on_search: Environment) -> None:
     page = ok(on_search.call("user", "search"))
-    assert ids(page["apartments"]) == BY_PRICE[:10]  # apt-102 and apt-107 share a price: by id
+    assert ids(page["apartments"]) == BY_PRICE[:PAGE]  # apt-102 and apt-107 share a price: by id
     assert page["total"] == 14
     page = ok(on_search.call("user", "search", {"offset": 12, "limit": 5}))
     assert ids(page["apartments"]) == BY_PRICE[12:]

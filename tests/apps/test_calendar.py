@@ -607,7 +607,7 @@ def test_agent_writes(env: Environment) -> None:
         tag="personal",
         location="Barber Joe's",
         attendees=["Joe"],
-    )
+    )["id"]
     stored = events(env)[new_id]
     assert stored["start_datetime"] == "2025-03-06T17:00:00Z"
     assert (stored["tag"], stored["location"], stored["attendees"]) == ("personal", "Barber Joe's", ["Joe"])
@@ -649,14 +649,14 @@ def test_new_ids_do_not_collide(env: Environment) -> None:
         title="A",
         start_datetime="2025-03-10 09:00",
         end_datetime="2025-03-10 10:00",
-    )
+    )["id"]
     second = agent(
         env,
         "add_calendar_event",
         title="B",
         start_datetime="2025-03-10 09:00",
         end_datetime="2025-03-10 10:00",
-    )
+    )["id"]
     assert first != second
     assert {first, second} <= set(events(env))
 
@@ -869,3 +869,20 @@ def test_an_open_detail_of_a_cancelled_event(env: Environment) -> None:
     err(env.call("user", "refresh"), "no event with id 'ev-team-lunch'")
     ok(env.call("user", "go_back"))
     assert "ev-team-lunch" not in ids(ok(env.call("user", "set_day", {"day": "2025-03-05"}))["events"])
+
+
+def test_adding_an_event_says_what_was_added_and_when(env: Environment) -> None:
+    added = agent(
+        env,
+        "add_calendar_event",
+        title="Haircut",
+        start_datetime="2025-03-06 17:00",
+        end_datetime="2025-03-06 17:45",
+        location="Barber Joe's",
+        attendees=["Joe", "Ana"],
+    )
+    assert added["done"] == (
+        f"Added event {added['id']} 'Haircut' to the calendar: Thu 2025-03-06 17:00-17:45 at Barber Joe's "
+        "with Joe and Ana."
+    )
+    assert events(env)[added["id"]]["title"] == "Haircut"

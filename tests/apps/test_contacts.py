@@ -146,7 +146,7 @@ def test_agent_api(env: Environment) -> None:
     assert call("get_contact", contact_id="c-bob")["last_name"] == "Okafor"
     assert [c["contact_id"] for c in call("search_contacts", query="alice")] == ["c-alice"]
     assert call("get_current_user_details")["contact_id"] == "me"
-    new_id = call("add_new_contact", first_name="Eve", email="eve@x.example", relationship="colleague")
+    new_id = call("add_new_contact", first_name="Eve", email="eve@x.example", relationship="colleague")["id"]
     assert contacts(env)[new_id]["email"] == "eve@x.example"
     assert call("edit_contact", contact_id=new_id, updates={"last_name": "Moreau"})["last_name"] == "Moreau"
     call("delete_contact", contact_id=new_id)
@@ -169,3 +169,16 @@ def test_agent_api_errors_change_nothing(env: Environment, tool: str, args: dict
     before = env.snapshot()
     err(env.call("assistant", f"contacts__{tool}", args, mode="execute"), message)
     assert env.snapshot() == before
+
+
+def test_adding_a_contact_says_who_was_added(env: Environment) -> None:
+    added = ok(
+        env.call(
+            "assistant",
+            "contacts__add_new_contact",
+            {"first_name": "Eve", "last_name": "Moreau"},
+            mode="execute",
+        )
+    )
+    assert added["done"] == f"Added Eve Moreau to the contacts as {added['id']}."
+    assert contacts(env)[added["id"]]["last_name"] == "Moreau"

@@ -5,6 +5,7 @@ from typing import Any
 
 import pytest
 
+from pare.apps.text import PAGE
 from pare.env import Environment
 from pare.errors import UserInputError
 from tests.conftest import err, make_env, ok, screen_of
@@ -213,7 +214,7 @@ def open_detail(env: Environment, email_id: str) -> None:
 def test_reply_sends_and_stays(env: Environment) -> None:
     open_detail(env, "e-lease")
     before = emails(env)
-    reply_id = ok(env.call("user", "reply", {"content": "Signed, attached.", "attachments": [LEASE]}))
+    reply_id = ok(env.call("user", "reply", {"content": "Signed, attached.", "attachments": [LEASE]}))["id"]
     assert screen_of(env) == "Detail"
     assert env.log[-1].kind == "write"
     assert new_ids(env, before) == [reply_id]
@@ -228,14 +229,14 @@ def test_reply_sends_and_stays(env: Environment) -> None:
 
 def test_reply_to_a_reply_does_not_double_re(env: Environment) -> None:
     open_detail(env, "e-party")
-    reply_id = ok(env.call("user", "reply", {"content": "Great, see you!"}))
+    reply_id = ok(env.call("user", "reply", {"content": "Great, see you!"}))["id"]
     assert emails(env)[reply_id]["subject"] == "Re: Birthday party"
     assert emails(env)[reply_id]["recipients"] == [CAROL]
 
 
 def test_forward_keeps_attachments_and_stays(env: Environment) -> None:
     open_detail(env, "e-lease")
-    forward_id = ok(env.call("user", "forward", {"recipients": [CAROL]}))
+    forward_id = ok(env.call("user", "forward", {"recipients": [CAROL]}))["id"]
     assert screen_of(env) == "Detail"
     forward = emails(env)[forward_id]
     assert forward["subject"] == "Fwd: Lease renewal"
@@ -320,7 +321,7 @@ def test_compose_a_new_email_and_send_it(env: Environment) -> None:
     assert emails(env) == before  # nothing is stored while composing
     assert all(entry.kind == "ui" for entry in env.log if entry.tool.startswith(("set_", "add_", "attach_")))
 
-    sent_id = ok(env.call("user", "send"))
+    sent_id = ok(env.call("user", "send"))["id"]
     assert stack(env) == ["Mailbox(folder='INBOX')"]
     assert env.log[-1].kind == "write"
     sent = emails(env)[sent_id]
@@ -358,7 +359,7 @@ def test_send_without_recipients_stays_and_changes_nothing(env: Environment) -> 
     assert env.system.current_screen().label().startswith("Compose(")
     assert env.system.current_screen().model_dump()["subject"] == "Hello"
     ok(env.call("user", "set_recipients", {"recipients": [ALICE]}))
-    sent_id = ok(env.call("user", "send"))
+    sent_id = ok(env.call("user", "send"))["id"]
     assert emails(env)[sent_id]["content"] == "Who am I writing to?"
 
 
@@ -366,7 +367,7 @@ def test_save_draft_stores_in_draft_and_goes_back(env: Environment) -> None:
     ok(env.call("user", "start_compose"))
     ok(env.call("user", "set_subject", {"subject": "Ideas for the offsite"}))
     ok(env.call("user", "set_body", {"body": "1. Hiking"}))
-    draft_id = ok(env.call("user", "save_draft"))
+    draft_id = ok(env.call("user", "save_draft"))["id"]
     assert stack(env) == ["Mailbox(folder='INBOX')"]
     assert env.log[-1].kind == "write"
     draft = emails(env)[draft_id]
@@ -405,7 +406,7 @@ def test_compose_reply_is_prefilled_and_sent_as_a_reply(env: Environment) -> Non
     ok(env.call("user", "set_body", {"body": "Yes, 12:30 works."}))
     ok(env.call("user", "attach_file", {"path": "/Documents/notes.txt"}))
     before = emails(env)
-    reply_id = ok(env.call("user", "send"))
+    reply_id = ok(env.call("user", "send"))["id"]
     assert screen_of(env) == "Detail"
     assert new_ids(env, before) == [reply_id]
     reply = emails(env)[reply_id]
@@ -438,8 +439,12 @@ def test_agent_read_api(env: Environment) -> None:
         return ok(env.call("assistant", f"email__{tool}", args, mode="observe"))
 
     page = call("list_emails")
-    assert [e["email_id"] for e in page["emails"]] == INBOX_ORDER
+    assert [e["email_id"] for e in page["emails"]] == INBOX_ORDER[:PAGE]
     assert (page["total"], page["offset"], page["folder"]) == (7, 0, "INBOX")
+    assert page["showing"] == "1-5 of 7; offset=5 shows the next"
+    page = call("list_emails", offset=5)
+    assert [e["email_id"] for e in page["emails"]] == INBOX_ORDER[PAGE:]
+    assert page["showing"] == "6-7 of 7 (the last)"
     page = call("list_emails", folder="archive", offset=1, limit=1)
     assert [e["email_id"] for e in page["emails"]] == ["e-checklist"]
     assert page["total"] == 2
@@ -470,19 +475,19 @@ def test_agent_write_api(env: Environment) -> None:
         content="Attached.",
         cc=[ALICE],
         attachments=[LEASE],
-    )
+    )["id"]
     sent = emails(env)[sent_id]
     assert (sent["folder"], sent["sender"], sent["cc"], sent["attachments"]) == ("SENT", ME, [ALICE], [LEASE])
     assert sent["is_read"] is True
 
-    reply_id = call("reply_to_email", email_id="e-party", content="Thanks!")
+    reply_id = call("reply_to_email", email_id="e-party", content="Thanks!")["id"]
     assert emails(env)[reply_id]["subject"] == "Re: Birthday party"
     assert emails(env)[reply_id]["in_reply_to"] == "e-party"
 
-    forward_id = call("forward_email", email_id="e-lease", recipients=[CAROL, CAROL])
+    forward_id = call("forward_email", email_id="e-lease", recipients=[CAROL, CAROL])["id"]
     assert emails(env)[forward_id]["recipients"] == [CAROL]
     assert emails(env)[forward_id]["attachments"] == [LEASE]
-    again = call("forward_email", email_id=forward_id, recipients=[ALICE])
+    again = call("forward_email", email_id=forward_id, recipients=[ALICE])["id"]
     assert emails(env)[again]["subject"] == "Fwd: Lease renewal"
 
     assert "ARCHIVE" in call("move_email", email_id="e-dentist", folder="archive")
@@ -503,7 +508,7 @@ def test_agent_write_api(env: Environment) -> None:
     ]
     assert call("download_attachments", email_id="e-lease", path="/Documents") == [LEASE]  # already there
 
-    draft_id = call("save_draft", recipients=[BOB], subject="Rent", content="Half written", cc=None)
+    draft_id = call("save_draft", recipients=[BOB], subject="Rent", content="Half written", cc=None)["id"]
     assert emails(env)[draft_id]["folder"] == "DRAFT"
 
 
@@ -706,3 +711,21 @@ def test_compose_can_browse_files_to_attach(env: Environment) -> None:
     assert [e["path"] for e in found] == [LEASE, "/Documents/notes.txt"]
     assert screen_of(env) == "Compose"
     assert env.log[-1].kind == "read"
+
+
+def test_a_sending_write_says_to_whom_it_went_and_carries_the_id(env: Environment) -> None:
+    def call(tool: str, **args: object) -> Any:
+        return ok(env.call("assistant", f"email__{tool}", args, mode="execute"))
+
+    reply = call("reply_to_email", email_id="e-party", content="Thanks!")
+    assert reply["done"] == f"Replied to e-party: sent {reply['id']} to {CAROL}: 'Re: Birthday party'."
+    sent = call("send_email", recipients=[BOB, ALICE], subject="Rent", content="Paid.", cc=[CAROL])
+    assert sent["done"] == f"Sent {sent['id']} to {BOB} and {ALICE} (cc {CAROL}): 'Rent'."
+    forward = call("forward_email", email_id="e-lease", recipients=[CAROL])
+    assert forward["done"] == (
+        f"Forwarded e-lease: sent {forward['id']} to {CAROL}: 'Fwd: Lease renewal', with 1 attachment(s)."
+    )
+    draft = call("save_draft", recipients=[], subject="Ideas", content="")
+    assert draft["done"] == f"Saved draft {draft['id']} (no recipient yet) in DRAFT: 'Ideas'."
+    # the model is shown the sentence with the id, not a bare id
+    assert env.log[-1].result == draft

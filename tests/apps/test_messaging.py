@@ -352,9 +352,12 @@ def test_agent_read_api(env: Environment) -> None:
 
 
 def test_agent_send_message_to_existing_and_new_one_to_one(env: Environment) -> None:
-    assert call(env, "send_message", user_id="u-bob", content="Rent sent") == "c-bob"
+    sent = call(env, "send_message", user_id="u-bob", content="Rent sent")
+    # the result says whom it went to, where, and carries the conversation's id
+    assert sent["id"] == "c-bob"
+    assert sent["done"].startswith("Sent ") and "to Bob" in sent["done"] and "c-bob" in sent["done"]
     assert last_message(env, "c-bob")["content"] == "Rent sent"
-    new_id = call(env, "send_message", user_id="u-emma", content="Welcome to the team!")
+    new_id = call(env, "send_message", user_id="u-emma", content="Welcome to the team!")["id"]
     created = conversations(env)[new_id]
     assert created["participant_ids"] == ["u-sam", "u-emma"]
     assert created["is_group"] is False
@@ -362,7 +365,9 @@ def test_agent_send_message_to_existing_and_new_one_to_one(env: Environment) -> 
     assert created["messages"][0]["sender_id"] == "u-sam"
     # the next message to Emma goes to the same conversation
     assert (
-        call(env, "send_message", user_id="u-emma", content="Lunch?", attachment="/Documents/agenda.txt")
+        call(env, "send_message", user_id="u-emma", content="Lunch?", attachment="/Documents/agenda.txt")[
+            "id"
+        ]
         == new_id
     )
     assert last_message(env, new_id)["attachment"] == "/Documents/agenda.txt"
@@ -371,14 +376,16 @@ def test_agent_send_message_to_existing_and_new_one_to_one(env: Environment) -> 
 def test_agent_group_api(env: Environment) -> None:
     group = call(
         env, "create_group_conversation", user_ids=["u-bob", "u-emma", "u-bob", "u-sam"], title="Flat"
-    )
+    )["id"]
     created = conversations(env)[group]
     assert created["participant_ids"] == ["u-sam", "u-bob", "u-emma"]
     assert created["is_group"] is True
     assert created["title"] == "Flat"
     assert created["messages"] == []
     assert call(env, "list_recent_conversations", limit=1)["conversations"][0]["conversation_id"] == group
-    message_id = call(env, "send_message_to_group_conversation", conversation_id=group, content="Hello both")
+    message_id = call(env, "send_message_to_group_conversation", conversation_id=group, content="Hello both")[
+        "id"
+    ]
     assert last_message(env, group)["message_id"] == message_id
     call(env, "send_message_to_group_conversation", conversation_id="c-dev", content="works in 1:1 too")
     assert last_message(env, "c-dev")["content"] == "works in 1:1 too"
@@ -391,7 +398,7 @@ def test_agent_group_api(env: Environment) -> None:
     assert conversations(env)[group]["participant_ids"] == ["u-sam", "u-emma", "u-dev"]
     call(env, "change_conversation_title", conversation_id=group, title="  New flat  ")
     assert conversations(env)[group]["title"] == "New flat"
-    untitled = call(env, "create_group_conversation", user_ids=["u-grace", "u-hiro"])
+    untitled = call(env, "create_group_conversation", user_ids=["u-grace", "u-hiro"])["id"]
     assert conversations(env)[untitled]["title"] is None
 
 
@@ -400,7 +407,7 @@ def test_adding_someone_to_a_one_to_one_makes_it_a_group(env: Environment) -> No
     assert "now a group" in result
     assert conversations(env)["c-bob"]["is_group"] is True
     # Bob no longer has a one-to-one conversation: a new one is started
-    new_id = call(env, "send_message", user_id="u-bob", content="Just us")
+    new_id = call(env, "send_message", user_id="u-bob", content="Just us")["id"]
     assert new_id != "c-bob"
     assert conversations(env)[new_id]["participant_ids"] == ["u-sam", "u-bob"]
 
@@ -675,3 +682,13 @@ def test_received_messages_are_unread_until_the_user_opens_the_conversation(env:
     assert state(env)["conversations"][conversation]["unread"] == 1
     ok(env.call("user", "read_messages", {}))
     assert state(env)["conversations"][conversation]["unread"] == 0
+
+
+def test_group_writes_say_who_is_in_the_conversation(env: Environment) -> None:
+    group = call(env, "create_group_conversation", user_ids=["u-bob", "u-emma"], title="Flat")
+    assert group["done"] == f"Started conversation {group['id']} ('Flat') with Bob Okafor and Emma Larsen."
+    sent = call(env, "send_message_to_group_conversation", conversation_id=group["id"], content="Hi")
+    assert (
+        sent["done"]
+        == f"Sent {sent['id']} in conversation {group['id']} ('Flat') to Bob Okafor and Emma Larsen."
+    )

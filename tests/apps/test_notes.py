@@ -6,6 +6,7 @@ from typing import Any
 
 import pytest
 
+from pare.apps.text import PAGE
 from pare.env import Environment
 from pare.env.random_walk import RandomUser
 from pare.errors import UserInputError
@@ -238,7 +239,7 @@ def test_show_all_notes_from_the_folders(env: Environment) -> None:
 def test_list_notes_pinned_first_then_most_recently_updated(env: Environment) -> None:
     page = user(env, "list_notes")
     assert page["folder"] == "Notes"
-    assert ids(page["notes"]) == NOTES_ORDER[:10]
+    assert ids(page["notes"]) == NOTES_ORDER[:PAGE]
     assert (page["total"], page["offset"]) == (12, 0)
     assert env.log[-1].kind == "read"
     page = user(env, "list_notes", offset=10, limit=5)
@@ -335,6 +336,7 @@ def test_open_folder_replaces_the_list(env: Environment) -> None:
         "notes": [],
         "total": 0,
         "offset": 0,
+        "showing": "all 0",
     }
     assert stack(env) == ["List(folder='Archive')"]
 
@@ -706,7 +708,7 @@ def test_unknown_argument_is_rejected_and_the_draft_kept(env: Environment) -> No
 def test_agent_reads(env: Environment) -> None:
     assert agent(env, "get_note_by_id", note_id="note-lisbon")["attachments"] == [PASSPORT]
     page = agent(env, "list_notes")
-    assert ids(page["notes"]) == NOTES_ORDER[:10] and page["total"] == 12
+    assert ids(page["notes"]) == NOTES_ORDER[:PAGE] and page["total"] == 12
     page = agent(env, "list_notes", folder="RECIPES", offset=1, limit=1)
     assert (page["folder"], ids(page["notes"]), page["total"], page["offset"]) == (
         "Recipes",
@@ -742,7 +744,7 @@ def test_agent_reads_are_available_in_observe_mode(env: Environment) -> None:
 
 def test_create_note(env: Environment) -> None:
     env.advance(timedelta(hours=1))
-    new_id = agent(env, "create_note", title=" Dentist questions ", content="Ask about the crown")
+    new_id = agent(env, "create_note", title=" Dentist questions ", content="Ask about the crown")["id"]
     assert notes(env)[new_id] == {
         "note_id": new_id,
         "title": "Dentist questions",
@@ -753,19 +755,19 @@ def test_create_note(env: Environment) -> None:
         "updated_at": LATER,
         "pinned": False,
     }
-    other = agent(env, "create_note", title="Sprint retro", folder="work")
+    other = agent(env, "create_note", title="Sprint retro", folder="work")["id"]
     assert notes(env)[other]["folder"] == "Work"
     assert notes(env)[other]["content"] == ""
-    untitled = agent(env, "create_note", title="", content="Door code 2580", folder="Personal")
+    untitled = agent(env, "create_note", title="", content="Door code 2580", folder="Personal")["id"]
     assert notes(env)[untitled]["title"] == ""
     assert len({new_id, other, untitled}) == 3
 
 
 def test_new_ids_are_never_reused(env: Environment) -> None:
-    first = agent(env, "create_note", title="A")
+    first = agent(env, "create_note", title="A")["id"]
     agent(env, "delete_note", note_id=first)
-    second = agent(env, "create_note", title="B")
-    third = agent(env, "duplicate_note", note_id=second)
+    second = agent(env, "create_note", title="B")["id"]
+    third = agent(env, "duplicate_note", note_id=second)["id"]
     assert len({first, second, third}) == 3
     assert first not in notes(env)
 
@@ -807,7 +809,7 @@ def test_move_note(env: Environment) -> None:
 
 
 def test_duplicate_note(env: Environment) -> None:
-    copy_id = agent(env, "duplicate_note", note_id="note-review")
+    copy_id = agent(env, "duplicate_note", note_id="note-review")["id"]
     copy = notes(env)[copy_id]
     assert copy["title"] == "Quarterly review prep (copy)"
     assert (copy["folder"], copy["content"], copy["attachments"]) == (
@@ -816,12 +818,15 @@ def test_duplicate_note(env: Environment) -> None:
         [WHITEBOARD],
     )
     assert (copy["created_at"], copy["updated_at"]) == (NOW, NOW)
-    untitled_copy = agent(env, "duplicate_note", note_id="note-untitled")
+    untitled_copy = agent(env, "duplicate_note", note_id="note-untitled")["id"]
     assert notes(env)[untitled_copy]["title"] == "(copy)"
 
 
 def test_folder_management(env: Environment) -> None:
-    assert agent(env, "new_folder", name="  Ideas ") == "Ideas"
+    assert agent(env, "new_folder", name="  Ideas ") == {
+        "done": "Created the empty folder 'Ideas'.",
+        "id": "Ideas",
+    }
     assert folders(env) == [*FOLDERS, "Ideas"]
     result = agent(env, "rename_folder", name="recipes", new_name="Cooking")
     assert result == "Renamed folder 'Recipes' to 'Cooking' (3 notes)."
@@ -1038,3 +1043,10 @@ def test_detail_and_edit_can_browse_files_to_attach(env: Environment) -> None:
     user(env, "edit")
     assert [e["type"] for e in user(env, "browse_files")] == ["directory"] * len(user(env, "browse_files"))
     assert screen_of(env) == "Edit"
+
+
+def test_creating_and_copying_notes_say_what_was_made_where(env: Environment) -> None:
+    made = agent(env, "create_note", title=" Packing ", folder="work")
+    assert made["done"] == f"Created note {made['id']} 'Packing' in folder 'Work'."
+    copy = agent(env, "duplicate_note", note_id=made["id"])
+    assert copy["done"] == f"Copied note {made['id']} as {copy['id']} 'Packing (copy)' in folder 'Work'."

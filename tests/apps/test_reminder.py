@@ -6,6 +6,7 @@ from datetime import UTC, datetime, timedelta
 import pytest
 
 from pare.apps.reminder import ReminderEdit, Repetition, next_occurrence
+from pare.apps.text import PAGE
 from pare.env import Environment
 from pare.env.random_walk import RandomUser
 from pare.errors import UserInputError
@@ -161,8 +162,11 @@ def test_list_due_reminders_shows_those_due_now_or_before(env: Environment) -> N
 
 def test_list_upcoming_reminders(env: Environment) -> None:
     shown = ok(env.call("user", "list_upcoming_reminders"))
-    assert ids(shown["reminders"]) == UPCOMING[:10]
+    assert ids(shown["reminders"]) == UPCOMING[:PAGE]
     assert shown["total"] == len(UPCOMING) == 11
+    assert shown["showing"] == "1-5 of 11; offset=5 shows the next"
+    shown = ok(env.call("user", "list_upcoming_reminders", {"offset": 10}))
+    assert ids(shown["reminders"]) == UPCOMING[10:]
     shown = ok(env.call("user", "list_upcoming_reminders", {"limit": 3}))
     assert ids(shown["reminders"]) == ["rem-dentist", "rem-vitamins", "rem-slides"]
     assert shown["total"] == 11
@@ -180,7 +184,7 @@ def test_lists_follow_the_clock(env: Environment) -> None:
 
 @pytest.mark.parametrize("limit", [0, 101])
 def test_list_upcoming_rejects_a_bad_limit(env: Environment, limit: int) -> None:
-    err(env.call("user", "list_upcoming_reminders", {"limit": limit}), "limit must be between 1 and 100")
+    err(env.call("user", "list_upcoming_reminders", {"limit": limit}), "limit between 1 and 100")
     assert screen_of(env) == "List"
 
 
@@ -449,7 +453,7 @@ def test_agent_reads(env: Environment) -> None:
     upcoming = agent(env, "get_upcoming_reminders", limit=4)
     assert ids(upcoming["reminders"]) == UPCOMING[:4]
     assert upcoming["total"] == 11
-    assert ids(agent(env, "get_upcoming_reminders")["reminders"]) == UPCOMING[:10]
+    assert ids(agent(env, "get_upcoming_reminders")["reminders"]) == UPCOMING[:PAGE]
     shown = agent(env, "get_reminder", reminder_id="rem-plants")
     assert shown == {
         "reminder_id": "rem-plants",
@@ -471,8 +475,12 @@ def test_add_reminder(env: Environment) -> None:
         title=" Pick up the dry cleaning ",
         due_datetime="2025-03-04 17:00",
         description=" Ticket 4411 ",
-    )
+    )["id"]
     assert new_id == "reminder-1"
+    assert env.log[-1].result == {
+        "done": "Added reminder reminder-1 'Pick up the dry cleaning', due Tue 2025-03-04 17:00.",
+        "id": "reminder-1",
+    }
     assert reminders(env)[new_id] == {
         "reminder_id": new_id,
         "title": "Pick up the dry cleaning",
@@ -491,7 +499,7 @@ def test_add_reminder(env: Environment) -> None:
         due_datetime="2025-03-07T16:00:00+01:00",
         repetition="WEEKLY",
         repeat_until="2025-04-30 00:00",
-    )
+    )["id"]
     assert second == "reminder-2"
     stored = reminders(env)[second]
     assert (stored["due_datetime"], stored["repetition"], stored["repeat_until"]) == (
@@ -501,7 +509,7 @@ def test_add_reminder(env: Environment) -> None:
     )
     agent(env, "delete_reminder", reminder_id=second)
     assert (
-        agent(env, "add_reminder", title="Again", due_datetime="2025-03-05 10:00") == "reminder-3"
+        agent(env, "add_reminder", title="Again", due_datetime="2025-03-05 10:00")["id"] == "reminder-3"
     )  # not reused
 
 
@@ -796,7 +804,7 @@ def test_a_deleted_reminder_is_never_announced(env: Environment) -> None:
 
 
 def test_a_reminder_added_for_a_past_time_is_announced_at_once(env: Environment) -> None:
-    new_id = agent(env, "add_reminder", title="Take the pizza out", due_datetime="2025-03-03 08:55")
+    new_id = agent(env, "add_reminder", title="Take the pizza out", due_datetime="2025-03-03 08:55")["id"]
     env.deliver_due_events()
     assert announced(env) == [("03-03 09:00", new_id)]
     assert reminders(env)[new_id]["announced"] is True
@@ -873,7 +881,9 @@ def test_set_for_keeps_the_time_a_repeating_reminder_was_set_for_as_it_fires() -
     """A check on the final state can tell a daily reminder set for tomorrow from one set for next week,
     although both have moved on by the time the episode ends."""
     env = make_env(["reminder"])
-    new_id = agent(env, "add_reminder", title="Stretch", due_datetime="2025-03-04 08:00", repetition="daily")
+    new_id = agent(env, "add_reminder", title="Stretch", due_datetime="2025-03-04 08:00", repetition="daily")[
+        "id"
+    ]
     env.advance_to(datetime(2025, 3, 6, 9, 0, tzinfo=UTC))
     stored = reminders(env)[new_id]
     assert stored["due_datetime"] == "2025-03-07T08:00:00Z"

@@ -429,8 +429,8 @@ def test_a_price_range_and_the_sold_out_variants_on_the_front_page() -> None:
                 "name": "Headphones",
                 "brand": "Sonique",
                 "price": "$199.00-$209.50",
-                "in_stock": ["Black"],
-                "out_of_stock": ["Silver"],
+                "in_stock": [{"item_id": "b", "name": "Black", "price": 199.0}],
+                "out_of_stock": [{"item_id": "s", "name": "Silver", "price": 209.5}],
             }
         ],
         "cart": {"items": 0, "subtotal": 0.0},
@@ -534,3 +534,82 @@ def test_partial_matching_is_what_the_docstrings_say(env: Environment) -> None:
     found = agent(env, "contacts__search_contacts", query="Priya")
     assert [c["first_name"] for c in found] == ["Priyanka"]
     assert screen_of(env) is None
+
+
+# -- partial lists ----------------------------------------------------------------------------------
+
+LIST_SCREENS = [
+    # app, how to reach the list from the app's first screen, the rows' key, the total's key
+    ("email", [], "emails", "total"),
+    ("messaging", [], "conversations", "total"),
+    ("contacts", [], "contacts", "total"),
+    ("notes", [], "notes", "total"),
+    ("reminder", [], "reminders", "total"),
+    ("shopping", [], "products", "total_products"),
+    ("shopping", [("list_orders", {})], "orders", "total"),
+    ("cab", [], "recent_rides", "total_rides"),
+    ("apartment", [], "listings", "total"),
+]
+
+
+@pytest.mark.parametrize(("app", "steps", "rows", "total"), LIST_SCREENS)
+def test_a_list_screen_says_when_it_shows_part_and_how_to_see_the_rest(
+    app: str, steps: list[tuple[str, dict[str, Any]]], rows: str, total: str
+) -> None:
+    env = make_env(APPS, sample_world())
+    user(env, "open_app", app_name=app)
+    for action, args in steps:
+        user(env, action, **args)
+    view = shown(env)
+    # the cab's home shows the ride under way apart from the other rides
+    count = len(view[rows]) + bool(view.get("current_ride"))
+    if count >= view[total]:
+        assert "showing" not in view  # a whole list needs no word about the rest
+        return
+    assert count == PAGE
+    showing = view["showing"]
+    assert showing.startswith(f"1-{PAGE} of {view[total]}; ")
+    action = showing.split("; ", 1)[1].split("(", 1)[0]
+    # the way to the rest is an action the user has on this very screen, and it pages as the screen does
+    assert action in env.user_view().tool_names
+    rest = user(env, action, **({"offset": PAGE} if "offset=" in showing else {}))
+    assert rest
+
+
+def test_the_sample_world_has_partial_lists_to_say_so_about() -> None:
+    env = make_env(APPS, sample_world())
+    partial = []
+    for app, steps, _rows, _total in LIST_SCREENS:
+        user(env, "open_app", app_name=app)
+        for action, args in steps:
+            user(env, action, **args)
+        view = shown(env)
+        if "showing" in view:
+            partial.append(app)
+        user(env, "go_home")
+    assert partial, "no list screen of the sample world is longer than a page: the test above checks nothing"
+
+
+@pytest.mark.parametrize(
+    ("tool", "args", "rows"),
+    [
+        ("email__list_emails", {}, "emails"),
+        ("messaging__list_recent_conversations", {}, "conversations"),
+        ("contacts__get_contacts", {}, "contacts"),
+        ("notes__list_notes", {}, "notes"),
+        ("reminder__get_upcoming_reminders", {}, "reminders"),
+        ("shopping__list_all_products", {}, "products"),
+        ("cab__get_ride_history", {}, "rides"),
+        ("apartment__list_all_apartments", {}, "apartments"),
+    ],
+)
+def test_list_tools_page_as_the_screens_do_and_say_how_much(
+    tool: str, args: dict[str, Any], rows: str
+) -> None:
+    env = make_env(APPS, sample_world())
+    page = agent(env, tool, **args)
+    assert len(page[rows]) == min(PAGE, page["total"])
+    if page["total"] > PAGE:
+        assert page["showing"] == f"1-{PAGE} of {page['total']}; offset={PAGE} shows the next"
+    else:
+        assert page["showing"] == f"all {page['total']}"

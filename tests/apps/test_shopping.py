@@ -7,6 +7,7 @@ from typing import Any
 
 import pytest
 
+from pare.bench import EpisodeSettings
 from pare.env import Environment
 from pare.env.random_walk import RandomUser
 from pare.errors import UserInputError
@@ -262,18 +263,27 @@ def test_listing_shows_price_range_and_availability(env: Environment) -> None:
     listed = {p["product_id"]: p for p in ok(env.call("user", "list_products", {"limit": 20}))["products"]}
     assert (listed["prod-trail"]["min_price"], listed["prod-trail"]["max_price"]) == (89.99, 94.99)
     assert listed["prod-trail"]["variant_count"] == 3
-    # black is in stock, silver is not: the listing says which, not a plain "in stock"
+    # black is in stock, silver is not: the listing says which, not a plain "in stock", with the item ids
+    # add_to_cart takes, so that ordering from a search needs no lookup per product
     assert (listed["prod-headphones"]["in_stock"], listed["prod-headphones"]["out_of_stock"]) == (
-        ["Black"],
-        ["Silver"],
+        [{"item_id": "hp-black", "name": "Black", "price": 199.0}],
+        [{"item_id": "hp-silver", "name": "Silver", "price": 199.0}],
     )
-    assert listed["prod-trail"]["out_of_stock"] == ["Blue / 43"]
+    assert [v["name"] for v in listed["prod-trail"]["out_of_stock"]] == ["Blue / 43"]
     world(env, "update_item_stock", item_id="hp-black", new_stock=0)
     listed = {p["product_id"]: p for p in ok(env.call("user", "list_products", {"limit": 20}))["products"]}
     assert listed["prod-headphones"]["in_stock"] == []
-    assert listed["prod-headphones"]["out_of_stock"] == ["Black", "Silver"]
+    assert [v["item_id"] for v in listed["prod-headphones"]["out_of_stock"]] == ["hp-black", "hp-silver"]
     found = ok(env.call("user", "search_products", {"query": "headphones"}))
-    assert (found[0]["in_stock"], found[0]["out_of_stock"]) == ([], ["Black", "Silver"])
+    assert found[0]["in_stock"] == []
+    assert [v["name"] for v in found[0]["out_of_stock"]] == ["Black", "Silver"]
+
+
+def test_a_searched_variant_goes_into_the_cart_by_the_item_id_the_search_gave(env: Environment) -> None:
+    found = agent(env, "search_product", product_name="headphones")
+    item_id = found[0]["in_stock"][0]["item_id"]
+    cart = agent(env, "add_to_cart", item_id=item_id)
+    assert item_id in [line["item_id"] for line in cart["lines"]]
 
 
 def test_search_products_matches_every_word(env: Environment) -> None:
@@ -967,3 +977,22 @@ def test_a_random_user_walks_every_screen_without_breaking() -> None:
     screens = {entry.app_screen[1] for entry in env.log if entry.app_screen}
     assert {"Home", "Product", "Variant", "Cart", "Orders", "OrderDetail"} <= screens
     assert sum(entry.ok for entry in env.log) / len(env.log) > 0.5
+
+
+def test_a_six_item_order_fits_the_execute_budget_with_the_ids_a_listing_gives(env: Environment) -> None:
+    """One listing gives every in-stock variant's item id, so six items, the checkout and the report take
+    9 of the 10 execute actions (no lookup per product, no guessed ids).
+    """
+    agent(env, "remove_from_cart", item_id="trail-blue-42")
+    agent(env, "remove_from_cart", item_id="hoodie-blue-m", quantity=2)
+    calls = 1
+    listing = agent(env, "list_all_products", limit=100)
+    wanted = [product["in_stock"][0]["item_id"] for product in listing["products"] if product["in_stock"]][:6]
+    assert len(wanted) == 6
+    for item_id in wanted:
+        agent(env, "add_to_cart", item_id=item_id)
+        calls += 1
+    order = agent(env, "checkout")
+    calls += 1
+    assert sorted(item["item_id"] for item in order["items"]) == sorted(wanted)
+    assert calls + 1 <= EpisodeSettings().execute_steps  # and the report to the user

@@ -30,24 +30,24 @@ def _creates_then_edits(reference: str) -> dict[str, Any]:
     return data
 
 
-def test_a_bare_id_result_is_named_by_its_step_alone() -> None:
-    scenario = parse(_creates_then_edits("${made}"))  # add_calendar_event returns the new id itself
+def test_the_id_a_write_made_is_named_by_its_field() -> None:
+    scenario = parse(_creates_then_edits("${made.id}"))  # add_calendar_event returns {done, id}
     result = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
     assert result.success
     events = result.env.snapshot()["calendar"]["events"]
     assert [event["location"] for event in events.values() if event["title"] == "Call Ann"] == ["Zoom"]
 
 
-def test_a_field_of_a_bare_id_is_a_clear_error() -> None:
+def test_a_field_the_result_lacks_is_a_clear_error() -> None:
     scenario = parse(_creates_then_edits("${made.event_id}"))
-    expected = r"has no 'event_id' \(it is 'event-1'; \$\{made\} names the whole"
+    expected = r"has no 'event_id' \(it is \{'done': .*'id': 'event-1'\}; \$\{made\} names the whole"
     with pytest.raises(OracleRunError, match=expected):
         run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
 
 
 def test_the_oracle_tries_a_transiently_failed_action_again() -> None:
     """Under injected tool failures a referenced result still arrives: the oracle retries the call."""
-    scenario = parse(_creates_then_edits("${made}"))
+    scenario = parse(_creates_then_edits("${made.id}"))
     retried = 0
     for seed in range(8):
         settings = EpisodeSettings(env=EnvConfig(seed=seed, tool_failure_probability=0.4))

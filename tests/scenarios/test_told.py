@@ -275,7 +275,7 @@ def test_probe_a_group_chat_that_includes_the_person_tells_them() -> None:
             {"id": "grp", "tool": "messaging__create_group_conversation", "args": {"user_ids": group}},
             {
                 "tool": "messaging__send_message_to_group_conversation",
-                "args": {"conversation_id": "${grp}", "content": content},
+                "args": {"conversation_id": "${grp.id}", "content": content},
             },
         ]
 

@@ -11,6 +11,7 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from pare.apps.base import App
+from pare.apps.paging import Paged, showing_screen
 from pare.apps.screens import Screen, Transition, action, push
 from pare.apps.text import PAGE, optional_text, unique_names
 from pare.apps.tools import tool
@@ -186,8 +187,10 @@ class ApartmentState(BaseModel):
         return self
 
 
-class ApartmentPage(BaseModel):
+class ApartmentPage(Paged):
     """One page of listings."""
+
+    rows_field = "apartments"
 
     apartments: list[Apartment]
     total: int
@@ -267,7 +270,7 @@ class ApartmentApp(App):
 
     # -- agent API -----------------------------------------------------------------------------------
     @tool("read")
-    def list_all_apartments(self, offset: int = 0, limit: int = 10) -> ApartmentPage:
+    def list_all_apartments(self, offset: int = 0, limit: int = PAGE) -> ApartmentPage:
         """List every apartment listing, sorted by name, a page at a time.
 
         Args:
@@ -311,7 +314,7 @@ class ApartmentApp(App):
         min_square_footage: int | None = None,
         max_square_footage: int | None = None,
         offset: int = 0,
-        limit: int = 10,
+        limit: int = PAGE,
     ) -> ApartmentPage:
         """Search listings; every filter given must match. Results are sorted by price, cheapest first.
 
@@ -633,10 +636,11 @@ class ListingsHome(Screen):
             "total": page.total,
             "saved": len(app.state.saved),
             "listings": [_row(app, apartment) for apartment in page.apartments],
+            **showing_screen(page.apartments, page.total, "list_apartments(offset={offset})"),
         }
 
     @action(kind="read")
-    def list_apartments(self, app: ApartmentApp, offset: int = 0, limit: int = 10) -> ApartmentPage:
+    def list_apartments(self, app: ApartmentApp, offset: int = 0, limit: int = PAGE) -> ApartmentPage:
         """Show a page of listings, sorted by name.
 
         Args:
@@ -695,7 +699,7 @@ class SearchListings(Screen):
         min_square_footage: int | None = None,
         max_square_footage: int | None = None,
         offset: int = 0,
-        limit: int = 10,
+        limit: int = PAGE,
     ) -> ApartmentPage:
         """Show the listings matching every filter given, cheapest first.
 
@@ -756,7 +760,11 @@ class SavedListings(Screen):
     def display(self, app: ApartmentApp) -> dict[str, Any]:
         """The first saved listings, oldest saved first as list_saved orders them, with their number."""
         saved = app.list_saved_apartments()
-        return {"total": len(saved), "listings": [_row(app, apartment) for apartment in saved[:PAGE]]}
+        return {
+            "total": len(saved),
+            "listings": [_row(app, apartment) for apartment in saved[:PAGE]],
+            **showing_screen(saved[:PAGE], len(saved), "list_saved()"),
+        }
 
     @action(kind="read")
     def list_saved(self, app: ApartmentApp) -> list[Apartment]:

@@ -21,6 +21,7 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from pare.apps.base import App, DatedRecord
+from pare.apps.paging import Paged, showing_screen
 from pare.apps.screens import Screen, Transition, action, back_to, push, replace
 from pare.apps.text import PAGE, short_time
 from pare.apps.tools import tool
@@ -49,6 +50,8 @@ SPEED_KMH = 30
 PEAK_HOURS = frozenset({7, 8, 9, 16, 17, 18})
 PEAK_MULTIPLIER = Decimal("1.25")
 QUOTE_GRACE = timedelta(minutes=15)
+NO_RIDE_UNDER_WAY = "No ride is under way (none is booked). get_ride_history lists past rides."
+"""What the current ride's status reads when there is none: a normal state, so a result and not an error."""
 """How long after its pickup time a quotation can still be ordered."""
 
 
@@ -188,8 +191,10 @@ class CabState(BaseModel):
         return self
 
 
-class RidePage(BaseModel):
+class RidePage(Paged):
     """One page of rides, most recent first."""
+
+    rows_field = "rides"
 
     rides: list[Ride]
     total: int
@@ -488,16 +493,16 @@ class CabApp(App):
         return self._store(self._quote(start, end, service, pickup))
 
     @tool("read")
-    def get_current_ride_status(self) -> Ride:
+    def get_current_ride_status(self) -> Ride | str:
         """Get the ride under way (booked and not yet completed or cancelled): its status, driver and
         vehicle.
 
         Returns:
-            the current ride.
+            the current ride, or a sentence saying that none is under way (a state, not an error).
         """
         ride = self.current_ride()
         if ride is None:
-            raise ToolError("There is no ride under way. get_ride_history lists past rides.")
+            return NO_RIDE_UNDER_WAY
         return ride
 
     @tool("read")
@@ -513,7 +518,7 @@ class CabApp(App):
         return self.require_ride(ride_id)
 
     @tool("read")
-    def get_ride_history(self, offset: int = 0, limit: int = 10) -> RidePage:
+    def get_ride_history(self, offset: int = 0, limit: int = PAGE) -> RidePage:
         """List every ride booked, the current one included, most recently booked first, a page at a time.
 
         Args:
@@ -721,6 +726,7 @@ class CabHome(Screen):
             "current_ride": current,
             "total_rides": history.total,
             "recent_rides": [_ride_row(ride) for ride in history.rides if ride is not current],
+            **showing_screen(history.rides, history.total, "get_ride_history(offset={offset})"),
         }
 
     @action("Options", kind="read")
@@ -752,7 +758,7 @@ class CabHome(Screen):
         return push(RideDetail(ride_id=ride.ride_id), ride)
 
     @action(kind="read")
-    def get_ride_history(self, app: CabApp, offset: int = 0, limit: int = 10) -> RidePage:
+    def get_ride_history(self, app: CabApp, offset: int = 0, limit: int = PAGE) -> RidePage:
         """Show your rides, most recent first.
 
         Args:

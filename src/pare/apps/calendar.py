@@ -9,6 +9,8 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from pare.apps.base import App
+from pare.apps.done import Done, listed
+from pare.apps.paging import Paged, showing_screen
 from pare.apps.screens import BACK, Screen, Transition, action, back, back_to, push, replace
 from pare.apps.text import PAGE, optional_text, unique_names
 from pare.apps.tools import tool
@@ -67,8 +69,10 @@ class CalendarState(BaseModel):
         return self
 
 
-class EventPage(BaseModel):
+class EventPage(Paged):
     """One page of events."""
+
+    rows_field = "events"
 
     events: list[CalendarEvent]
     total: int
@@ -205,7 +209,7 @@ class CalendarApp(App):
         description: str | None = None,
         location: str | None = None,
         attendees: list[str] | None = None,
-    ) -> str:
+    ) -> Done:
         """Add an event to the user's calendar.
 
         Args:
@@ -218,7 +222,7 @@ class CalendarApp(App):
             attendees: names of the people taking part, e.g. ["Alice Chen"].
 
         Returns:
-            the new event's id.
+            what was added and when, and the new event's id.
         """
         event = self._create(
             title=title,
@@ -229,7 +233,11 @@ class CalendarApp(App):
             location=location,
             attendees=attendees or [],
         )
-        return event.event_id
+        where = f" at {event.location}" if event.location else ""
+        who = f" with {listed(event.attendees)}" if event.attendees else ""
+        when = describe_when(event.start_datetime, event.end_datetime)
+        done = f"Added event {event.event_id} '{event.title}' to the calendar: {when}{where}{who}."
+        return Done(done=done, id=event.event_id)
 
     @tool("write")
     def edit_calendar_event(self, event_id: str, updates: EventUpdate) -> CalendarEvent:
@@ -300,7 +308,7 @@ class CalendarApp(App):
 
     @tool("read")
     def get_calendar_events_from_to(
-        self, start_datetime: SimTime, end_datetime: SimTime, offset: int = 0, limit: int = 10
+        self, start_datetime: SimTime, end_datetime: SimTime, offset: int = 0, limit: int = PAGE
     ) -> EventPage:
         """List the events that overlap a time window, sorted by start time, a page at a time.
 
@@ -511,6 +519,7 @@ class Agenda(Screen):
             shown["attendee"] = listing.attendee
         shown["total"] = len(listing.events)
         shown["events"] = [_row(event, listing.day) for event in listing.events[:PAGE]]
+        shown.update(showing_screen(shown["events"], len(listing.events), "list_events()"))
         return shown
 
     def listing(self, app: CalendarApp) -> AgendaDay:
@@ -816,7 +825,7 @@ class EventEdit(Screen):
                 description=self.description,
                 location=self.location,
                 attendees=self.attendees,
-            )
+            ).id
             return replace(EventDetail(event_id=event_id), app.require(event_id))
         event = app.require(self.event_id)
         draft = self.draft().model_dump(exclude={"event_id"})

@@ -7,6 +7,8 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field
 
 from pare.apps.base import App
+from pare.apps.done import Done
+from pare.apps.paging import Paged, showing_screen
 from pare.apps.screens import BACK, Screen, Transition, action, back, back_to, push
 from pare.apps.text import PAGE
 from pare.apps.tools import tool
@@ -64,8 +66,10 @@ class ContactsState(BaseModel):
     contacts: dict[str, Contact] = Field(default_factory=dict)
 
 
-class ContactPage(BaseModel):
+class ContactPage(Paged):
     """One page of contacts."""
+
+    rows_field = "contacts"
 
     contacts: list[Contact]
     total: int
@@ -95,7 +99,7 @@ class ContactsApp(App):
 
     # -- agent API -----------------------------------------------------------------------------------
     @tool("read")
-    def get_contacts(self, offset: int = 0, limit: int = 10) -> ContactPage:
+    def get_contacts(self, offset: int = 0, limit: int = PAGE) -> ContactPage:
         """List contacts sorted by name, a page at a time.
 
         Args:
@@ -170,7 +174,7 @@ class ContactsApp(App):
         company: str | None = None,
         relationship: str | None = None,
         notes: str | None = None,
-    ) -> str:
+    ) -> Done:
         """Add a contact to the address book.
 
         Args:
@@ -186,7 +190,7 @@ class ContactsApp(App):
             notes: free-form notes.
 
         Returns:
-            the new contact's id.
+            who was added, and the new contact's id.
         """
         if not first_name.strip():
             raise ToolError("A contact needs a first name.")
@@ -204,7 +208,8 @@ class ContactsApp(App):
             relationship=relationship,
             notes=notes,
         )
-        return contact_id
+        contact = self.state.contacts[contact_id]
+        return Done(done=f"Added {contact.full_name} to the contacts as {contact_id}.", id=contact_id)
 
     @tool("write")
     def edit_contact(self, contact_id: str, updates: ContactUpdate) -> Contact:
@@ -275,10 +280,14 @@ class ContactList(Screen):
         open_contact takes and what an address book row shows.
         """
         page = app.get_contacts(limit=PAGE)
-        return {"total": page.total, "contacts": [_row(contact) for contact in page.contacts]}
+        return {
+            "total": page.total,
+            "contacts": [_row(contact) for contact in page.contacts],
+            **showing_screen(page.contacts, page.total, "list_contacts(offset={offset})"),
+        }
 
     @action(kind="read")
-    def list_contacts(self, app: ContactsApp, offset: int = 0, limit: int = 10) -> ContactPage:
+    def list_contacts(self, app: ContactsApp, offset: int = 0, limit: int = PAGE) -> ContactPage:
         """Show a page of contacts.
 
         Args:
@@ -339,7 +348,7 @@ class ContactList(Screen):
             email=email,
             relationship=relationship,
             notes=notes,
-        )
+        ).id
         return push(ContactDetail(contact_id=contact_id), app.require(contact_id))
 
 

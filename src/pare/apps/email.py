@@ -14,7 +14,9 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from pare.apps.base import App, DatedRecord
+from pare.apps.done import Done, listed
 from pare.apps.files import DirectoryEntry, FilesApp, browse, files_of, normalize_path
+from pare.apps.paging import Paged, showing_screen
 from pare.apps.screens import BACK, Screen, Transition, action, back, push, replace
 from pare.apps.text import PAGE, preview, short_time
 from pare.apps.tools import tool
@@ -67,6 +69,14 @@ def is_address(address: str) -> bool:
     return bool(_ADDRESS.match(address))
 
 
+def _sent(what: str, email: Email) -> Done:
+    """The result of sending ``email``, e.g. ``Sent email-712 to bob@example.com: 'Re: Lunch'.``."""
+    copied = f" (cc {listed(email.cc)})" if email.cc else ""
+    attached = f", with {len(email.attachments)} attachment(s)" if email.attachments else ""
+    done = f"{what} {email.email_id} to {listed(email.recipients)}{copied}: '{email.subject}'{attached}."
+    return Done(done=done, id=email.email_id)
+
+
 def _reply_subject(subject: str) -> str:
     return subject if subject.strip().lower().startswith("re:") else f"Re: {subject}"
 
@@ -117,8 +127,10 @@ class EmailState(BaseModel):
         return self
 
 
-class EmailPage(BaseModel):
+class EmailPage(Paged):
     """One page of a folder, newest first."""
+
+    rows_field = "emails"
 
     folder: Folder
     emails: list[Email]
@@ -252,7 +264,7 @@ class EmailApp(App):
 
     # -- agent API: reading --------------------------------------------------------------------------
     @tool("read")
-    def list_emails(self, folder: Folder = Folder.INBOX, offset: int = 0, limit: int = 10) -> EmailPage:
+    def list_emails(self, folder: Folder = Folder.INBOX, offset: int = 0, limit: int = PAGE) -> EmailPage:
         """List the emails of a folder, newest first, a page at a time.
 
         Args:
@@ -341,7 +353,7 @@ class EmailApp(App):
         content: str,
         cc: list[str] | None = None,
         attachments: list[str] | None = None,
-    ) -> str:
+    ) -> Done:
         """Send a new email from the user's address; it is stored in SENT.
 
         Args:
@@ -352,7 +364,7 @@ class EmailApp(App):
             attachments: paths of files in the Files app to attach, e.g. ["/Documents/lease.pdf"].
 
         Returns:
-            the id of the sent email.
+            what was sent to whom, and the sent email's id.
         """
         to = self.check_addresses(recipients, "recipients")
         if not to:
@@ -369,10 +381,10 @@ class EmailApp(App):
             folder=Folder.SENT,
             is_read=True,
         )
-        return sent.email_id
+        return _sent("Sent", sent)
 
     @tool("write")
-    def reply_to_email(self, email_id: str, content: str, attachments: list[str] | None = None) -> str:
+    def reply_to_email(self, email_id: str, content: str, attachments: list[str] | None = None) -> Done:
         """Reply to an email; the reply is stored in SENT.
 
         The reply goes to the email's sender (or, for an email the user sent, to its recipients) with the
@@ -384,7 +396,7 @@ class EmailApp(App):
             attachments: paths of files in the Files app to attach.
 
         Returns:
-            the id of the sent reply.
+            whom the reply went to, and the reply's id.
         """
         original = self.require_sent(email_id, "replied to")
         to = self.reply_recipients(original)
@@ -402,10 +414,10 @@ class EmailApp(App):
             is_read=True,
             in_reply_to=original.email_id,
         )
-        return sent.email_id
+        return _sent(f"Replied to {email_id}: sent", sent)
 
     @tool("write")
-    def forward_email(self, email_id: str, recipients: list[str]) -> str:
+    def forward_email(self, email_id: str, recipients: list[str]) -> Done:
         """Forward an email, with its attachments, to other people; the forward is stored in SENT.
 
         Args:
@@ -413,7 +425,7 @@ class EmailApp(App):
             recipients: the addresses to forward it to (at least one).
 
         Returns:
-            the id of the forwarded email.
+            whom it was forwarded to, and the forward's id.
         """
         original = self.require_sent(email_id, "forwarded")
         to = self.check_addresses(recipients, "recipients")
@@ -438,7 +450,7 @@ class EmailApp(App):
             folder=Folder.SENT,
             is_read=True,
         )
-        return sent.email_id
+        return _sent(f"Forwarded {email_id}: sent", sent)
 
     @tool("write")
     def move_email(self, email_id: str, folder: Folder) -> str:
@@ -537,7 +549,7 @@ class EmailApp(App):
         content: str,
         cc: list[str] | None = None,
         attachments: list[str] | None = None,
-    ) -> str:
+    ) -> Done:
         """Save an unsent email in DRAFT.
 
         Args:
@@ -548,7 +560,7 @@ class EmailApp(App):
             attachments: paths of files in the Files app to attach.
 
         Returns:
-            the id of the draft.
+            what was saved, and the draft's id.
         """
         to = self.check_addresses(recipients, "recipients")
         copied = self.check_addresses(cc or [], "cc")
@@ -563,7 +575,9 @@ class EmailApp(App):
             folder=Folder.DRAFT,
             is_read=True,
         )
-        return draft.email_id
+        addressed = f" to {listed(draft.recipients)}" if draft.recipients else " (no recipient yet)"
+        done = f"Saved draft {draft.email_id}{addressed} in DRAFT: '{draft.subject}'."
+        return Done(done=done, id=draft.email_id)
 
     # -- the world -----------------------------------------------------------------------------------
     @tool("env", actors=())
@@ -670,10 +684,11 @@ class Mailbox(Screen):
             "total": len(emails),
             "unread": sum(not email.is_read for email in emails),
             "emails": [_row(email, outgoing) for email in emails[:PAGE]],
+            **showing_screen(emails[:PAGE], len(emails), "list_emails(offset={offset})"),
         }
 
     @action(kind="read")
-    def list_emails(self, app: EmailApp, offset: int = 0, limit: int = 10) -> EmailPage:
+    def list_emails(self, app: EmailApp, offset: int = 0, limit: int = PAGE) -> EmailPage:
         """Show a page of this folder's emails, newest first.
 
         Args:
@@ -747,7 +762,7 @@ class EmailDetail(Screen):
         return app.require(self.email_id)
 
     @action(kind="write")
-    def reply(self, app: EmailApp, content: str, attachments: list[str] | None = None) -> str:
+    def reply(self, app: EmailApp, content: str, attachments: list[str] | None = None) -> Done:
         """Send a quick reply to this email.
 
         Args:
@@ -757,7 +772,7 @@ class EmailDetail(Screen):
         return app.reply_to_email(self.email_id, content, attachments)
 
     @action(kind="write")
-    def forward(self, app: EmailApp, recipients: list[str]) -> str:
+    def forward(self, app: EmailApp, recipients: list[str]) -> Done:
         """Forward this email and its attachments.
 
         Args:
@@ -905,14 +920,14 @@ class Compose(Screen):
         """Send the email and go back."""
         if self.reply_to is not None:
             return back(app.reply_to_email(self.reply_to, self.body, self.attachments or None))
-        email_id = app.send_email(
+        sent = app.send_email(
             recipients=self.recipients,
             subject=self.subject,
             content=self.body,
             cc=self.cc or None,
             attachments=self.attachments or None,
         )
-        return back(email_id)
+        return back(sent)
 
     @action(BACK, kind="write")
     def save_draft(self, app: EmailApp) -> Transition:

@@ -10,7 +10,9 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from pare.apps.base import App, DatedRecord
+from pare.apps.done import Done, listed
 from pare.apps.files import DirectoryEntry, FilesApp, browse, files_of, normalize_path
+from pare.apps.paging import Paged, showing_screen
 from pare.apps.screens import Screen, Transition, action, push
 from pare.apps.text import PAGE, preview, short_time
 from pare.apps.tools import tool
@@ -155,16 +157,21 @@ class ConversationMatch(ConversationSummary):
     matching_messages: list[MessageView]
 
 
-class ConversationPage(BaseModel):
+class ConversationPage(Paged):
     """One page of conversations, most recently updated first."""
+
+    rows_field = "conversations"
 
     conversations: list[ConversationSummary]
     total: int
     offset: int
 
 
-class ConversationMessages(BaseModel):
+class ConversationMessages(Paged):
     """One page of a conversation's messages, newest first."""
+
+    rows_field = "messages"
+    total_field = "total_messages"
 
     conversation_id: str
     is_group: bool
@@ -276,6 +283,15 @@ class MessagingApp(App):
             attachment=message.attachment,
         )
 
+    def _called(self, conversation: Conversation) -> str:
+        """How a result names a conversation: its id, with its title when it has one."""
+        title = f" ('{conversation.title}')" if conversation.title else ""
+        return f"conversation {conversation.conversation_id}{title}"
+
+    def _others(self, conversation: Conversation) -> str:
+        """The participants besides the user, by name, as a sentence lists them."""
+        return listed([self.state.users[p] for p in conversation.participant_ids if p != self.me])
+
     def _participants(self, conversation: Conversation) -> list[Participant]:
         return [
             Participant(user_id=p, name=self.state.users[p], is_current_user=p == self.me)
@@ -376,7 +392,7 @@ class MessagingApp(App):
 
     # -- agent API: reading ----------------------------------------------------------------------------
     @tool("read")
-    def list_recent_conversations(self, offset: int = 0, limit: int = 5) -> ConversationPage:
+    def list_recent_conversations(self, offset: int = 0, limit: int = PAGE) -> ConversationPage:
         """List conversations, most recently updated first, with their participants and last message.
 
         Args:
@@ -391,7 +407,7 @@ class MessagingApp(App):
 
     @tool("read")
     def list_conversations_by_participant(
-        self, user_id: str, offset: int = 0, limit: int = 5
+        self, user_id: str, offset: int = 0, limit: int = PAGE
     ) -> ConversationPage:
         """List the conversations (one-to-one and group) a given person takes part in, latest first.
 
@@ -520,7 +536,7 @@ class MessagingApp(App):
 
     # -- agent API: writing ----------------------------------------------------------------------------
     @tool("write")
-    def send_message(self, user_id: str, content: str, attachment: str | None = None) -> str:
+    def send_message(self, user_id: str, content: str, attachment: str | None = None) -> Done:
         """Send a message to one person, in the one-to-one conversation with them.
 
         The conversation is started if there is none yet. For a group conversation use
@@ -532,7 +548,7 @@ class MessagingApp(App):
             attachment: path of a file in the Files app to attach, e.g. "/Documents/lease.pdf".
 
         Returns:
-            the id of the conversation the message was sent in.
+            whom the message went to, and the id of the conversation it was sent in.
         """
         name = self.require_user(user_id)
         if user_id == self.me:
@@ -541,13 +557,14 @@ class MessagingApp(App):
         conversation = self.one_to_one_with(user_id)
         if conversation is None:
             conversation = self._new_conversation([self.me, user_id], title=None, is_group=False)
-        self._post(conversation, self.me, text, path)
-        return conversation.conversation_id
+        message = self._post(conversation, self.me, text, path)
+        done = f"Sent {message.message_id} to {name} ({user_id}) in {self._called(conversation)}."
+        return Done(done=done, id=conversation.conversation_id)
 
     @tool("write")
     def send_message_to_group_conversation(
         self, conversation_id: str, content: str, attachment: str | None = None
-    ) -> str:
+    ) -> Done:
         """Send a message in an existing conversation, by its id.
 
         Meant for group conversations; a one-to-one conversation's id works too.
@@ -558,14 +575,16 @@ class MessagingApp(App):
             attachment: path of a file in the Files app to attach, e.g. "/Photos/team.jpg".
 
         Returns:
-            the id of the new message.
+            whom the message went to, and the new message's id.
         """
         conversation = self.require(conversation_id)
         text, path = self._check_message(content, attachment)
-        return self._post(conversation, self.me, text, path).message_id
+        message = self._post(conversation, self.me, text, path)
+        done = f"Sent {message.message_id} in {self._called(conversation)} to {self._others(conversation)}."
+        return Done(done=done, id=message.message_id)
 
     @tool("write")
-    def create_group_conversation(self, user_ids: list[str], title: str | None = None) -> str:
+    def create_group_conversation(self, user_ids: list[str], title: str | None = None) -> Done:
         """Start a group conversation between the user and at least two other people.
 
         Args:
@@ -573,7 +592,7 @@ class MessagingApp(App):
             title: the group's name, e.g. "Hiking crew".
 
         Returns:
-            the new conversation's id.
+            who is in the new conversation, and its id.
         """
         others = list(dict.fromkeys(u for u in user_ids if u != self.me))
         for user_id in others:
@@ -585,7 +604,10 @@ class MessagingApp(App):
             )
         name = title.strip() if title is not None and title.strip() else None
         conversation = self._new_conversation([self.me, *others], title=name, is_group=True)
-        return conversation.conversation_id
+        return Done(
+            done=f"Started {self._called(conversation)} with {self._others(conversation)}.",
+            id=conversation.conversation_id,
+        )
 
     @tool("write")
     def add_participant_to_conversation(self, conversation_id: str, user_id: str) -> str:
@@ -830,11 +852,15 @@ class ConversationList(Screen):
         total; the conversation ids are those open_conversation takes.
         """
         ordered = app._recent_first(list(app.state.conversations.values()))
-        return {"total": len(ordered), "conversations": [_row(app, c) for c in ordered[:PAGE]]}
+        return {
+            "total": len(ordered),
+            "conversations": [_row(app, c) for c in ordered[:PAGE]],
+            **showing_screen(ordered[:PAGE], len(ordered), "list_recent_conversations(offset={offset})"),
+        }
 
     @action(kind="read")
     def list_recent_conversations(
-        self, app: MessagingApp, offset: int = 0, limit: int = 5
+        self, app: MessagingApp, offset: int = 0, limit: int = PAGE
     ) -> ConversationPage:
         """Show conversations, most recent first.
 

@@ -9,7 +9,9 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from pare.apps.base import App, DatedRecord
+from pare.apps.done import Done
 from pare.apps.files import DirectoryEntry, FilesApp, browse, files_of, normalize_path
+from pare.apps.paging import Paged, showing_screen
 from pare.apps.screens import BACK, Screen, Transition, action, back, back_to, push, replace
 from pare.apps.text import PAGE, preview, short_time
 from pare.apps.tools import tool
@@ -84,8 +86,10 @@ class NotesState(BaseModel):
         return self
 
 
-class NotePage(BaseModel):
+class NotePage(Paged):
     """One page of a folder's notes, or of every folder's."""
+
+    rows_field = "notes"
 
     folder: str | None = Field(description="the folder listed; null when the notes of every folder are")
     notes: list[Note]
@@ -194,7 +198,7 @@ class NotesApp(App):
 
     # -- agent API: notes ----------------------------------------------------------------------------
     @tool("write")
-    def create_note(self, title: str, content: str = "", folder: str = DEFAULT_FOLDER) -> str:
+    def create_note(self, title: str, content: str = "", folder: str = DEFAULT_FOLDER) -> Done:
         """Create a note.
 
         Args:
@@ -203,7 +207,7 @@ class NotesApp(App):
             folder: the folder to put it in (case-insensitive), e.g. "Work"; list_folders lists them.
 
         Returns:
-            the new note's id.
+            what was created in which folder, and the new note's id.
         """
         self.check_not_empty(title, content)
         target = self.folder_named(folder)
@@ -217,7 +221,7 @@ class NotesApp(App):
             created_at=now,
             updated_at=now,
         )
-        return note_id
+        return Done(done=f"Created note {note_id} '{title.strip()}' in folder '{target}'.", id=note_id)
 
     @tool("read")
     def get_note_by_id(self, note_id: str) -> Note:
@@ -271,7 +275,7 @@ class NotesApp(App):
         return f"Deleted note {note_id} ({note.title or 'untitled'})."
 
     @tool("read")
-    def list_notes(self, folder: str = DEFAULT_FOLDER, offset: int = 0, limit: int = 10) -> NotePage:
+    def list_notes(self, folder: str = DEFAULT_FOLDER, offset: int = 0, limit: int = PAGE) -> NotePage:
         """List the notes of a folder, a page at a time: pinned notes first, then most recently updated.
 
         Args:
@@ -330,14 +334,14 @@ class NotesApp(App):
         return note
 
     @tool("write")
-    def duplicate_note(self, note_id: str) -> str:
+    def duplicate_note(self, note_id: str) -> Done:
         """Copy a note into the same folder; the copy is titled "<title> (copy)" and has the same attachments.
 
         Args:
             note_id: the note to copy.
 
         Returns:
-            the copy's id.
+            what was copied where, and the copy's id.
         """
         note = self.require(note_id)
         now = self.ctx.now()
@@ -351,7 +355,10 @@ class NotesApp(App):
             created_at=now,
             updated_at=now,
         )
-        return copy_id
+        copy = self.state.notes[copy_id]
+        return Done(
+            done=f"Copied note {note_id} as {copy_id} '{copy.title}' in folder '{copy.folder}'.", id=copy_id
+        )
 
     # -- agent API: folders --------------------------------------------------------------------------
     @tool("read")
@@ -364,18 +371,18 @@ class NotesApp(App):
         return [FolderInfo(name=folder, note_count=count) for folder, count in self.folder_counts().items()]
 
     @tool("write")
-    def new_folder(self, name: str) -> str:
+    def new_folder(self, name: str) -> Done:
         """Create an empty folder.
 
         Args:
             name: the folder's name, e.g. "Recipes"; it must differ (ignoring case) from existing folders.
 
         Returns:
-            the new folder's name.
+            what was created, and the new folder's name (folders go by name).
         """
         cleaned = self._check_new_folder_name(name)
         self.state.folders.append(cleaned)
-        return cleaned
+        return Done(done=f"Created the empty folder '{cleaned}'.", id=cleaned)
 
     @tool("write")
     def rename_folder(self, name: str, new_name: str) -> str:
@@ -552,11 +559,12 @@ class NoteList(Screen):
             "folder": folder or "all folders",
             "total": len(notes),
             "notes": [_row(note) for note in notes[:PAGE]],
+            **showing_screen(notes[:PAGE], len(notes), "list_notes(offset={offset})"),
             "folders": app.folder_counts(),
         }
 
     @action(kind="read")
-    def list_notes(self, app: NotesApp, offset: int = 0, limit: int = 10) -> NotePage:
+    def list_notes(self, app: NotesApp, offset: int = 0, limit: int = PAGE) -> NotePage:
         """Show a page of the notes on screen (this folder's, or every folder's): pinned first, then most
         recently updated.
 
@@ -703,7 +711,7 @@ class NoteDetail(Screen):
     @action("Detail", kind="write")
     def duplicate(self, app: NotesApp) -> Transition:
         """Make a copy of this note in the same folder and open the copy."""
-        copy_id = app.duplicate_note(self.note_id)
+        copy_id = app.duplicate_note(self.note_id).id
         return replace(NoteDetail(note_id=copy_id), app.require(copy_id))
 
     @action("List", kind="write")
@@ -794,7 +802,7 @@ class NoteEdit(Screen):
                 files.require(path)
         if self.note_id is None:
             app.folder_named(self.folder)
-            note_id = app.create_note(title=self.note_title, content=self.content, folder=self.folder)
+            note_id = app.create_note(title=self.note_title, content=self.content, folder=self.folder).id
             for path in self.attachments:
                 app.add_attachment_to_note(note_id, path)
             return replace(NoteDetail(note_id=note_id), app.require(note_id))

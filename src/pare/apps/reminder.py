@@ -11,6 +11,8 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from pare.apps.base import App
+from pare.apps.done import Done
+from pare.apps.paging import Paged, showing_screen
 from pare.apps.screens import Screen, Transition, action, back_to, push, replace
 from pare.apps.text import PAGE, preview, short_time
 from pare.apps.tools import tool
@@ -109,11 +111,14 @@ class ReminderState(BaseModel):
         return self
 
 
-class UpcomingReminders(BaseModel):
-    """The next reminders to fall due."""
+class UpcomingReminders(Paged):
+    """The next reminders to fall due, a page at a time."""
+
+    rows_field = "reminders"
 
     reminders: list[Reminder]
     total: int = Field(description="how many reminders are due after now in all")
+    offset: int = 0
 
 
 class ReminderDraft(BaseModel):
@@ -214,7 +219,7 @@ class ReminderApp(App):
         description: str = "",
         repetition: Repetition = Repetition.NONE,
         repeat_until: SimTime | None = None,
-    ) -> str:
+    ) -> Done:
         """Add a reminder. When it falls due, the user and the assistant are notified.
 
         Args:
@@ -228,7 +233,7 @@ class ReminderApp(App):
                 "2025-03-31 23:59"; leave it out to repeat forever.
 
         Returns:
-            the new reminder's id.
+            what was added and when it falls due, and the new reminder's id.
         """
         if not title.strip():
             raise ToolError("A reminder needs a title.")
@@ -245,7 +250,11 @@ class ReminderApp(App):
             repeat_until=until,
             set_for=due,
         )
-        return reminder_id
+        repeats = "" if repetition is Repetition.NONE else f", repeating {repetition.value}"
+        until_text = "" if until is None else f" until {until:%a %Y-%m-%d %H:%M}"
+        when = f"due {due:%a %Y-%m-%d %H:%M}{repeats}{until_text}"
+        done = f"Added reminder {reminder_id} '{title.strip()}', {when}."
+        return Done(done=done, id=reminder_id)
 
     @tool("write")
     def update_reminder(self, reminder_id: str, updates: ReminderUpdate) -> Reminder:
@@ -325,20 +334,23 @@ class ReminderApp(App):
         return _by_due(r for r in self.state.reminders.values() if r.due_datetime <= now)
 
     @tool("read")
-    def get_upcoming_reminders(self, limit: int = 10) -> UpcomingReminders:
-        """List the next reminders to fall due (after now), soonest first.
+    def get_upcoming_reminders(self, offset: int = 0, limit: int = PAGE) -> UpcomingReminders:
+        """List the next reminders to fall due (after now), soonest first, a page at a time.
 
         Args:
+            offset: how many of the soonest reminders to skip.
             limit: how many reminders to return (1-100).
 
         Returns:
             the reminders and how many are upcoming in all.
         """
-        if not 1 <= limit <= 100:
-            raise ToolError("limit must be between 1 and 100.")
+        if offset < 0 or not 1 <= limit <= 100:
+            raise ToolError("offset must be >= 0 and limit between 1 and 100.")
         now = self.ctx.now()
         upcoming = _by_due(r for r in self.state.reminders.values() if r.due_datetime > now)
-        return UpcomingReminders(reminders=upcoming[:limit], total=len(upcoming))
+        return UpcomingReminders(
+            reminders=upcoming[offset : offset + limit], total=len(upcoming), offset=offset
+        )
 
     @tool("read")
     def get_reminder(self, reminder_id: str) -> Reminder:
@@ -429,6 +441,7 @@ class ReminderList(Screen):
             "total": len(reminders),
             "due_now": sum(r.due_datetime <= now for r in reminders),
             "reminders": [_row(reminder, now) for reminder in reminders[:PAGE]],
+            **showing_screen(reminders[:PAGE], len(reminders), "list_all_reminders()"),
         }
 
     @action(kind="read")
@@ -437,13 +450,16 @@ class ReminderList(Screen):
         return app.get_all_reminders()
 
     @action(kind="read")
-    def list_upcoming_reminders(self, app: ReminderApp, limit: int = 10) -> UpcomingReminders:
+    def list_upcoming_reminders(
+        self, app: ReminderApp, offset: int = 0, limit: int = PAGE
+    ) -> UpcomingReminders:
         """Show the next reminders to fall due.
 
         Args:
+            offset: how many of the soonest to skip.
             limit: how many to show (1-100).
         """
-        return app.get_upcoming_reminders(limit=limit)
+        return app.get_upcoming_reminders(offset=offset, limit=limit)
 
     @action(kind="read")
     def list_due_reminders(self, app: ReminderApp) -> list[Reminder]:
@@ -594,7 +610,7 @@ class ReminderEdit(Screen):
                 description=self.description,
                 repetition=self.repetition,
                 repeat_until=self.repeat_until,
-            )
+            ).id
             return replace(ReminderDetail(reminder_id=reminder_id), app.require(reminder_id))
         reminder = app.require(self.reminder_id)
         draft = self.draft().model_dump(exclude={"reminder_id"})

@@ -13,6 +13,7 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from pare.apps.base import App, DatedRecord
+from pare.apps.paging import Paged, showing_screen
 from pare.apps.screens import Screen, Transition, action, push, replace
 from pare.apps.text import PAGE, short_time
 from pare.apps.tools import tool
@@ -259,6 +260,14 @@ class ShoppingState(BaseModel):
 # -- what the tools return -------------------------------------------------------------------------------
 
 
+class VariantRow(BaseModel):
+    """A variant as a product list shows it: the item id ``add_to_cart`` takes, its name and price."""
+
+    item_id: str
+    name: str
+    price: float
+
+
 class ProductSummary(BaseModel):
     """A product as listed: its price range and which of its variants are in stock.
 
@@ -274,12 +283,16 @@ class ProductSummary(BaseModel):
     min_price: float
     max_price: float
     variant_count: int
-    in_stock: list[str] = Field(description="the names of the variants in stock; [] when none is")
-    out_of_stock: list[str] = Field(description="the names of the variants sold out; [] when none is")
+    in_stock: list[VariantRow] = Field(
+        description="the variants in stock, with the item ids add_to_cart takes; [] when none is"
+    )
+    out_of_stock: list[VariantRow] = Field(description="the variants sold out; [] when none is")
 
 
-class ProductPage(BaseModel):
+class ProductPage(Paged):
     """One page of products."""
+
+    rows_field = "products"
 
     products: list[ProductSummary]
     total: int
@@ -352,6 +365,10 @@ def _by_name(products: Iterable[Product]) -> list[Product]:
     return sorted(products, key=lambda p: (p.name.lower(), p.product_id))
 
 
+def _variant_row(variant: Variant) -> VariantRow:
+    return VariantRow(item_id=variant.item_id, name=variant.name or variant.item_id, price=variant.price)
+
+
 def _summary(product: Product) -> ProductSummary:
     prices = [v.price for v in product.variants.values()] or [0.0]
     return ProductSummary(
@@ -363,8 +380,8 @@ def _summary(product: Product) -> ProductSummary:
         min_price=min(prices),
         max_price=max(prices),
         variant_count=len(product.variants),
-        in_stock=[v.name or v.item_id for v in product.variants.values() if v.stock > 0],
-        out_of_stock=[v.name or v.item_id for v in product.variants.values() if v.stock == 0],
+        in_stock=[_variant_row(v) for v in product.variants.values() if v.stock > 0],
+        out_of_stock=[_variant_row(v) for v in product.variants.values() if v.stock == 0],
     )
 
 
@@ -529,7 +546,7 @@ class ShoppingApp(App):
 
     # -- agent API: the store ------------------------------------------------------------------------
     @tool("read")
-    def list_all_products(self, offset: int = 0, limit: int = 10) -> ProductPage:
+    def list_all_products(self, offset: int = 0, limit: int = PAGE) -> ProductPage:
         """List the store's products sorted by name, a page at a time.
 
         Args:
@@ -1043,10 +1060,10 @@ def _product_row(summary: ProductSummary) -> dict[str, Any]:
         "name": summary.name,
         "brand": summary.brand,
         "price": _fmt(_cents(low)) if low == high else f"{_fmt(_cents(low))}-{_fmt(_cents(high))}",
-        "in_stock": summary.in_stock,
+        "in_stock": [variant.model_dump() for variant in summary.in_stock],
     }
     if summary.out_of_stock:
-        row["out_of_stock"] = summary.out_of_stock
+        row["out_of_stock"] = [variant.model_dump() for variant in summary.out_of_stock]
     return row
 
 
@@ -1076,6 +1093,7 @@ class ShopHome(Screen):
         shown: dict[str, Any] = {
             "total_products": page.total,
             "products": [_product_row(summary) for summary in page.products],
+            **showing_screen(page.products, page.total, "list_products(offset={offset})"),
             "cart": {"items": cart.item_count, "subtotal": cart.subtotal},
         }
         orders = app.orders_newest_first()
@@ -1084,7 +1102,7 @@ class ShopHome(Screen):
         return shown
 
     @action(kind="read")
-    def list_products(self, app: ShoppingApp, offset: int = 0, limit: int = 10) -> ProductPage:
+    def list_products(self, app: ShoppingApp, offset: int = 0, limit: int = PAGE) -> ProductPage:
         """Show a page of the store's products, sorted by name.
 
         Args:
@@ -1228,7 +1246,11 @@ class OrdersScreen(Screen):
     def display(self, app: ShoppingApp) -> dict[str, Any]:
         """The most recent orders (id, status, total, what they hold), with the number of orders."""
         orders = app.orders_newest_first()
-        return {"total": len(orders), "orders": [_order_row(order) for order in orders[:PAGE]]}
+        return {
+            "total": len(orders),
+            "orders": [_order_row(order) for order in orders[:PAGE]],
+            **showing_screen(orders[:PAGE], len(orders), "list_orders()"),
+        }
 
     @action(kind="read")
     def list_orders(self, app: ShoppingApp) -> list[Order]:

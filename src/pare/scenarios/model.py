@@ -84,7 +84,7 @@ DurationText = Annotated[
 
 def reference(value: Any) -> tuple[str, str] | None:
     """For a ``${step.field}`` string (a value produced while the scenario runs): the step and field;
-    for ``${step}`` (a tool that returns a bare id, such as a new group's), the step and ``""``.
+    for ``${step}`` (the whole result, e.g. a downloaded file's path), the step and ``""``.
     """
     if isinstance(value, str):
         found = _REF.match(value.strip())
@@ -584,7 +584,8 @@ class UserStep(_Strict):
 
 class OracleAction(_Strict):
     """An action the oracle assistant takes in execute mode. ``id`` names its result for later
-    arguments written ``${id.field}``, or ``${id}`` for the whole result (a bare id).
+    arguments written ``${id.field}`` (``${rem.id}`` for the id a write made), or ``${id}`` for the whole
+    result.
     """
 
     id: str | None = None

@@ -93,7 +93,7 @@ class _References:
                 )
             value = env.log.entries[positions[source]].result
         if not path:
-            return value  # the whole result: a bare id
+            return value  # the whole result: a bare path or name
         found = lookup(value, path)
         if found is MISSING:
             raise OracleRunError(

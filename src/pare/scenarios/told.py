@@ -84,7 +84,7 @@ def delivery(entry: LogEntry, state: AppState) -> Delivery | None:
 
 def _email(entry: LogEntry, data: Mapping[str, Any] | None) -> Delivery | None:
     emails = (data or {}).get("emails") or {}
-    sent = emails.get(entry.result) if isinstance(entry.result, str) else None
+    sent = emails.get(_made(entry.result))
     if not isinstance(sent, Mapping):
         return None
     people = frozenset(address.lower() for address in [*sent.get("recipients", []), *sent.get("cc", [])])
@@ -102,10 +102,10 @@ def _message(entry: LogEntry, data: Mapping[str, Any] | None) -> Delivery | None
     conversations: Mapping[str, Any] = data.get("conversations") or {}
     me = data.get("current_user_id", "")
     result = entry.result
-    message_id = result.get("message_id") if isinstance(result, Mapping) else result
-    conversation = _holding(conversations, message_id)
+    message_id = result.get("message_id") if isinstance(result, Mapping) and "message_id" in result else None
+    conversation = _holding(conversations, message_id or _made(result))
     if conversation is None:  # the agent's one-to-one send returns the conversation's id
-        for key in (result, entry.args.get("conversation_id")):
+        for key in (_made(result), entry.args.get("conversation_id")):
             if isinstance(key, str) and isinstance(conversations.get(key), Mapping):
                 conversation = conversations[key]
                 break
@@ -118,6 +118,16 @@ def _message(entry: LogEntry, data: Mapping[str, Any] | None) -> Delivery | None
     return Delivery(
         people, channels, content if isinstance(content, str) else "", (attachment,) if attachment else ()
     )
+
+
+def _made(result: Any) -> str | None:
+    """The id a sending call's result names: a write's ``Done`` carries it as ``id``; older logs hold
+    the bare id.
+    """
+    if isinstance(result, Mapping):
+        made = result.get("id")
+        return made if isinstance(made, str) else None
+    return result if isinstance(result, str) else None
 
 
 def _holding(conversations: Mapping[str, Any], message_id: Any) -> Mapping[str, Any] | None:
