@@ -4,7 +4,8 @@ Each keeps its conversation with its model: the system prompt of its role, then 
 observation and one per answer. An answer is parsed into one tool call (the paper's Thought / Action
 format, or native tool calling when configured); a malformed answer is sent back to the model with what
 was wrong and how to answer, at most ``max_format_retries`` times per step, after which the step fails and
-the loop records it. Execute mode starts a fresh conversation for each accepted task. A thinking model's
+the loop records it. Execute mode starts a fresh conversation for each accepted task, whose first message
+hands over the items observe mode read and the ids it saw (:mod:`pare.agents.handover`). A thinking model's
 reasoning is recorded with the action it led to, and left out of the conversation.
 """
 
@@ -15,6 +16,7 @@ from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 from pare.agents.actions import parse_action, parse_tool_arguments
+from pare.agents.handover import Handover
 from pare.agents.models.reasoning import join_reasoning, split_reasoning
 from pare.agents.models.types import ChatMessage, Completion
 from pare.agents.policy import Action, AssistantPolicy, Ending, Task, UserPolicy
@@ -215,12 +217,15 @@ class LLMAssistant(AssistantPolicy):
         """The turn observe mode is in, from the turn's first observation."""
         self._steps_taken = 0
         """Actions taken so far in the current observe turn, or for the current task in execute mode."""
+        self.handover = Handover()
+        """What observe mode read and saw this episode: execute mode's first message holds it."""
 
     def start(self, env: Environment, budget: TurnBudget = DEFAULT_BUDGET) -> None:
         """Write the observe-mode system prompt for this episode's phone."""
         self.env = env
         self.execute_steps = budget.execute_steps
         self.observe_budget = budget.observe_steps
+        self.handover.clear()
         self.observer.reset(
             observe_system_prompt(env, native_tools=self.observer.native_tools, budget=budget)
         )
@@ -228,7 +233,11 @@ class LLMAssistant(AssistantPolicy):
     async def observe(self, observation: AssistantObservation | None, previous: ToolResult | None) -> Action:
         """Show the model what happened (and its last action's result); take its next action."""
         self._env()  # fails clearly when start() was not called
+        if previous is not None and previous.entry is not None:
+            self.handover.read(previous.entry)
         if observation is not None:
+            for entry in [*observation.user_actions, *observation.executed]:
+                self.handover.saw(entry)
             self._turn = observation.turn
             self._steps_taken = 0
             body = observation.render()
@@ -261,7 +270,9 @@ class LLMAssistant(AssistantPolicy):
         self._steps_taken += 1
         count = f"Action {self._steps_taken} of {self.execute_steps}."
         if task is not None:
-            self.executor.tell(f"{EXECUTE_OPENING}\n\n{count}")
+            handover = self.handover.render()
+            opening = f"{EXECUTE_OPENING}\n\n{handover}" if handover else EXECUTE_OPENING
+            self.executor.tell(f"{opening}\n\n{count}")
         else:
             self.executor.tell(_observation_text(previous, count))
         return await self.executor.decide(self._tools(self.executor, "execute"))
