@@ -9,8 +9,10 @@ from typing import Any
 from pare.agents.actions import format_action
 from pare.agents.handover import Handover
 from pare.agents.llm import LLMAssistant, LLMUser
+from pare.agents.prompts import observe_system_prompt
 from pare.agents.scripted import ScriptedModel
 from pare.bench import run_episode
+from pare.env import Environment
 from pare.sim.log import LogEntry, ToolKind
 from tests.scenarios.helpers import base, parse
 
@@ -113,3 +115,9 @@ def test_the_handover_keeps_the_newest_items_and_cuts_long_lines() -> None:
     assert [line.split("id=")[1].split(",")[0] for line in lines] == ["n7", "n9", "n8"]
     assert "seen again" in lines[-1]
     assert all(len(line) <= 2 + 80 for line in lines)
+
+
+def test_the_observe_prompt_says_the_executor_sees_the_proposal_and_the_ids_only() -> None:
+    prompt = " ".join(observe_system_prompt(Environment(["email", "contacts"])).split())
+    assert "it sees your proposal, the user's answer, and the items you read with their ids" in prompt
+    assert "not this conversation" in prompt
