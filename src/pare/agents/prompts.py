@@ -120,20 +120,30 @@ _ASSISTANT_EXAMPLES: dict[str, tuple[_Example, ...]] = {
     ),
     "execute": (
         _Example(
-            "I need the email's sender and id before I reply.",
+            "The email I must reply to is not among the items I was handed; I search for its id.",
             "email__search_emails",
             {"query": "dinner friday"},
         ),
         _Example(
-            "I need the conversation's id before I write to it.", "messaging__search", {"query": "weekend"}
+            "The conversation is not among the items I was handed; I search for its id.",
+            "messaging__search",
+            {"query": "weekend"},
         ),
-        _Example("I need the event's id before I move it.", "calendar__search_events", {"query": "dentist"}),
         _Example(
-            "I need the product's item id before I add it to the cart.",
+            "The event is not among the items I was handed; I search for its id.",
+            "calendar__search_events",
+            {"query": "dentist"},
+        ),
+        _Example(
+            "The product is not among the items I was handed; I search for its item id.",
             "shopping__search_product",
             {"product_name": "coffee"},
         ),
-        _Example("I need the note's id before I change it.", "notes__search_notes", {"query": "list"}),
+        _Example(
+            "The note is not among the items I was handed; I search for its id.",
+            "notes__search_notes",
+            {"query": "list"},
+        ),
     ),
 }
 """The example answers the assistant's prompts may show, in order of preference: a prompt shows the first
