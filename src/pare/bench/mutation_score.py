@@ -57,7 +57,7 @@ class MutationScore:
         scenarios = sum(1 for verdicts in self.by_scenario.values() if verdicts)
         return (
             f"mutation score: {score:.1%} of {self.generated} mutants killed or declared equivalent "
-            f"({killed:.1%} killed) over {scenarios} scenarios with mutants"
+            f"({killed:.1%} killed) over {scenarios} scenario{'' if scenarios == 1 else 's'} with mutants"
         )
 
     def misjudged(self) -> list[tuple[str, MutantVerdict]]:
