@@ -7,7 +7,7 @@ from typing import Any
 
 import pytest
 
-from pare.bench.selftest import MutantVerdict, check_scenario
+from pare.bench.selftest import MutantVerdict, ScenarioVerdict, check_scenario
 from pare.scenarios.library import load_scenarios
 from pare.scenarios.loader import ScenarioError
 from pare.scenarios.model import Scenario
@@ -167,7 +167,10 @@ def test_a_mutant_the_checks_miss_survives_unless_declared_with_a_reason() -> No
     assert outcomes["shift_time:1.1:+1d"] == ("declared", reason)
     assert outcomes["shift_time:1.1:+1h"] == ("survived", "")
     assert outcomes["drop_action:1.1"][0] == "killed"
-    assert all(run.ok for run in verdict.runs)  # the score is reported; it does not fail a run
+    assert all(run.ok for run in verdict.runs)  # the runs themselves are fine ...
+    assert not verdict.ok  # ... but a survivor is a breach of the gate, named with what it changed
+    assert [line for line in verdict.breaches() if "shift_time:1.1:+1h" in line]
+    assert not [line for line in verdict.breaches() if "shift_time:1.1:+1d" in line]
 
 
 def test_a_declaration_the_checks_contradict_or_the_generator_never_makes_is_warned() -> None:
@@ -194,3 +197,23 @@ def test_a_bad_declaration_is_refused_with_the_reason(declared: dict[str, str], 
     with pytest.raises(ScenarioError) as error:
         _lunch(equivalent_mutants=declared)
     assert problem in str(error.value)
+
+
+def test_survivors_and_failing_rewrites_are_breaches_and_stillborn_mutants_are_not() -> None:
+    played = (
+        MutantVerdict("drop_action:1.1", "fail", "left out x", "killed", "check failed: a"),
+        MutantVerdict("shift_time:1.1:+1d", "fail", "due +1d", "survived"),
+        MutantVerdict("extra_write:1.1:item_id", "fail", "also on y", "stillborn"),
+        MutantVerdict("swap_person:1.1:to", "fail", "to: a -> b", "declared", "either may be told"),
+        MutantVerdict("split_message:1.1", "pass", "sent in two messages", "failed", "check failed: told"),
+        MutantVerdict("reorder:1.1", "pass", "1.1 after 1.2", "passed"),
+    )
+    verdict = ScenarioVerdict("s", runs=(), seconds=0.0, mutants=played)
+    assert not verdict.ok
+    assert verdict.breaches() == [
+        "s: mutant shift_time:1.1:+1d (due +1d) passes the checks: tighten them, or declare it in "
+        "equivalent_mutants with the reason it is right",
+        "s: rewrite split_message:1.1 (sent in two messages) fails the checks: check failed: told",
+    ]
+    judged = tuple(m for m in played if m.outcome not in ("survived", "failed"))
+    assert ScenarioVerdict("s", runs=(), seconds=0.0, mutants=judged).ok

@@ -295,16 +295,40 @@ def test_check_with_mutants_states_the_score_and_names_each_mutant(
     data["oracle"]["interventions"][0]["actions"].append(lunch)  # which no check reads
     data["equivalent_mutants"] = {"shift_time:1.2:+1d": "Ann did not say which day lunch is."}
     _write(tmp_path, data)
-    assert main(["scenarios", "check", "--mutants", str(tmp_path)]) == 0  # the score does not fail the gate
+    assert main(["scenarios", "check", "--mutants", str(tmp_path)]) == 1  # survivors are breaches
     out = capsys.readouterr().out
     assert "mutants: 5 generated, 2 killed, 1 declared, 2 survived; rewrites: 1 of 1 pass" in out
     assert "surviving mutant tiny_reply drop_action:1.2 (left out calendar__add_calendar_event)" in out
-    assert main(["scenarios", "check", "--mutants", "-v", str(tmp_path)]) == 0
+    breaches = out[out.index("breach(es):") :]
+    assert "tiny_reply: mutant drop_action:1.2 (left out calendar__add_calendar_event) passes" in breaches
+    assert "shift_time:1.2:+1h" in breaches and "shift_time:1.2:+1d" not in breaches  # declared is fine
+    assert main(["scenarios", "check", str(tmp_path)]) == 0  # without --mutants none is played
+    capsys.readouterr()
+    assert main(["scenarios", "check", "--mutants", "-v", str(tmp_path)]) == 1
     out = capsys.readouterr().out
     rows = {line.split("│")[1].strip(): line for line in out.splitlines() if line.count("│") > 4}
     assert "killed" in rows["drop_action:1.1"] and "survived" in rows["shift_time:1.2:+1h"]
     assert "killed" in rows["send_as_draft:1.1"]
     assert "declared" in rows["shift_time:1.2:+1d"] and "passed" in rows["reorder:1.1"]
+
+
+def test_stats_with_mutants_shows_the_mutation_score(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
+) -> None:
+    data = fair()
+    lunch = {
+        "tool": "calendar__add_calendar_event",
+        "args": {"title": "Lunch with Ann", "start_datetime": "day+3 12:30", "end_datetime": "day+3 13:30"},
+    }
+    data["oracle"]["interventions"][0]["actions"].append(lunch)  # which no check reads
+    data["equivalent_mutants"] = {"shift_time:1.2:+1d": "Ann did not say which day lunch is."}
+    _write(tmp_path, data)
+    assert main(["scenarios", "stats", "--mutants", "-j", "1", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "mutants: 5 generated, 2 killed, 1 declared, 2 survived; rewrites: 1 of 1 pass" in out
+    assert "mutation score: 60.0% of 5 mutants killed or declared equivalent (40.0% killed)" in out
+    assert main(["scenarios", "stats", str(tmp_path)]) == 0
+    assert "mutation score" not in capsys.readouterr().out  # playing them is asked for
 
 
 def test_check_without_mutants_plays_none(

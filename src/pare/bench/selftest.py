@@ -28,8 +28,8 @@ fail must fail their goals: a side effect does not stand in for checks that prov
 
 With mutants on, the gate also plays the mutants and rewrites of :mod:`pare.scenarios.mutants`, judged
 like the variants (side effects included): a mutant must fail unless the scenario declares it equivalent
-(``equivalent_mutants``), a rewrite must pass. Their verdicts are reported as the library's mutation score
-and do not fail the gate (the library is not yet brought to no surviving mutant).
+(``equivalent_mutants``), a rewrite must pass. Their verdicts are reported as the library's mutation score,
+and a surviving mutant or a failing rewrite is a breach like a misjudged variant.
 
 Warnings do not fail the gate: a reactive reply that restates what the assistant was meant to find, an
 ``otherwise_ok`` that the variant's run never needed and, given a judge model, a triggering text that a
@@ -154,8 +154,13 @@ class ScenarioVerdict:
 
     @property
     def ok(self) -> bool:
-        """Whether every run went as demanded."""
-        return not self.problems and all(run.ok for run in self.runs)
+        """Whether every run went as demanded, and every mutant and rewrite played was judged as it must."""
+        return not self.problems and all(run.ok for run in self.runs) and not self.misjudged_mutants
+
+    @property
+    def misjudged_mutants(self) -> list[MutantVerdict]:
+        """The surviving mutants and failing rewrites (a stillborn mutant changed nothing and is not one)."""
+        return [mutant for mutant in self.mutants if mutant.outcome in ("survived", "failed")]
 
     def run(self, name: str) -> RunVerdict:
         """The run called ``name``."""
@@ -167,6 +172,7 @@ class ScenarioVerdict:
         for run in self.runs:
             if not run.ok:
                 lines.extend(_run_breaches(self.scenario_id, run))
+        lines.extend(_mutant_breach(self.scenario_id, mutant) for mutant in self.misjudged_mutants)
         return lines
 
 
@@ -403,6 +409,19 @@ def oracle_breaches(scenario: Scenario) -> list[str]:
     """
     verdict = check_scenario(scenario, runs=("oracle",), variants=False)
     return [line for run in verdict.runs if not run.ok for line in _run_breaches(scenario.id, run)]
+
+
+def _mutant_breach(scenario_id: str, mutant: MutantVerdict) -> str:
+    """The breach line of a surviving mutant (the checks accepted a wrong solution) or a failing rewrite
+    (they refused a right one).
+    """
+    if mutant.expect == "fail":
+        return (
+            f"{scenario_id}: mutant {mutant.name} ({mutant.what}) passes the checks: tighten them, or "
+            "declare it in equivalent_mutants with the reason it is right"
+        )
+    why = f": {mutant.detail}" if mutant.detail else ""
+    return f"{scenario_id}: rewrite {mutant.name} ({mutant.what}) fails the checks{why}"
 
 
 def _run_breaches(scenario_id: str, run: RunVerdict) -> list[str]:

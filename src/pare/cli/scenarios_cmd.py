@@ -12,7 +12,8 @@ if TYPE_CHECKING:  # the library and the gate are imported by the commands: `par
     from rich.console import Console
 
     from pare.agents.models.config import ModelConfig
-    from pare.bench.selftest import MutantVerdict, RunVerdict, ScenarioVerdict
+    from pare.bench.mutation_score import MutationScore
+    from pare.bench.selftest import RunVerdict, ScenarioVerdict
     from pare.scenarios.checks import Outcome
     from pare.scenarios.model import Scenario
 
@@ -170,8 +171,8 @@ def check(
             "--mutants",
             help="Also play the oracle's generated mutants (each must fail, unless the scenario declares it "
             "in equivalent_mutants) and rewrites (each must pass), and report the mutation score per "
-            "scenario and for the library. Surviving mutants and failing rewrites are listed; they do not "
-            "change the exit code.",
+            "scenario and for the library. A surviving mutant or a failing rewrite is a breach: listed, "
+            "and the gate exits 1.",
         ),
     ] = False,
     judge_model: Annotated[
@@ -204,7 +205,8 @@ def check(
     user doing the task by hand and an unrelated proposal must fail; every variant must get its declared
     verdict, and neither the oracle nor a variant that passes may get a reactive event's otherwise reply
     (unless the variant's otherwise_ok says why). Exits 1 on any breach. With --mutants, also plays the
-    oracle's mutants and rewrites and reports the mutation score.
+    oracle's mutants and rewrites, reports the mutation score, and breaches on a surviving mutant or a
+    failing rewrite.
     """
     import functools
     import time
@@ -212,6 +214,7 @@ def check(
     from rich.table import Table
 
     from pare.bench import collector
+    from pare.bench.mutation_score import MutationScore
     from pare.bench.processes import map_in_processes, resolve_jobs
     from pare.errors import UserInputError
     from pare.terminal_text import make_console, markup_safe, plain_text
@@ -292,39 +295,6 @@ def check(
     )
 
 
-class MutationScore:
-    """The mutants and rewrites of the scenarios checked, counted for the library."""
-
-    def __init__(self) -> None:
-        self.by_scenario: dict[str, tuple[MutantVerdict, ...]] = {}
-
-    def add(self, scenario_id: str, verdicts: tuple[MutantVerdict, ...]) -> None:
-        """Count ``scenario_id``'s verdicts."""
-        self.by_scenario[scenario_id] = verdicts
-
-    def count(self, outcome: str) -> int:
-        """How many mutants or rewrites got ``outcome``."""
-        return sum(v.outcome == outcome for vs in self.by_scenario.values() for v in vs)
-
-    def summary(self) -> str:
-        """The gate's summary line of the score."""
-        killed, declared, survived = self.count("killed"), self.count("declared"), self.count("survived")
-        passed, failed = self.count("passed"), self.count("failed")
-        return (
-            f"mutants: {killed + declared + survived} generated, {killed} killed, {declared} declared, "
-            f"{survived} survived; rewrites: {passed} of {passed + failed} pass"
-        )
-
-    def misjudged(self) -> list[tuple[str, MutantVerdict]]:
-        """The surviving mutants and failing rewrites, scenario by scenario."""
-        return [
-            (scenario_id, verdict)
-            for scenario_id, verdicts in self.by_scenario.items()
-            for verdict in verdicts
-            if verdict.outcome in ("survived", "failed")
-        ]
-
-
 def _mutant_cells(verdict: ScenarioVerdict) -> tuple[str, str]:
     mutants = [m for m in verdict.mutants if m.expect == "fail" and m.outcome != "stillborn"]
     rewrites = [m for m in verdict.mutants if m.expect == "pass"]
@@ -350,6 +320,7 @@ def _print_score(console: Console, score: MutationScore) -> None:
             "changed"
         )
     console.print(score.summary(), highlight=False)
+    console.print(score.score_line(), highlight=False)
 
 
 def _judge_config(model: str, provider: str, endpoint: str | None, key_env: str | None) -> ModelConfig:
@@ -470,15 +441,55 @@ def stats(
     tag: TagFilter = None,
     difficulty: DifficultyFilter = None,
     split: SplitFilter = None,
+    with_mutants: Annotated[
+        bool,
+        typer.Option(
+            "--mutants",
+            help="Also play each scenario's generated mutants and rewrites (as `check --mutants` does) and "
+            "show the mutation score: the share of mutants killed or declared equivalent, and the rewrites "
+            "that pass.",
+        ),
+    ] = False,
+    jobs: Annotated[
+        int,
+        typer.Option(
+            "--jobs",
+            "-j",
+            help="With --mutants, processes to play them on: 0 (the default) one per core for 10 scenarios "
+            "or more; 1 only this process.",
+        ),
+    ] = 0,
 ) -> None:
     """Coverage of the library: counts per app, tag, difficulty and kind, apps per scenario, text goals
-    judged by a model, variants, and the gaps against PARE-Bench's targets.
+    judged by a model, variants, and the gaps against PARE-Bench's targets; with --mutants, its mutation
+    score too.
     """
     from pare.scenarios.stats import coverage, format_coverage
 
     scenarios = _chosen(paths, split, app_name, tag, difficulty)
     for line in format_coverage(coverage(scenarios)):
         typer.echo(line)
+    if with_mutants:
+        score = _mutation_score(scenarios, jobs)
+        typer.echo(score.summary())
+        typer.echo(score.score_line())
+
+
+def _mutation_score(scenarios: list[Scenario], jobs: int) -> MutationScore:
+    """The mutation score of ``scenarios``: each one's mutants and rewrites played by the gate."""
+    import functools
+
+    from pare.bench import collector
+    from pare.bench.mutation_score import MutationScore
+    from pare.bench.processes import map_in_processes, resolve_jobs
+
+    workers = 1 if jobs == 0 and len(scenarios) < PARALLEL_FROM else resolve_jobs(jobs)
+    score = MutationScore()
+    with collector.long_lived_frozen():
+        played = map_in_processes(functools.partial(self_test, mutants=True), scenarios, workers)
+        for scenario, (verdict, _) in zip(scenarios, played, strict=True):
+            score.add(scenario.id, verdict.mutants)
+    return score
 
 
 @app.command("sample")
