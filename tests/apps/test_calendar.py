@@ -121,7 +121,7 @@ def test_list_events_shows_today_sorted_by_start(env: Environment) -> None:
 
 def test_set_day_changes_the_listing(env: Environment) -> None:
     shown = ok(env.call("user", "set_day", {"day": "2025-03-05"}))
-    assert shown["day"] == "2025-03-05"
+    assert shown["day"] == "Wed 2025-03-05"
     assert ids(shown["events"]) == ["ev-standup-wed", "ev-team-lunch", "ev-review"]
     assert ids(ok(env.call("user", "list_events"))["events"]) == [
         "ev-standup-wed",
@@ -154,7 +154,7 @@ def test_filter_by_tag(env: Environment) -> None:
     ok(env.call("user", "filter_by_tag", {"tag": "health"}))
     assert ids(ok(env.call("user", "list_events"))["events"]) == ["ev-dentist-call", "ev-yoga"]
     cleared = ok(env.call("user", "filter_by_tag", {"tag": ""}))
-    assert cleared["tag"] is None
+    assert "tag" not in cleared  # the agenda names a filter only while one is on
     assert ids(cleared["events"]) == ["ev-dentist-call", "ev-yoga"]
     assert screen_of(env) == "Agenda"
 
@@ -176,7 +176,7 @@ def test_filter_by_attendee(env: Environment) -> None:
     ok(env.call("user", "filter_by_tag", {"tag": "work"}))
     assert ids(ok(env.call("user", "list_events"))["events"]) == ["ev-migration", "ev-standup-mon"]
     cleared = ok(env.call("user", "filter_by_attendee", {"attendee": "  "}))
-    assert cleared["attendee"] is None
+    assert "attendee" not in cleared
     assert ids(cleared["events"]) == ["ev-migration", "ev-standup-mon", "ev-planning"]
     err(
         env.call("user", "filter_by_attendee", {"attendee": "Zed"}), "no event has an attendee matching 'zed'"

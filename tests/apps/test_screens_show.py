@@ -225,6 +225,39 @@ def test_an_open_conversation_shows_its_latest_messages_and_what_arrives(env: En
     assert view["total_messages"] == opened["total_messages"] + 1
 
 
+def test_a_long_conversation_says_how_to_see_its_older_messages() -> None:
+    seed = {
+        "messaging": {
+            "users": {"user-me": "Me", "ann": "Ann"},
+            "conversations": {
+                "gift": {
+                    "conversation_id": "gift",
+                    "participant_ids": ["user-me", "ann"],
+                    "messages": [
+                        {
+                            "message_id": f"m{n}",
+                            "sender_id": "ann",
+                            "content": f"Rule {n}" if n < 3 else f"Chat {n}",
+                            "timestamp": f"2025-03-02T{8 + n:02d}:00:00Z",
+                        }
+                        for n in range(14)
+                    ],
+                }
+            },
+        }
+    }
+    env = make_env(["messaging"], seed)
+    user(env, "open_app", app_name="messaging")
+    opened = user(env, "open_conversation", conversation_id="gift")
+    assert [m["content"] for m in opened["messages"]][-1] == "Chat 4"
+    # the screen says its ten are not the whole conversation, and names its own action for the rest
+    assert opened["showing"] == "1-10 of 14; read_messages(offset=10) shows the next"
+    assert shown(env)["showing"] == opened["showing"]
+    older = user(env, "read_messages", offset=10)
+    assert [m["content"] for m in older["messages"]] == ["Chat 3", "Rule 2", "Rule 1", "Rule 0"]
+    assert older["showing"] == "11-14 of 14 (the last)"
+
+
 # -- calendar ----------------------------------------------------------------------------------------
 
 
@@ -250,6 +283,25 @@ def test_the_agenda_shows_the_actual_day_and_its_events(env: Environment) -> Non
     tag = user(env, "get_all_tags")[0]
     user(env, "filter_by_tag", tag=tag)
     assert shown(env)["tag"] == tag
+
+
+@pytest.mark.parametrize(
+    ("action", "args"),
+    [
+        ("set_day", {"day": "2025-03-04"}),
+        ("filter_by_tag", {"tag": "work"}),
+        ("filter_by_attendee", {"attendee": "a"}),
+    ],
+)
+def test_changing_the_agendas_day_or_filter_shows_the_compact_agenda(
+    env: Environment, action: str, args: dict[str, Any]
+) -> None:
+    user(env, "open_app", app_name="calendar")
+    changed = user(env, action, **args)
+    # the same compact page the agenda shows on arrival (rows of id, title, times), not raw events
+    assert changed == shown(env)
+    assert changed["events"], "the sample day shows nothing: the test checks nothing"
+    assert all("description" not in row and "attendees" not in row for row in changed["events"])
 
 
 def test_an_event_removed_while_open_says_so(env: Environment) -> None:

@@ -573,7 +573,7 @@ class Agenda(Screen):
         return push(EventDetail(event_id=event.event_id), event)
 
     @action()
-    def filter_by_tag(self, app: CalendarApp, tag: str) -> AgendaDay:
+    def filter_by_tag(self, app: CalendarApp, tag: str) -> dict[str, Any]:
         """Show only events with a tag; an empty tag removes the filter.
 
         Args:
@@ -585,10 +585,10 @@ class Agenda(Screen):
             if wanted.lower() not in {t.lower() for t in tags}:
                 raise ToolError(f"No event has the tag '{wanted}'. Tags in use: {', '.join(tags) or 'none'}.")
         self.tag = wanted or None
-        return self.listing(app)
+        return self.display(app)
 
     @action()
-    def filter_by_attendee(self, app: CalendarApp, attendee: str) -> AgendaDay:
+    def filter_by_attendee(self, app: CalendarApp, attendee: str) -> dict[str, Any]:
         """Show only events with an attendee whose name contains this text.
 
         An empty text removes the filter.
@@ -602,17 +602,17 @@ class Agenda(Screen):
         ):
             raise ToolError(f"No event has an attendee matching '{wanted}'.")
         self.attendee = wanted or None
-        return self.listing(app)
+        return self.display(app)
 
     @action()
-    def set_day(self, app: CalendarApp, day: date) -> AgendaDay:
+    def set_day(self, app: CalendarApp, day: date) -> dict[str, Any]:
         """Show another day.
 
         Args:
             day: the day to show, e.g. "2025-03-04".
         """
         self.day = day
-        return self.listing(app)
+        return self.display(app)
 
     @action(kind="read")
     def read_today_calendar_events(self, app: CalendarApp) -> list[CalendarEvent]:

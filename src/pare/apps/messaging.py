@@ -12,7 +12,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 from pare.apps.base import App, DatedRecord
 from pare.apps.done import Done, listed
 from pare.apps.files import DirectoryEntry, FilesApp, browse, files_of, normalize_path
-from pare.apps.paging import Paged, showing_screen
+from pare.apps.paging import Paged, showing, showing_screen
 from pare.apps.screens import Screen, Transition, action, push
 from pare.apps.text import PAGE, preview, short_time
 from pare.apps.tools import tool
@@ -841,6 +841,17 @@ def _row(app: MessagingApp, conversation: Conversation) -> dict[str, Any]:
     return row
 
 
+def _on_screen(
+    app: MessagingApp, conversation_id: str, offset: int = 0, limit: int = 10
+) -> ConversationMessages:
+    """A page of a conversation as its screen shows it, whose ``showing`` names the screen's own way back
+    to older messages (read_messages), since a model reading the latest ten takes them for the whole talk.
+    """
+    page = app.read_conversation(conversation_id, offset=offset, limit=limit)
+    page.showing = showing(offset, len(page.messages), page.total_messages, "read_messages(offset={offset})")
+    return page
+
+
 class ConversationList(Screen):
     """The list of conversations."""
 
@@ -890,7 +901,7 @@ class ConversationList(Screen):
             app: the messaging app.
             conversation_id: the conversation's id.
         """
-        shown = app.read_conversation(conversation_id)
+        shown = _on_screen(app, conversation_id)
         app.mark_read(conversation_id)
         return push(ConversationOpened(conversation_id=conversation_id), shown)
 
@@ -908,7 +919,7 @@ class ConversationOpened(Screen):
         """
         if self.conversation_id not in app.state.conversations:
             return f"Conversation {self.conversation_id} no longer exists."
-        return app.read_conversation(self.conversation_id)
+        return _on_screen(app, self.conversation_id)
 
     @action(kind="write")
     def send_message(self, app: MessagingApp, content: str, attachment: str | None = None) -> MessageView:
@@ -937,14 +948,14 @@ class ConversationOpened(Screen):
 
     @action(kind="read")
     def read_messages(self, app: MessagingApp, offset: int = 0, limit: int = 10) -> ConversationMessages:
-        """Show this conversation's messages, newest first.
+        """Show this conversation's messages, newest first; an offset goes back to older ones.
 
         Args:
             app: the messaging app.
-            offset: how many of the newest messages to skip.
+            offset: how many of the newest messages to skip, e.g. 10 for the ten before the latest ten.
             limit: how many to show.
         """
-        shown = app.read_conversation(self.conversation_id, offset=offset, limit=limit)
+        shown = _on_screen(app, self.conversation_id, offset=offset, limit=limit)
         app.mark_read(self.conversation_id)
         return shown
 
