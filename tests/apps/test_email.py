@@ -284,8 +284,9 @@ def test_delete_moves_to_trash_then_deletes_for_good(env: Environment) -> None:
 
 def test_download_attachments_copies_into_files_and_stays(env: Environment) -> None:
     open_detail(env, "e-lease")
-    paths = ok(env.call("user", "download_attachments"))
-    assert paths == ["/Downloads/lease.pdf"]
+    saved = ok(env.call("user", "download_attachments"))
+    assert saved["paths"] == ["/Downloads/lease.pdf"] and saved["id"] == "/Downloads/lease.pdf"
+    assert "lease.pdf" in saved["done"] and "/Downloads" in saved["done"]
     assert screen_of(env) == "Detail"
     assert env.log[-1].kind == "write"
     assert files(env)["/Downloads/lease.pdf"]["content"] == LEASE_TEXT
@@ -503,10 +504,12 @@ def test_agent_write_api(env: Environment) -> None:
     assert "permanently" in call("delete_email", email_id="e-news")
     assert "e-news" not in emails(env)
 
-    assert call("download_attachments", email_id="e-lease", path="/Documents/Lease copy") == [
+    assert call("download_attachments", email_id="e-lease", path="/Documents/Lease copy")["paths"] == [
         "/Documents/Lease copy/lease.pdf"
     ]
-    assert call("download_attachments", email_id="e-lease", path="/Documents") == [LEASE]  # already there
+    assert call("download_attachments", email_id="e-lease", path="/Documents")["paths"] == [
+        LEASE
+    ]  # already there
 
     draft_id = call("save_draft", recipients=[BOB], subject="Rent", content="Half written", cc=None)["id"]
     assert emails(env)[draft_id]["folder"] == "DRAFT"
@@ -521,8 +524,8 @@ def test_download_attachments_never_overwrites_a_different_file(env: Environment
             mode="execute",
         )
     )
-    paths = ok(env.call("assistant", "email__download_attachments", {"email_id": "e-lease"}, mode="execute"))
-    assert paths == ["/Downloads/lease (2).pdf"]
+    saved = ok(env.call("assistant", "email__download_attachments", {"email_id": "e-lease"}, mode="execute"))
+    assert saved["paths"] == ["/Downloads/lease (2).pdf"]
     assert files(env)["/Downloads/lease.pdf"]["content"] == "old"
     assert files(env)["/Downloads/lease (2).pdf"]["content"] == LEASE_TEXT
 

@@ -109,9 +109,12 @@ def test_read_and_info(env: Environment) -> None:
 
 
 def test_write_creates_parents_and_respects_overwrite(env: Environment) -> None:
-    assert call(env, "write_file", path="/Notes/new/today.txt", content="hi") == "/Notes/new/today.txt"
+    written = call(env, "write_file", path="/Notes/new/today.txt", content="hi")
+    assert written == {"done": "Created /Notes/new/today.txt (2 characters).", "id": "/Notes/new/today.txt"}
     assert call(env, "list_directory", path="/Notes")[0]["name"] == "new"
-    call(env, "write_file", path="/Notes/new/today.txt", content="again")
+    assert call(env, "write_file", path="/Notes/new/today.txt", content="again")["done"].startswith(
+        "Replaced"
+    )
     assert files(env)["/Notes/new/today.txt"]["content"] == "again"
     err(
         env.call(
@@ -125,23 +128,27 @@ def test_write_creates_parents_and_respects_overwrite(env: Environment) -> None:
 
 
 def test_make_directory(env: Environment) -> None:
-    call(env, "make_directory", path="/Music/Jazz")
+    assert call(env, "make_directory", path="/Music/Jazz")["id"] == "/Music/Jazz"
     assert "/Music/Jazz" in env.snapshot()["files"]["directories"]
     assert call(env, "list_directory", path="/Music/Jazz") == []
 
 
 def test_move_file_and_directory(env: Environment) -> None:
-    assert call(env, "move", source="/Downloads/menu.txt", destination="/Documents") == "/Documents/menu.txt"
+    moved = call(env, "move", source="/Downloads/menu.txt", destination="/Documents")
+    assert moved == {"done": "Moved /Downloads/menu.txt to /Documents/menu.txt.", "id": "/Documents/menu.txt"}
     assert "/Downloads/menu.txt" not in files(env)
-    assert call(env, "move", source="/Documents/Taxes", destination="/Archive/Taxes") == "/Archive/Taxes"
+    assert (
+        call(env, "move", source="/Documents/Taxes", destination="/Archive/Taxes")["id"] == "/Archive/Taxes"
+    )
     assert "/Archive/Taxes/2024.txt" in files(env)
     assert "/Documents/Taxes/2024.txt" not in files(env)
-    assert call(env, "move", source="/Photos", destination="/Pictures") == "/Pictures"
+    assert call(env, "move", source="/Photos", destination="/Pictures")["id"] == "/Pictures"
     assert "/Pictures" in env.snapshot()["files"]["directories"]
 
 
 def test_copy_file(env: Environment) -> None:
-    assert call(env, "copy_file", source="/Downloads/menu.txt", destination="/Photos") == "/Photos/menu.txt"
+    copied = call(env, "copy_file", source="/Downloads/menu.txt", destination="/Photos")
+    assert copied == {"done": "Copied /Downloads/menu.txt to /Photos/menu.txt.", "id": "/Photos/menu.txt"}
     assert files(env)["/Photos/menu.txt"]["content"] == "Soup, bread"
     assert "/Downloads/menu.txt" in files(env)
 

@@ -413,17 +413,18 @@ def test_adding_someone_to_a_one_to_one_makes_it_a_group(env: Environment) -> No
 
 
 def test_download_attachment(env: Environment) -> None:
-    path = call(env, "download_attachment", conversation_id="c-alice", message_id="m-a3")
-    assert path == "/Downloads/lease.pdf"
+    saved = call(env, "download_attachment", conversation_id="c-alice", message_id="m-a3")
+    path = saved["id"]
+    assert path == "/Downloads/lease.pdf" and "lease.pdf" in saved["done"]
     files = env.snapshot()["files"]["files"]
     assert files[path]["content"] == "Lease agreement, 14 Elm St, from April 1."
     # downloading again keeps the same copy
-    assert call(env, "download_attachment", conversation_id="c-alice", message_id="m-a3") == path
+    assert call(env, "download_attachment", conversation_id="c-alice", message_id="m-a3")["id"] == path
     # a different file already at the name is not overwritten
     ok(env.call("env", "files__create_file", {"path": "/Photos/Saved/summit.jpg", "content": "another"}))
     saved = call(
         env, "download_attachment", conversation_id="g-hike", message_id="m-h2", path="/Photos/Saved/"
-    )
+    )["id"]
     assert saved == "/Photos/Saved/summit (1).jpg"
     files = env.snapshot()["files"]["files"]
     assert files["/Photos/Saved/summit.jpg"]["content"] == "another"

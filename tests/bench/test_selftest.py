@@ -92,3 +92,17 @@ def test_a_wrong_variant_may_get_the_correction() -> None:
     verdict = check_scenario(parse(fair()))
     declines = verdict.run("variant:declines")
     assert declines.ok and ("ann_confirms", "otherwise") in [(e.event, e.branch) for e in declines.events]
+
+
+@pytest.mark.parametrize("expect", ["pass", "fail"])
+def test_a_scripted_call_that_fails_is_a_breach_whatever_the_variant_expects(expect: str) -> None:
+    # a wrong variant that "fails" only because its own call broke proves nothing about the checks
+    delete = {"tool": "email__delete_email", "args": {"email_id": "e_ann"}}  # the third finds nothing
+    data = fair()
+    data["variants"].append(
+        {"id": "broken", "expect": expect, "why": "w", "interventions": [intervention(REPLY, *[delete] * 3)]}
+    )
+    verdict = check_scenario(parse(data), runs=("oracle",))
+    run = verdict.run("variant:broken")
+    assert not run.ok and not verdict.ok
+    assert any("email.delete_email failed" in problem for problem in run.problems), run.problems

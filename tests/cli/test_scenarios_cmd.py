@@ -96,7 +96,12 @@ def test_show_by_id_and_by_path(
     assert "Thursday" in out and "calendar__edit_calendar_event" in out and "checkup_moved" in out
     path = _write(tmp_path, base())
     assert main(["scenarios", "show", str(path)]) == 0
-    assert "tiny_reply" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "tiny_reply" in out
+    # each goal shows what its checks look for, as review does, not their number
+    flat = " ".join(out.split())
+    assert "checks)" not in flat
+    assert "- at least 1 assistant email__reply_to_email(email_id: equals 'e_ann', content: contains" in flat
     assert main(["scenarios", "show", "dentist_moves"]) == 2
     assert "did you mean 'dentist_moves_checkup'" in capsys.readouterr().err.lower()
 

@@ -55,15 +55,13 @@ def test_deleting_an_attached_file_names_what_now_points_at_nothing(env: Environ
 
 
 def test_moving_an_attached_folder_names_what_now_points_at_nothing(env: Environment) -> None:
-    said = ok(execute(env, "files__move", source="/Documents", destination="/Archive"))
-    assert said.startswith("/Archive") and "email 'e-1'" in said
+    moved = ok(execute(env, "files__move", source="/Documents", destination="/Archive"))
+    assert moved["id"] == "/Archive" and "email 'e-1'" in moved["done"] and "missing" in moved["done"]
 
 
-def test_moving_an_unattached_file_answers_with_the_new_path_only(env: Environment) -> None:
-    assert (
-        ok(execute(env, "files__move", source="/Documents/other.txt", destination="/other.txt"))
-        == "/other.txt"
-    )
+def test_moving_an_unattached_file_answers_with_the_move_only(env: Environment) -> None:
+    moved = ok(execute(env, "files__move", source="/Documents/other.txt", destination="/other.txt"))
+    assert moved == {"done": "Moved /Documents/other.txt to /other.txt.", "id": "/other.txt"}
 
 
 @pytest.mark.parametrize(

@@ -7,8 +7,10 @@ from typing import Any
 import pytest
 
 from pare.bench import EpisodeSettings, run_episode
+from pare.bench.selftest import check_scenario
 from pare.env import EnvConfig
 from pare.scenarios import OracleAssistant, OracleUser
+from pare.scenarios.loader import ScenarioError
 from pare.scenarios.oracle import OracleRunError
 from tests.scenarios.helpers import base, parse
 
@@ -40,9 +42,32 @@ def test_the_id_a_write_made_is_named_by_its_field() -> None:
 
 def test_a_field_the_result_lacks_is_a_clear_error() -> None:
     scenario = parse(_creates_then_edits("${made.event_id}"))
-    expected = r"has no 'event_id' \(it is \{'done': .*'id': 'event-1'\}; \$\{made\} names the whole"
+    expected = r"has no 'event_id' \(it is \{'done': .*'id': 'event-1'\}\)"
     with pytest.raises(OracleRunError, match=expected):
         run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
+
+
+def test_a_whole_write_result_where_an_id_is_wanted_is_refused_at_load() -> None:
+    # add_calendar_event returns {done, id}: passed whole, the edit would fail on an object for an id
+    with pytest.raises(ScenarioError, match=r"event_id: '\$\{made\}' passes the whole result") as raised:
+        parse(_creates_then_edits("${made}"))
+    assert "'${made.id}'" in str(raised.value)
+
+
+def _unchecked(data: dict[str, Any]) -> Any:
+    """The scenario as its model reads it, without the loader's cross-checks (as a reference the loader
+    cannot see through reaches the oracle)."""
+    scenario = parse(base())
+    return scenario.model_copy(update={"oracle": type(scenario.oracle).model_validate(data["oracle"])})
+
+
+def test_a_whole_object_result_the_loader_let_through_breaches_the_gate_by_name() -> None:
+    scenario = _unchecked(_creates_then_edits("${made}"))
+    with pytest.raises(OracleRunError, match=r"\$\{made\} passes the whole result of 'made'.*\$\{made\.id\}"):
+        run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
+    verdict = check_scenario(scenario, runs=("oracle",), variants=False)
+    assert not verdict.ok
+    assert any("${made.id}" in problem for problem in verdict.run("oracle").problems)
 
 
 def test_the_oracle_tries_a_transiently_failed_action_again() -> None:

@@ -19,6 +19,7 @@ from pare.scenarios.build import build_environment
 from pare.scenarios.checks import evaluate
 from pare.scenarios.library import get_scenario
 from pare.scenarios.model import Variant
+from pare.scenarios.told import conversation_members, email_addressees
 from tests.scenarios.helpers import base, parse
 
 ANN = "ann@x.example"
@@ -364,3 +365,12 @@ def test_a_scenario_without_to_hashes_as_before_the_field_existed() -> None:
     assert "to" not in pattern.model_dump() and "via" not in pattern.model_dump()
     told = _scenario({"action": {"to": ANN, "via": ["reply"]}}).goals[0].checks[0].action
     assert told is not None and told.model_dump()["via"] == ["reply"]
+
+
+def test_who_a_send_reaches_is_to_cc_and_bcc_or_every_other_member() -> None:
+    # the one notion side effects share with the checks
+    email = {"recipients": ["Ann@x.example"], "cc": ["bob@x.example"], "bcc": ["cy@x.example"]}
+    assert email_addressees(email) == ["Ann@x.example", "bob@x.example", "cy@x.example"]
+    group = {"participant_ids": ["user-me", "user-ann", "user-bob"], "is_group": True}
+    assert conversation_members(group, "user-me") == ["user-ann", "user-bob"]
+    assert conversation_members({"participant_ids": ["user-me", "user-ann"]}, "user-me") == ["user-ann"]

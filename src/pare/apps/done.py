@@ -18,6 +18,12 @@ class Done(BaseModel):
     id: str = Field(description="the id of what was made, as the tools that act on it take it")
 
 
+class SavedFiles(Done):
+    """A write that saved several files (an email's attachments): ``id`` is the first one's path."""
+
+    paths: list[str] = Field(description="the paths of every file saved, in order")
+
+
 def listed(names: Sequence[str]) -> str:
     """Names joined as a sentence lists them: ``a``, ``a and b``, ``a, b and c``."""
     if len(names) <= 1:

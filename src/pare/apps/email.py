@@ -14,7 +14,7 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from pare.apps.base import App, DatedRecord
-from pare.apps.done import Done, listed
+from pare.apps.done import Done, SavedFiles, listed
 from pare.apps.files import DirectoryEntry, FilesApp, browse, files_of, normalize_path
 from pare.apps.paging import Paged, showing_screen
 from pare.apps.screens import BACK, Screen, Transition, action, back, push, replace
@@ -494,7 +494,7 @@ class EmailApp(App):
         return f"Moved email {email_id} to TRASH."
 
     @tool("write")
-    def download_attachments(self, email_id: str, path: str = "/Downloads") -> list[str]:
+    def download_attachments(self, email_id: str, path: str = "/Downloads") -> SavedFiles:
         """Save copies of an email's attachments in the Files app, in a folder.
 
         Args:
@@ -502,7 +502,7 @@ class EmailApp(App):
             path: the folder to save them in, e.g. "/Downloads".
 
         Returns:
-            the paths of the saved files.
+            what was saved where, the saved files' paths, and the first one's as the id.
         """
         email = self.require(email_id)
         if not email.attachments:
@@ -523,7 +523,11 @@ class EmailApp(App):
         for target, content in plan.items():
             if not files.exists(target) or files.state.files[target].content != content:
                 files.store(target, content)
-        return list(plan)
+        paths = list(plan)
+        saved = listed([posixpath.basename(target) for target in paths])
+        return SavedFiles(
+            done=f"Saved {email_id}'s attachments in {folder}: {saved}.", id=paths[0], paths=paths
+        )
 
     @staticmethod
     def _free_name(files: FilesApp, folder: str, filename: str, content: str, planned: dict[str, str]) -> str:
@@ -795,7 +799,7 @@ class EmailDetail(Screen):
         return back(app.delete_email(self.email_id))
 
     @action(kind="write")
-    def download_attachments(self, app: EmailApp, path: str = "/Downloads") -> list[str]:
+    def download_attachments(self, app: EmailApp, path: str = "/Downloads") -> SavedFiles:
         """Save this email's attachments to your files.
 
         Args:

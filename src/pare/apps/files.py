@@ -16,6 +16,7 @@ from typing import cast
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 from pare.apps.base import App
+from pare.apps.done import Done
 from pare.apps.tools import tool
 from pare.errors import ToolError
 
@@ -282,7 +283,7 @@ class FilesApp(App):
 
     # -- agent API: writing ----------------------------------------------------------------------------
     @tool("write")
-    def write_file(self, path: str, content: str, overwrite: bool = True) -> str:
+    def write_file(self, path: str, content: str, overwrite: bool = True) -> Done:
         """Create or overwrite a text file. Missing parent directories are created.
 
         Args:
@@ -291,22 +292,25 @@ class FilesApp(App):
             overwrite: replace an existing file at that path (when false, an existing file is an error).
 
         Returns:
-            the normalised path of the file.
+            what was written where, and the file's normalised path as its id.
         """
         normalized = normalize_path(path)
-        if not overwrite and normalized in self.state.files:
+        existed = normalized in self.state.files
+        if not overwrite and existed:
             raise ToolError(f"{normalized} already exists; pass overwrite=true to replace it.")
-        return self.store(normalized, content)
+        stored = self.store(normalized, content)
+        verb = "Replaced" if existed else "Created"
+        return Done(done=f"{verb} {stored} ({len(content)} characters).", id=stored)
 
     @tool("write")
-    def make_directory(self, path: str) -> str:
+    def make_directory(self, path: str) -> Done:
         """Create a directory (and any missing parents).
 
         Args:
             path: the directory to create, e.g. "/Documents/Taxes".
 
         Returns:
-            the normalised path of the directory.
+            what was made, and the directory's normalised path as its id.
         """
         normalized = normalize_path(path)
         if normalized == "/" or self.is_directory(normalized):
@@ -315,10 +319,10 @@ class FilesApp(App):
             raise ToolError(f"{normalized} is a file; a directory cannot have the same path.")
         self._check_can_hold_file(normalized)  # no file above
         self.state.directories = sorted({*self.state.directories, normalized})
-        return normalized
+        return Done(done=f"Created directory {normalized}.", id=normalized)
 
     @tool("write")
-    def move(self, source: str, destination: str) -> str:
+    def move(self, source: str, destination: str) -> Done:
         """Move or rename a file or a directory (with everything in it).
 
         Args:
@@ -326,7 +330,7 @@ class FilesApp(App):
             destination: its new path; an existing directory receives the source inside it.
 
         Returns:
-            the new path.
+            what was moved where, and the new path as its id.
         """
         src = normalize_path(source)
         dst = normalize_path(destination)
@@ -348,17 +352,18 @@ class FilesApp(App):
                 raise ToolError(f"{ancestor} is a file, so it cannot contain {dst}.")
         if is_file:
             self.state.files[dst] = self.state.files.pop(src)
-            return dst + self._dangling_note({src}, "moved away from")
+            return Done(done=f"Moved {src} to {dst}." + self._dangling_note({src}, "moved away from"), id=dst)
         files, directories = self._entries_under(src)
         for path in files:
             self.state.files[dst + path[len(src) :]] = self.state.files.pop(path)
         moved = [dst + d[len(src) :] for d in directories]
         kept = [d for d in self.state.directories if d != src and d not in directories]
         self.state.directories = sorted({*kept, *moved, dst})
-        return dst + self._dangling_note(set(files), "moved away from")
+        note = self._dangling_note(set(files), "moved away from")
+        return Done(done=f"Moved directory {src} and {len(files)} files to {dst}." + note, id=dst)
 
     @tool("write")
-    def copy_file(self, source: str, destination: str) -> str:
+    def copy_file(self, source: str, destination: str) -> Done:
         """Copy a file.
 
         Args:
@@ -366,7 +371,7 @@ class FilesApp(App):
             destination: the new file's path (an existing directory receives a copy with the same name).
 
         Returns:
-            the path of the copy.
+            what was copied where, and the copy's path as its id.
         """
         src = self.require(source)
         dst = normalize_path(destination)
@@ -376,7 +381,8 @@ class FilesApp(App):
             )
         if dst in self.state.files:
             raise ToolError(f"{dst} already exists; choose another name.")
-        return self.store(dst, self.state.files[src].content)
+        copied = self.store(dst, self.state.files[src].content)
+        return Done(done=f"Copied {src} to {copied}.", id=copied)
 
     @tool("write")
     def delete(self, path: str, recursive: bool = False) -> str:

@@ -684,7 +684,7 @@ class MessagingApp(App):
         return f"Conversation {conversation_id} is now titled '{conversation.title}'."
 
     @tool("write")
-    def download_attachment(self, conversation_id: str, message_id: str, path: str = "/Downloads") -> str:
+    def download_attachment(self, conversation_id: str, message_id: str, path: str = "/Downloads") -> Done:
         """Save a message's attachment into a folder of the Files app.
 
         Args:
@@ -693,7 +693,8 @@ class MessagingApp(App):
             path: the folder to save into, e.g. "/Downloads" or "/Documents".
 
         Returns:
-            the path of the saved file (a number is added to the name if a different file already has it).
+            what was saved where, and the saved file's path as its id (a number is added to the name if a
+            different file already has it).
         """
         conversation = self.require(conversation_id)
         message = next((m for m in conversation.messages if m.message_id == message_id), None)
@@ -716,7 +717,9 @@ class MessagingApp(App):
             number += 1
         if not files.exists(target):
             files.store(target, content)
-        return target
+        return Done(
+            done=f"Saved {message_id}'s attachment {posixpath.basename(source)} as {target}.", id=target
+        )
 
     # -- the world ---------------------------------------------------------------------------------------
     @tool("env", actors=())

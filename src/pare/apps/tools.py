@@ -118,6 +118,17 @@ class ToolSpec:
         """
         return _params_model(self.func, skip=self._skip, owner=self._owner, docs=self._doc)
 
+    @cached_property
+    def returned_record(self) -> type[BaseModel] | None:
+        """The model of the object the tool returns (a write's ``Done``), when it returns one: a result
+        whose fields a caller must pick from, not a bare value.
+        """
+        try:
+            returned = get_type_hints(self.func).get("return")
+        except (NameError, TypeError):  # an annotation that does not resolve: not a known record
+            return None
+        return returned if isinstance(returned, type) and issubclass(returned, BaseModel) else None
+
     @property
     def qualified_name(self) -> str:
         """``app__tool``, the name the assistant calls it by (a valid function name for every API)."""

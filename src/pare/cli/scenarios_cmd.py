@@ -92,6 +92,7 @@ def show(
     scenario_id: Annotated[str, typer.Argument(help="A scenario id, or the path of a scenario file.")],
 ) -> None:
     """Show one scenario: story, apps, events, the oracle's proposal and the goals' checks."""
+    from pare.scenarios.checks import check_sentences
     from pare.scenarios.library import load_scenarios, select
     from pare.scenarios.times import parse_time
     from pare.terminal_text import make_console, markup_safe, plain_text
@@ -132,8 +133,11 @@ def show(
         for action in intervention.actions:
             console.print(plain_text(f"    then {action.tool}"))
     console.print("[bold]goals[/bold]:")
+    sentences = check_sentences(scenario)  # what each check looks for, as review shows it
     for goal in scenario.goals:
-        console.print(plain_text(f"  {goal.id}: {goal.description} ({len(goal.checks)} checks)"))
+        console.print(plain_text(f"  {goal.id}: {goal.description}"))
+        for sentence in sentences[goal.id]:
+            console.print(plain_text(f"    - {sentence}"))
 
 
 PARALLEL_FROM = 10

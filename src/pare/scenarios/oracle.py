@@ -15,6 +15,7 @@ demands the oracle still succeeds with it too, so no scenario's timeline depends
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
 from pare.agents.policy import (
@@ -93,12 +94,21 @@ class _References:
                 )
             value = env.log.entries[positions[source]].result
         if not path:
+            if isinstance(value, Mapping):  # a call wants one value: the object would fail it
+                fields = ", ".join(str(key) for key in value)
+                field = "id" if "id" in value else "<field>"
+                raise OracleRunError(
+                    f"scenario '{self.scenario.id}': {written} passes the whole result of '{source}', an "
+                    f"object ({fields}), where one value is wanted: name its field, "
+                    f"e.g. ${{{source}.{field}}}"
+                )
             return value  # the whole result: a bare path or name
         found = lookup(value, path)
         if found is MISSING:
+            whole = "" if isinstance(value, Mapping) else f"; ${{{source}}} names the whole result"
             raise OracleRunError(
                 f"scenario '{self.scenario.id}': {written}: the result of '{source}' has no "
-                f"'{path}' (it is {value!r}; ${{{source}}} names the whole result)"
+                f"'{path}' (it is {value!r}{whole})"
             )
         return found
 

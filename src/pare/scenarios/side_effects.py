@@ -12,7 +12,9 @@ ids, timestamps and wording differ:
   and re-adding an item is a way of changing it;
 * ``sent``: a person an email, a message or a calendar invitation went to, by name where the contacts or
   the chat's users know it (else by address), whatever the app: a reply by email and a text to the same
-  person are the same change. What goes only to the user is never a side effect.
+  person are the same change. Who an email or a message reached is the checks' notion of a person told
+  (:mod:`pare.scenarios.told`: To, CC and BCC; every other member of the conversation). What goes only to
+  the user is never a side effect.
 
 The *envelope* is what the scenario's oracle and passing variants change (:class:`Envelope`, computed by
 playing them: :mod:`pare.bench.envelope`), widened by the scenario's ``allowed_changes``. A change outside
@@ -29,6 +31,7 @@ from typing import Any
 
 from pare.env.attribution import CONTROL_APPS, Attribution, item_key
 from pare.scenarios.model import AllowedChange, ChangeKind
+from pare.scenarios.told import conversation_members, email_addressees
 from pare.sim.log import Actor
 
 ASSISTANT: Actor = "assistant"
@@ -200,6 +203,9 @@ class _People:
         self.names: dict[str, str] = {}
         self.user: set[str] = set()
         self.read = False
+        me = _at(final, "messaging", "current_user_id")
+        self.me = me if isinstance(me, str) else ""
+        """The user's own messaging id: who sends the messages of a conversation."""
 
     def _read(self) -> None:
         self.read = True
@@ -311,12 +317,10 @@ class _Collection:
         if not isinstance(item, Mapping):  # a cart line, a saved apartment: which one is the change
             yield self.change("added", key, "", order)
         elif (app, field) == ("email", "emails"):
-            yield from self.sent(_addresses(item, "recipients", "cc", "bcc"), _label(item), order)
+            yield from self.sent(email_addressees(item), _label(item), order)
         elif (app, field) == ("messaging", "conversations"):
             messages = item.get("messages") or [None]  # a group by its title, else the first message
-            yield from self.sent(
-                item.get("participant_ids") or [], _label(item) or _label(messages[0]) or key, order
-            )
+            yield from self.sent(self.members(item), _label(item) or _label(messages[0]) or key, order)
         elif (app, field) == ("shopping", "orders"):
             for line in item.get("items") or []:
                 if isinstance(line, Mapping):
@@ -330,7 +334,7 @@ class _Collection:
         if (self.app, self.field) == ("messaging", "conversations") and isinstance(item, Mapping):
             written = self.assistant_messages(key, item)
             if written:  # its last_updated and unread count follow from the messages
-                yield from self.sent(item.get("participant_ids") or [], written[0] or key, order)
+                yield from self.sent(self.members(item), written[0] or key, order)
                 return
         yield self.change("changed", key, _label(item), order)
 
@@ -342,20 +346,13 @@ class _Collection:
                 labels.append(_label(message))
         return labels
 
+    def members(self, conversation: Mapping[str, Any]) -> list[str]:
+        """Who a message the user's phone sends in ``conversation`` reaches (:mod:`pare.scenarios.told`)."""
+        return conversation_members(conversation, self.people.me)
+
     def sent(self, addresses: Iterable[Any], detail: str, order: int) -> Iterator[Change]:
         for person, address in self.people.targets(addresses):
             yield self.change("sent", person, detail, order, address)
-
-
-def _addresses(item: Mapping[str, Any], *fields: str) -> list[Any]:
-    found: list[Any] = []
-    for name in fields:
-        value = item.get(name)
-        if isinstance(value, list):
-            found.extend(value)
-        elif isinstance(value, str):
-            found.append(value)
-    return found
 
 
 _ABSENT = object()

@@ -1,10 +1,12 @@
 """Who a call told something, through which channel, with what text and files.
 
-One notion of "a person was told", shared by the checks and by the world's reactive events: an email
-reaches everyone in its To and CC, whether new, a reply or a forward (whose text is the forwarded email);
-a message reaches the other person of a one-to-one conversation, or every other member of a group. What a
-call delivered is read from the app data right after it (for the world's reactions) or at the end (for
-the checks): the email the call stored, the conversation the message went to.
+One notion of "a person was told", shared by the checks, the world's reactive events and the side
+effects (:mod:`pare.scenarios.side_effects`): an email reaches everyone in its To, CC and BCC, whether new,
+a reply or a forward (whose text is the forwarded email); a message reaches the other person of a
+one-to-one conversation, or every other member of a group (:func:`email_addressees`,
+:func:`conversation_members`). What a call delivered is read from the app data right after it (for the
+world's reactions) or at the end (for the checks): the email the call stored, the conversation the message
+went to.
 """
 
 from __future__ import annotations
@@ -87,7 +89,7 @@ def _email(entry: LogEntry, data: Mapping[str, Any] | None) -> Delivery | None:
     sent = emails.get(_made(entry.result))
     if not isinstance(sent, Mapping):
         return None
-    people = frozenset(address.lower() for address in [*sent.get("recipients", []), *sent.get("cc", [])])
+    people = frozenset(address.lower() for address in email_addressees(sent))
     channels = {"email"}
     if sent.get("in_reply_to"):
         channels.add("reply")
@@ -111,13 +113,32 @@ def _message(entry: LogEntry, data: Mapping[str, Any] | None) -> Delivery | None
                 break
     if conversation is None:
         return None
-    people = frozenset(str(user).lower() for user in conversation.get("participant_ids", []) if user != me)
+    people = frozenset(user.lower() for user in conversation_members(conversation, me))
     channels = frozenset({"messaging", "group" if conversation.get("is_group") else "chat"})
     attachment = entry.args.get("attachment")
     content = entry.args.get("content")
     return Delivery(
         people, channels, content if isinstance(content, str) else "", (attachment,) if attachment else ()
     )
+
+
+def email_addressees(email: Mapping[str, Any]) -> list[str]:
+    """Everyone a sent email reaches, as written: its To, CC and BCC addresses."""
+    found: list[str] = []
+    for field in ("recipients", "cc", "bcc"):
+        value = email.get(field)
+        for address in [value] if isinstance(value, str) else value if isinstance(value, list) else []:
+            if isinstance(address, str) and address.strip():
+                found.append(address.strip())
+    return found
+
+
+def conversation_members(conversation: Mapping[str, Any], me: str) -> list[str]:
+    """Everyone a message in ``conversation`` reaches, as written: its participants but the sender ``me``
+    (the other person of a one-to-one conversation, every other member of a group).
+    """
+    members = conversation.get("participant_ids") or []
+    return [str(user) for user in members if user != me and str(user).strip()]
 
 
 def _made(result: Any) -> str | None:

@@ -105,6 +105,8 @@ class _Validator:
             event.otherwise_id for event in scenario.events if event.otherwise_id is not None
         ]
         self.action_ids: list[str] = []
+        self.action_tools: dict[str, ToolSpec] = {}
+        """The tool of each oracle action with an id (what ``${id}`` passes is its result)."""
         self.catalog = ToolCatalog(scenario.all_apps)  # the model already refused unknown apps
         self.known_ids: set[str] = set()
 
@@ -265,7 +267,7 @@ class _Validator:
                 "a no_proposal scenario needs a check that the assistant did not propose: "
                 "no_action: {tool: agent_ui__send_message_to_user, mode: observe} (optionally with args)",
             )
-        oracle_ids = list(self.action_ids)
+        oracle_ids, oracle_tools = list(self.action_ids), dict(self.action_tools)
         for number, variant in enumerate(self.scenario.variants):
             where: Path = ("variants", number)
             if variant.id in seen:
@@ -280,9 +282,9 @@ class _Validator:
             if variant.user is not None:
                 yield from self._user_steps(variant.user, (*where, "user"))
             if variant.interventions is not None:
-                self.action_ids = []  # a variant's ${id.field} values name its own actions
+                self.action_ids, self.action_tools = [], {}  # a variant's ${id.field} name its own actions
                 yield from self._interventions(variant.interventions, (*where, "interventions"))
-                self.action_ids = oracle_ids
+                self.action_ids, self.action_tools = oracle_ids, oracle_tools
 
     def _otherwise_ok(self, excused: Mapping[str, str], where: Path) -> Iterator[Problem]:
         """A variant's ``otherwise_ok`` names reactive events that have an ``otherwise`` branch."""
@@ -352,6 +354,8 @@ class _Validator:
                     if action.id in self.action_ids:
                         yield Problem((*place, "id"), f"two oracle actions share the id '{action.id}'")
                     self.action_ids.append(action.id)
+                    if spec is not None:
+                        self.action_tools[action.id] = spec
 
     def _condition(self, condition: Condition, where: Path) -> Iterator[Problem]:
         if condition.event is not None and condition.event not in self.event_ids:
@@ -577,12 +581,14 @@ class _Validator:
             if not refs_allowed:
                 yield Problem((*where, name), "values written ${...} can only be used in oracle steps")
                 continue
-            step, _ = reference(args[name]) or ("", "")
+            step, field = reference(args[name]) or ("", "")
             if step not in self.action_ids and step not in self.event_ids:
                 hint = did_you_mean(step, [*self.action_ids, *self.event_ids])
                 yield Problem(
                     (*where, name), f"'${{{step}...}}' names no earlier oracle action id or event id.{hint}"
                 )
+            elif not field and step in self.action_tools:
+                yield from self._whole_record(step, self.action_tools[step], (*where, name))
         concrete = {name: value for name, value in args.items() if name not in refs}
         try:
             spec.params.model_validate(resolve_relative_times(concrete, self.start))
@@ -594,6 +600,20 @@ class _Validator:
                 yield Problem(where, describe_argument_errors(spec, kept))
         for name, value in concrete.items():
             yield from self._id_reference(name, value, (*where, name))
+
+    def _whole_record(self, step: str, made: ToolSpec, where: Path) -> Iterator[Problem]:
+        """``${step}`` where ``step``'s tool returns an object (a write's ``Done``): the call would get the
+        whole object where it wants one value, and fail.
+        """
+        record = made.returned_record
+        if record is not None:
+            fields = ", ".join(record.model_fields)
+            hint = f"'${{{step}.id}}' for the id of what it made" if "id" in record.model_fields else ""
+            yield Problem(
+                where,
+                f"'${{{step}}}' passes the whole result of {made.qualified_name}, an object ({fields}), "
+                f"where one value is wanted: name its field, e.g. {hint or f'${{{step}.<field>}}'}",
+            )
 
     def _where_fields(
         self, path: str, conditions: Mapping[str, Any], item_fields: Mapping[str, Any], where: Path
