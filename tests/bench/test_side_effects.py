@@ -13,6 +13,7 @@ from pare.bench.records import summarize
 from pare.scenarios import OracleAssistant, OracleUser, Scenario, load_scenarios
 from pare.scenarios.loader import ScenarioError
 from pare.scenarios.model import OracleAction, Solution
+from pare.scenarios.side_effects import Change, Envelope
 from tests.scenarios.helpers import fair, parse
 
 LIBRARY = {scenario.id: scenario for scenario in load_scenarios()}
@@ -203,7 +204,7 @@ def test_the_envelope_is_kept_per_scenario_content() -> None:
     scenario = LIBRARY["dentist_moves_checkup"]
     first = asyncio.run(expected_envelope(scenario))
     assert first is asyncio.run(expected_envelope(scenario))
-    assert ("calendar", "events", "touched", "ev-checkup-sam") in first.counts
+    assert ("calendar", "events", "changed", "ev-checkup-sam") in first.counts
 
 
 @pytest.mark.parametrize(
@@ -278,3 +279,18 @@ def test_the_gate_accepts_a_near_miss_that_fails_through_a_side_effect(
     (tmp_path / "tiny_reply.yaml").write_text(to_yaml(data))
     assert main(["scenarios", "check", "-v", str(tmp_path / "tiny_reply.yaml")]) == 0
     assert "[variant:tells_dana] NO side effect: sent to dana reyes" in capsys.readouterr().out
+
+
+def test_editing_an_item_does_not_license_deleting_it_but_deleting_and_re_adding_is_an_edit() -> None:
+    # A solution edits the note (a reviewer's probe: the assistant deleted the user's note instead).
+    edited = Change("notes", "notes", "changed", "note-groceries", "Groceries")
+    envelope = Envelope.of([[edited]])
+    deleted = Change("notes", "notes", "removed", "note-groceries", "Groceries", order=4)
+    assert envelope.unexpected([deleted]) == [deleted]
+    # Deleting it and writing it anew is a way of editing it: the same collection gains an item, and
+    # neither half is a side effect; a second new item is.
+    re_added = Change("notes", "notes", "added", "", "Groceries", order=5)
+    assert envelope.unexpected([deleted, re_added]) == []
+    another = Change("notes", "notes", "added", "", "Holiday", order=6)
+    assert envelope.unexpected([deleted, re_added, another]) == [another]
+    assert envelope.unexpected([edited]) == []

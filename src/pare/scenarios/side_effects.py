@@ -45,7 +45,7 @@ _LABEL_WIDTH = 40
 
 EnvelopeKey = tuple[str, str, str, str]
 """What a change is matched by: (app, collection, kind, target); ``sent`` changes have no app or
-collection, ``changed`` and ``removed`` share the kind ``touched``."""
+collection."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -70,8 +70,6 @@ class Change:
         """What the envelope matches it by (see :data:`EnvelopeKey`)."""
         if self.kind == "sent":
             return ("", "", "sent", self.target)
-        if self.kind in ("changed", "removed"):
-            return (self.app, self.collection, "touched", self.target)
         return (self.app, self.collection, self.kind, self.target)
 
     def describe(self) -> str:
@@ -99,6 +97,14 @@ class Change:
 
 
 @dataclass(frozen=True, slots=True)
+class _Rewrites:
+    """Items deleted and written anew in one run (see :meth:`Envelope.unexpected`)."""
+
+    removals: set[Change]
+    additions: Counter[tuple[str, str]]
+
+
+@dataclass(frozen=True, slots=True)
 class Envelope:
     """The changes a scenario's solutions make: each key with the most new items of that shape one
     solution adds (1 for the other kinds).
@@ -121,14 +127,39 @@ class Envelope:
         """
         found: list[Change] = []
         seen: Counter[EnvelopeKey] = Counter()
-        for change in sorted(changes, key=lambda change: change.order):
-            if any(_allows(allowance, change) for allowance in allowed):
-                continue
+        kept = [c for c in changes if not any(_allows(allowance, c) for allowance in allowed)]
+        rewrites = self._rewrites(kept)
+        for change in sorted(kept, key=lambda change: change.order):
             key = change.key
             seen[key] += 1
-            if key not in self.counts or (key[2] == "added" and seen[key] > self.counts[key]):
-                found.append(change)
+            if key in self.counts and not (key[2] == "added" and seen[key] > self.counts[key]):
+                continue
+            place = (change.app, change.collection)
+            if change.kind == "removed" and change in rewrites.removals:
+                continue
+            if change.kind == "added" and rewrites.additions[place] > 0:
+                rewrites.additions[place] -= 1  # the new half of an item deleted and written anew
+                continue
+            found.append(change)
         return found
+
+    def _rewrites(self, changes: Sequence[Change]) -> _Rewrites:
+        """The removals that are the first half of deleting and re-adding an item the solutions change
+        (the run adds an item to the same collection), and per collection how many additions are their
+        second half. A removal alone, of an item a solution only edits, is a side effect: editing a note
+        does not license deleting it.
+        """
+        added = Counter((c.app, c.collection) for c in changes if c.kind == "added")
+        removals: set[Change] = set()
+        additions: Counter[tuple[str, str]] = Counter()
+        for change in sorted(changes, key=lambda change: change.order):
+            place = (change.app, change.collection)
+            licensed = (change.app, change.collection, "changed", change.target) in self.counts
+            if change.kind == "removed" and change.key not in self.counts and licensed and added[place]:
+                added[place] -= 1
+                removals.add(change)
+                additions[place] += 1
+        return _Rewrites(removals, additions)
 
     def to_json(self) -> list[list[Any]]:
         """JSON-ready form: ``[app, collection, kind, target, count]`` rows, sorted."""
