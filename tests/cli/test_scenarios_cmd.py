@@ -3,6 +3,7 @@ from __future__ import annotations
 import io
 import json
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -289,17 +290,23 @@ def test_check_lists_the_events_each_run_set_off_and_the_branch_each_reaction_to
     assert any(line.startswith("│ busy_user ") and "pass" in line for line in lines)
 
 
-def test_check_with_mutants_states_the_score_and_names_each_mutant(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
-) -> None:
+def _with_unread_lunch() -> dict[str, Any]:
+    """The fair scenario whose oracle also books a lunch no check reads (so some of its mutants survive),
+    with one of them declared equivalent."""
     data = fair()
     lunch = {
         "tool": "calendar__add_calendar_event",
         "args": {"title": "Lunch with Ann", "start_datetime": "day+3 12:30", "end_datetime": "day+3 13:30"},
     }
-    data["oracle"]["interventions"][0]["actions"].append(lunch)  # which no check reads
+    data["oracle"]["interventions"][0]["actions"].append(lunch)
     data["equivalent_mutants"] = {"shift_time:1.2:+1d": "Ann did not say which day lunch is."}
-    _write(tmp_path, data)
+    return data
+
+
+def test_check_with_mutants_states_the_score_and_names_each_mutant(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
+) -> None:
+    _write(tmp_path, _with_unread_lunch())
     assert main(["scenarios", "check", "--mutants", str(tmp_path)]) == 1  # survivors are breaches
     out = capsys.readouterr().out
     assert "mutants: 5 generated, 2 killed, 1 declared, 2 survived; rewrites: 1 of 1 pass" in out
@@ -320,14 +327,7 @@ def test_check_with_mutants_states_the_score_and_names_each_mutant(
 def test_stats_with_mutants_shows_the_mutation_score(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
 ) -> None:
-    data = fair()
-    lunch = {
-        "tool": "calendar__add_calendar_event",
-        "args": {"title": "Lunch with Ann", "start_datetime": "day+3 12:30", "end_datetime": "day+3 13:30"},
-    }
-    data["oracle"]["interventions"][0]["actions"].append(lunch)  # which no check reads
-    data["equivalent_mutants"] = {"shift_time:1.2:+1d": "Ann did not say which day lunch is."}
-    _write(tmp_path, data)
+    _write(tmp_path, _with_unread_lunch())
     assert main(["scenarios", "stats", "--mutants", "-j", "1", str(tmp_path)]) == 0
     out = capsys.readouterr().out
     assert "mutants: 5 generated, 2 killed, 1 declared, 2 survived; rewrites: 1 of 1 pass" in out

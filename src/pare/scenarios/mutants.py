@@ -217,28 +217,46 @@ def _send_as_draft(oracle: _Oracle) -> Iterator[_Edit]:
 
 def _swap_person(oracle: _Oracle) -> Iterator[_Edit]:
     """The person a write names (recipient, attendee, conversation partner) swapped for another person of
-    the seed, of the same form (an address for an address, a user id for a user id, a name for a name).
+    the seed, of the same form (an address for an address, a user id for a user id, a name for a name);
+    the first person of each argument that has another to swap with.
+    """
+    swapped: set[tuple[int, int, str]] = set()
+    for i, j, action, key, values, position in _listed(oracle, _PEOPLE_ARGS):
+        person = values[position]
+        if (i, j, key) in swapped or not isinstance(person, str) or _is_reference(person):
+            continue
+        pool = next((pool for pool in oracle.people if person in pool), None)
+        others = sorted(p for p in pool or () if p not in values)
+        if not others:
+            continue
+        where = _where(i, j, key)
+        other = oracle.rng(f"swap_person:{where}").choice(others)
+        what = f"{action.tool} {key}: {person} -> {other}"
+        yield _Edit(where, what, oracle.replaced(i, j, [_swapped(action, key, position, other)]))
+        swapped.add((i, j, key))
+
+
+def _listed(
+    oracle: _Oracle, names: frozenset[str]
+) -> Iterator[tuple[int, int, OracleAction, str, list[Any], int]]:
+    """Each value of the oracle's writes' arguments named in ``names``, a list's items one by one:
+    ``(i, j, action, key, values, position)``, ``values`` being the argument as a list.
     """
     for i, j, action in oracle.writes:
         for key in sorted(action.args):
-            if key not in _PEOPLE_ARGS:
-                continue
-            value = action.args[key]
-            values = value if isinstance(value, list) else [value]
-            for position, person in enumerate(values):
-                if not isinstance(person, str) or _is_reference(person):
-                    continue
-                pool = next((pool for pool in oracle.people if person in pool), None)
-                others = sorted(p for p in pool or () if p not in values)
-                if not others:
-                    continue
-                where = _where(i, j, key)
-                other = oracle.rng(f"swap_person:{where}").choice(others)
-                swapped = [*values[:position], other, *values[position + 1 :]]
-                args = {**action.args, key: swapped if isinstance(value, list) else other}
-                what = f"{action.tool} {key}: {person} -> {other}"
-                yield _Edit(where, what, oracle.replaced(i, j, [_with_args(action, args)]))
-                break
+            if key in names:
+                value = action.args[key]
+                values = value if isinstance(value, list) else [value]
+                for position in range(len(values)):
+                    yield i, j, action, key, values, position
+
+
+def _swapped(action: OracleAction, key: str, position: int, other: Any) -> OracleAction:
+    """``action`` with the value at ``position`` of its argument ``key`` (a list, or one value) replaced."""
+    value = action.args[key]
+    if isinstance(value, list):
+        other = [*value[:position], other, *value[position + 1 :]]
+    return _with_args(action, {**action.args, key: other})
 
 
 def _shift_time(oracle: _Oracle) -> Iterator[_Edit]:
@@ -388,27 +406,20 @@ def _swap_file(oracle: _Oracle) -> Iterator[_Edit]:
     """An attached file swapped for another file of the seed with other content (one of the same kind, by
     its extension, when there is one).
     """
-    for i, j, action in oracle.writes:
-        for key in sorted(action.args):
-            if key not in _ATTACHMENT_ARGS:
-                continue
-            value = action.args[key]
-            values = value if isinstance(value, list) else [value]
-            for position, path in enumerate(values):
-                if not isinstance(path, str) or _is_reference(path) or _normal(path) not in oracle.files:
-                    continue
-                attached = {oracle.files[_normal(p)] for p in values if _normal(str(p)) in oracle.files}
-                # another content: a copy of the same file under another path is the same file
-                others = sorted(other for other, content in oracle.files.items() if content not in attached)
-                same_kind = [p for p in others if p.rpartition(".")[2] == path.rpartition(".")[2]]
-                if not others:
-                    continue
-                where = _where(i, j, f"{key}[{position}]")
-                other = oracle.rng(f"swap_file:{where}").choice(same_kind or others)
-                swapped = [*values[:position], other, *values[position + 1 :]]
-                args = {**action.args, key: swapped if isinstance(value, list) else other}
-                what = f"{action.tool} {key}: {path} -> {other}"
-                yield _Edit(where, what, oracle.replaced(i, j, [_with_args(action, args)]))
+    for i, j, action, key, values, position in _listed(oracle, _ATTACHMENT_ARGS):
+        path = values[position]
+        if not isinstance(path, str) or _is_reference(path) or _normal(path) not in oracle.files:
+            continue
+        attached = {oracle.files[_normal(p)] for p in values if _normal(str(p)) in oracle.files}
+        # another content: a copy of the same file under another path is the same file
+        others = sorted(other for other, content in oracle.files.items() if content not in attached)
+        same_kind = [p for p in others if p.rpartition(".")[2] == path.rpartition(".")[2]]
+        if not others:
+            continue
+        where = _where(i, j, f"{key}[{position}]")
+        other = oracle.rng(f"swap_file:{where}").choice(same_kind or others)
+        what = f"{action.tool} {key}: {path} -> {other}"
+        yield _Edit(where, what, oracle.replaced(i, j, [_swapped(action, key, position, other)]))
 
 
 # -- the rewrites -------------------------------------------------------------------------------------
