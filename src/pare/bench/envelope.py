@@ -97,16 +97,17 @@ def _write(key: str, envelope: Envelope) -> None:
     folder = _folder()
     if folder is None:
         return
+    target = folder / f"{key}.json"
+    temporary = target.with_name(f"{target.name}.{os.getpid()}.tmp")
+    # the cache is a convenience: a run that cannot keep it computes the envelope again next time
     try:
         if not folder.exists():
             folder.mkdir(parents=True, exist_ok=True)
             _prune_siblings(folder)
-        target = folder / f"{key}.json"
-        temporary = target.with_name(f"{target.name}.{os.getpid()}.tmp")
         temporary.write_text(json.dumps(envelope.to_json()), encoding="utf-8")
         os.replace(temporary, target)
     except OSError:
-        return
+        temporary.unlink(missing_ok=True)
 
 
 def _prune_siblings(folder: Path) -> None:
