@@ -38,8 +38,8 @@ from pathlib import Path
 
 from pare.bench.runconfig import build_config
 from pare.bench.runner import run_benchmark
-from pare.bench.store import load_run
 from pare.bench.throttling import endpoint_name
+from pare.results.run_folder import load_run
 from pare.scenarios import load_scenarios
 from pare.testing import ChatServer, RateLimited, proactive_play
 

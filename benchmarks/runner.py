@@ -47,7 +47,7 @@ from pare.agents.models.config import ModelConfig
 from pare.agents.models.types import ChatMessage
 from pare.bench.runconfig import build_config
 from pare.bench.runner import run_benchmark
-from pare.bench.store import load_run
+from pare.results.run_folder import load_run
 from pare.scenarios import load_scenarios
 from pare.testing import ChatServer, proactive_play
 from pare.testing.chat_server import Reply, completion

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from pare.bench.runconfig import build_config, read_config_file
-from pare.bench.store import load_run
 from pare.bench.sweep import load_sweep, point_configs
+from pare.results.run_folder import load_run
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 

@@ -9,8 +9,8 @@ import pytest
 
 from pare.agents.models.limiter import LimiterState
 from pare.bench.runner import NoProgress
-from pare.bench.store import load_run
 from pare.cli import main
+from pare.results.run_folder import load_run
 from pare.testing import ChatServer, RateLimited, proactive_play
 from pare.testing.chat_server import completion
 

@@ -6,9 +6,9 @@ from pathlib import Path
 
 import pytest
 
-from pare.bench.records import EpisodeRecord
-from pare.bench.store import load_run
 from pare.cli import main
+from pare.results.records import EpisodeRecord
+from pare.results.run_folder import load_run
 
 ray = pytest.importorskip("ray", reason="Ray is an optional extra (pip install 'pare[ray]')")
 

@@ -24,8 +24,9 @@ import pare.bench.runner as runner
 from pare.agents.actions import parse_action
 from pare.agents.policy import Task
 from pare.agents.prompts import execute_system_prompt, observe_system_prompt, user_system_prompt
-from pare.bench.store import CACHE_FILE, EPISODES, load_run, read_records
+from pare.bench.store import CACHE_FILE
 from pare.cli import main
+from pare.results.run_folder import EPISODES, load_run, read_records
 from pare.scenarios import build_environment, get_scenario
 from pare.testing import PROPOSAL, ChatServer, Reply, Responder, conversation_role, failure, proactive_play
 from tests.agents.conftest import NetworkBlocked

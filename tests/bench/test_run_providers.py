@@ -17,8 +17,8 @@ from typing import Any
 import pytest
 
 from pare.agents.models import litellm_available
-from pare.bench.store import MANIFEST, load_run
 from pare.cli import main
+from pare.results.run_folder import MANIFEST, load_run
 from pare.testing import (
     AnthropicChatServer,
     ChatServer,

@@ -13,8 +13,9 @@ from typing import Any
 
 import pytest
 
-from pare.bench.store import CACHE_FILE, load_run
+from pare.bench.store import CACHE_FILE
 from pare.cli import main
+from pare.results.run_folder import load_run
 from pare.testing import ChatServer, proactive_play, thinking
 from pare.testing.chat_server import THINKING
 from tests.bench.test_run_models import KEY, KEY_VARIABLE, Servers, command, trajectories

@@ -17,12 +17,13 @@ from typing import Any
 import pytest
 
 import pare.bench.runner as runner_module
-from pare.bench.records import EpisodeRecord
 from pare.bench.runconfig import build_config
 from pare.bench.runner import EpisodeOutput, EpisodePlan, run_benchmark
-from pare.bench.store import EPISODES, MANIFEST, RunStore, load_run, read_records
+from pare.bench.store import RunStore
 from pare.cli import main
 from pare.errors import ProviderUnavailable, UserInputError
+from pare.results.records import EpisodeRecord
+from pare.results.run_folder import EPISODES, MANIFEST, load_run, read_records
 from pare.scenarios import library
 from tests.scenarios.helpers import base, to_yaml
 

@@ -19,9 +19,9 @@ from pare.agents.models.types import ChatMessage, Completion, Usage
 from pare.agents.policy import WAIT
 from pare.bench import EpisodeSettings, arun_episode, build_config, run_benchmark
 from pare.bench.progress import RichProgress
-from pare.bench.records import EpisodeRecord
-from pare.bench.store import EPISODES, load_run, read_records
 from pare.errors import ModelRequestError
+from pare.results.records import EpisodeRecord
+from pare.results.run_folder import EPISODES, load_run, read_records
 from pare.scenarios import OracleUser
 from pare.testing import ChatServer, Reply, completion
 from tests.scenarios.helpers import base, parse, to_yaml

@@ -9,7 +9,7 @@ import pytest
 
 from pare.bench import run_episode
 from pare.bench.envelope import expected_envelope
-from pare.bench.records import summarize
+from pare.results.records import summarize
 from pare.scenarios import OracleAssistant, OracleUser, Scenario, load_scenarios
 from pare.scenarios.loader import ScenarioError
 from pare.scenarios.model import OracleAction, Solution

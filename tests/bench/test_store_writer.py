@@ -11,12 +11,12 @@ import pytest
 
 import pare.bench._store_writer as writer_module
 import pare.bench.store as store_module
-from pare.bench.records import EpisodeRecord
 from pare.bench.runconfig import build_config
 from pare.bench.runner import run_benchmark
-from pare.bench.store import EPISODES, load_run, read_records
 from pare.cli import main
 from pare.errors import UserInputError
+from pare.results.records import EpisodeRecord
+from pare.results.run_folder import EPISODES, load_run, read_records
 from pare.scenarios import library
 
 SMOKE = ["dentist_moves_checkup", "five_a_side_kickoff_moved", "dad_printer_ink_from_note"]

@@ -72,7 +72,7 @@ def test_the_command_line_loads_the_library_only_for_commands_that_use_it() -> N
         "pare.env",
         "pare.agents",
         "pare.bench.runner",
-        "pare.bench.metrics",
+        "pare.results.metrics",
         "pare.bench.episode",
         "pydantic",
         "openai",

@@ -14,8 +14,8 @@ from typing import Any
 
 import pytest
 
-from pare.bench.store import MANIFEST, load_run
 from pare.cli import main
+from pare.results.run_folder import MANIFEST, load_run
 from pare.testing import ChatServer, proactive_play
 
 KEY_VARIABLE = "PARE_DRY_RUN_TEST_KEY"

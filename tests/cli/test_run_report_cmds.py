@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from pare.bench.store import SWEEP_FILE, load_run
 from pare.cli import main
+from pare.results.run_folder import SWEEP_FILE, load_run
 
 
 @pytest.fixture(autouse=True)

@@ -16,9 +16,9 @@ import pytest
 
 from pare.agents.models import ModelConfig
 from pare.bench.runconfig import MAX_RUNS
-from pare.bench.store import MANIFEST, MAX_PLANNED_EPISODES
 from pare.cli import main
 from pare.errors import UserInputError
+from pare.results.run_folder import MANIFEST, MAX_PLANNED_EPISODES
 from pare.testing import ChatServer, proactive_play
 
 WANTED = "must be an http:// or https:// URL with a host"

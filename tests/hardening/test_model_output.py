@@ -17,9 +17,9 @@ import pytest
 from pare.agents.actions import format_action
 from pare.agents.models import ModelClient, ModelConfig
 from pare.agents.models.types import ChatMessage
-from pare.bench.store import EPISODES
 from pare.cli import main
 from pare.errors import ProviderUnavailable
+from pare.results.run_folder import EPISODES
 from pare.testing import ChatServer, Reply, completion, conversation_role, proactive_play
 from tests.hardening.conftest import KEY_VARIABLE, strict_json
 

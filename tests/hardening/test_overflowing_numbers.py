@@ -12,10 +12,10 @@ from typing import Any
 import pytest
 
 from pare.agents.actions import END_ACTION, parse_action, parse_tool_arguments
-from pare.bench.store import EPISODES
 from pare.cli import main
 from pare.errors import ActionFormatError
 from pare.generate.uniqueness import JudgeAnswerError, read_verdict
+from pare.results.run_folder import EPISODES
 from pare.testing import ChatServer, Reply, conversation_role, proactive_play
 from tests.hardening.conftest import strict_json
 from tests.hardening.test_model_output import only_record, run_command, server, trajectory_text

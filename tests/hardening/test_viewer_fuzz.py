@@ -18,8 +18,8 @@ from typing import Any
 import pytest
 from starlette.testclient import TestClient
 
-from pare.bench.store import load_run
 from pare.cli import main
+from pare.results.run_folder import load_run
 from pare.viewer import Catalog, Site
 from pare.viewer._paths import slug
 from pare.viewer._server import create_app

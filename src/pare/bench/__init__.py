@@ -1,5 +1,5 @@
-"""The benchmark harness: episodes, the scenario self-test, many episodes into a run folder, metrics,
-reports, sweeps and figures.
+"""Running the benchmark: episodes (the turn loop), the scenario self-test, many episodes into a run
+folder, and sweeps. What a run leaves behind is read by :mod:`pare.results`.
 """
 
 from typing import TYPE_CHECKING
@@ -8,11 +8,8 @@ from pare._lazy import lazy_exports
 
 if TYPE_CHECKING:
     from pare.bench.episode import EpisodeResult, EpisodeSettings, Step, arun_episode, run_episode
-    from pare.bench.metrics import ConfigurationMetrics, Estimate, compute_metrics
-    from pare.bench.records import EpisodeRecord, ProposalRecord
     from pare.bench.runconfig import RunConfig, build_config
     from pare.bench.runner import RunSummary, run_benchmark
-    from pare.bench.store import LoadedRun, load_run
 
 __getattr__, __dir__ = lazy_exports(
     __name__,
@@ -22,35 +19,21 @@ __getattr__, __dir__ = lazy_exports(
         "Step": "episode",
         "arun_episode": "episode",
         "run_episode": "episode",
-        "ConfigurationMetrics": "metrics",
-        "Estimate": "metrics",
-        "compute_metrics": "metrics",
-        "EpisodeRecord": "records",
-        "ProposalRecord": "records",
         "RunConfig": "runconfig",
         "build_config": "runconfig",
         "RunSummary": "runner",
         "run_benchmark": "runner",
-        "LoadedRun": "store",
-        "load_run": "store",
     },
 )
 
 __all__ = [
-    "ConfigurationMetrics",
-    "EpisodeRecord",
     "EpisodeResult",
     "EpisodeSettings",
-    "Estimate",
-    "LoadedRun",
-    "ProposalRecord",
     "RunConfig",
     "RunSummary",
     "Step",
     "arun_episode",
     "build_config",
-    "compute_metrics",
-    "load_run",
     "run_benchmark",
     "run_episode",
 ]

@@ -42,8 +42,8 @@ from pare.agents.models.types import ChatMessage, Completion, Usage
 from pare.agents.policy import DEFAULT_BUDGET, Action, Task, TurnBudget
 from pare.bench.episode import arun_episode
 from pare.bench.runconfig import RunConfig
-from pare.bench.store import EPISODES, MANIFEST, latest_records, read_manifest, read_records
 from pare.env import AssistantObservation, Environment, ToolResult, UserView
+from pare.results.run_folder import EPISODES, MANIFEST, latest_records, read_manifest, read_records
 from pare.scenarios.model import Scenario
 from pare.scenarios.oracle import OracleAssistant, OracleUser
 

@@ -18,8 +18,8 @@ from rich.progress import (
 )
 
 from pare.agents.models.limiter import LimiterState
-from pare.bench.records import EpisodeRecord
 from pare.bench.throttling import throttling_status
+from pare.results.records import EpisodeRecord
 from pare.terminal_text import make_console, printable
 
 

@@ -16,7 +16,6 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from pare.bench.records import EpisodeRecord
 from pare.bench.run_requests import Learned, RunRequests
 from pare.bench.runconfig import RunConfig
 from pare.bench.runner import (
@@ -30,6 +29,7 @@ from pare.bench.runner import (
 from pare.bench.store import RunStore
 from pare.errors import UserInputError
 from pare.install import install_command
+from pare.results.records import EpisodeRecord
 
 TASK_CPUS = 0.25
 """CPUs Ray reserves per episode task: episodes mostly wait on model calls, so several share a core."""

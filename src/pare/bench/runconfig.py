@@ -39,6 +39,7 @@ from pare.bench.episode import MAX_STEPS, MAX_TURN_DURATION, MAX_TURNS, EpisodeS
 from pare.env import EnvConfig
 from pare.env.config import MAX_NOISE_RATE_PER_MINUTE
 from pare.errors import UserInputError
+from pare.results.run_folder import MAX_RUNS as MAX_RUNS  # re-exported: a run file's limit
 from pare.scenarios.times import TimeFormatError, parse_duration
 from pare.sim.notifications import NotificationPolicy
 from pare.yaml_source import UnreadableFile, YamlSyntaxError, load_yaml, read_text_file
@@ -51,8 +52,6 @@ concurrency and prices cannot). The endpoint is left out, as in the model-call c
 server that comes back on another port still serves the same run (the manifest records the endpoint)."""
 
 
-MAX_RUNS = 1_000
-"""The most runs per scenario (the paper's protocol uses 4)."""
 MAX_CONCURRENCY = 4_096
 """The most episodes in flight at once."""
 

@@ -43,11 +43,12 @@ from pare.agents.models.types import ChatMessage, Completion
 from pare.agents.policy import AssistantPolicy, UserPolicy
 from pare.bench import collector
 from pare.bench.episode import arun_episode
-from pare.bench.records import EpisodeRecord, Failure, FailureKind, summarize
 from pare.bench.run_requests import Learned, RunRequests, learned_refusals
 from pare.bench.runconfig import RunConfig
-from pare.bench.store import CACHE_FILE, RunStore, scenario_hash, trajectory_path
+from pare.bench.store import CACHE_FILE, RunStore
 from pare.errors import CacheMiss, RunFailure, UserInputError, first_error
+from pare.results.records import EpisodeRecord, Failure, FailureKind, summarize
+from pare.results.run_folder import scenario_hash, trajectory_path
 from pare.scenarios.library import library, load_scenarios, select
 from pare.scenarios.model import Scenario
 from pare.scenarios.oracle import OracleAssistant, OracleUser

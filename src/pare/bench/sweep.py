@@ -30,9 +30,9 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 
 from pare.bench.runconfig import RunConfig, build_config, read_config_file, set_path, slug
 from pare.bench.runner import ProgressSink, RunSummary, run_benchmark
-from pare.bench.store import SWEEP_FILE
 from pare.errors import UserInputError
 from pare.output_paths import make_output_folder
+from pare.results.run_folder import SWEEP_FILE
 
 
 class SweepSpec(BaseModel):

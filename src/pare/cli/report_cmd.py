@@ -9,11 +9,11 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from pare.bench.report_sections import SECTIONS
 from pare.errors import UserInputError
+from pare.results.report_sections import SECTIONS
 
 if TYPE_CHECKING:  # metrics and reports are imported by the commands: `pare --help` stays fast
-    from pare.bench.metrics import ConfigurationMetrics
+    from pare.results.metrics import ConfigurationMetrics
 
 
 class Format(StrEnum):
@@ -36,8 +36,8 @@ Runs = Annotated[
 
 def collect_metrics(paths: list[Path]) -> list[ConfigurationMetrics]:
     """The metrics of every configuration in ``paths``, in the order given."""
-    from pare.bench.metrics import compute_metrics
-    from pare.bench.store import load_run, run_folders
+    from pare.results.metrics import compute_metrics
+    from pare.results.run_folder import load_run, run_folders
 
     metrics = []
     for folder in run_folders(paths):
@@ -69,8 +69,8 @@ def report(
     acceptance rates, read actions, the decision analysis, cost per role, per-app and per-tag results,
     and coverage.
     """
-    from pare.bench.report import render_csv, render_json, render_latex, render_markdown, render_terminal
     from pare.output_paths import write_output_file
+    from pare.results.report import render_csv, render_json, render_latex, render_markdown, render_terminal
     from pare.terminal_text import make_console, printable, printable_json
 
     sections = tuple(section or SECTIONS)
@@ -124,8 +124,8 @@ def plot(
     """Draw the paper's robustness figure (proposal, acceptance and success rate against a swept setting,
     one line per model, error bars = SE across runs) as PNG and SVG. Needs the ``plots`` extra.
     """
-    from pare.bench.plots import plot_sweep
-    from pare.bench.store import SWEEP_FILE
+    from pare.results.plots import plot_sweep
+    from pare.results.run_folder import SWEEP_FILE
 
     metrics = collect_metrics(runs)
     axes = _numeric_axes(metrics)

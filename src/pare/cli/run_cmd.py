@@ -104,9 +104,9 @@ def progress_sink(show: bool) -> ProgressSink:
 
 def print_summary(summary: RunSummary, console: Console) -> None:
     """What the session did, the headline metrics, and where everything is."""
-    from pare.bench.report import render_terminal
     from pare.bench.throttling import throttling_summary
     from pare.cli.report_cmd import collect_metrics
+    from pare.results.report import render_terminal
     from pare.terminal_text import markup_safe
 
     console.print(
@@ -377,8 +377,8 @@ def sweep(
 
 
 def _print_sweep(folder: Path, console: Console) -> None:
-    from pare.bench.report import render_terminal
     from pare.cli.report_cmd import collect_metrics
+    from pare.results.report import render_terminal
     from pare.terminal_text import markup_safe
 
     render_terminal(collect_metrics([folder]), console, sections=("main", "coverage"))

@@ -27,10 +27,11 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from pare import __version__
-from pare.bench.store import MAX_EPISODES_BYTES, MAX_MANIFEST_BYTES, provenance, read_run_file
+from pare.bench.store import provenance
 from pare.errors import UserInputError
 from pare.generate.config import GenerateConfig
 from pare.output_paths import make_output_folder
+from pare.results.run_folder import MAX_EPISODES_BYTES, MAX_MANIFEST_BYTES, read_run_file
 from pare.scenarios.schema import SCHEMA_FILE
 
 MANIFEST = "manifest.json"

@@ -16,7 +16,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Any
 
-from pare.bench.records import ProposalRecord
+from pare.results.records import ProposalRecord
 from pare.scenarios.checks import JUDGE_SAID
 from pare.viewer._credit import Credit, Credits, pointer_parts
 

@@ -17,8 +17,8 @@ from typing import Any
 
 import jsonpatch
 
-from pare.bench.store import scenario_hash
 from pare.errors import UserInputError
+from pare.results.run_folder import scenario_hash
 from pare.scenarios.build import build_environment
 from pare.scenarios.checks import state_check_places
 from pare.scenarios.file_identity import FileIdentity

@@ -11,7 +11,7 @@ from collections.abc import Iterable
 from typing import Any
 
 from pare.agents.models.ledger import RoleUsage
-from pare.bench.records import EpisodeRecord
+from pare.results.records import EpisodeRecord
 from pare.viewer._paths import slug
 
 FILTERS = ("scenario", "app", "tag", "difficulty", "success", "decision", "ended", "failures")

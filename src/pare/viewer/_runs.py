@@ -14,10 +14,10 @@ from functools import cached_property
 from pathlib import Path
 from typing import Any
 
-from pare.bench.metrics import ConfigurationMetrics, compute_metrics
-from pare.bench.records import EpisodeRecord
-from pare.bench.store import EPISODES, MANIFEST, LoadedRun, load_run, read_run_file, run_folders
 from pare.errors import UserInputError
+from pare.results.metrics import ConfigurationMetrics, compute_metrics
+from pare.results.records import EpisodeRecord
+from pare.results.run_folder import EPISODES, MANIFEST, LoadedRun, load_run, read_run_file, run_folders
 from pare.viewer._paths import OutsideRunError, confined, slug
 
 TRAJECTORY_FORMAT = 1

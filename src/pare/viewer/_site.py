@@ -23,8 +23,8 @@ from typing import Any
 
 from jinja2 import Environment, PackageLoader, StrictUndefined, select_autoescape
 
-from pare.bench.metrics import Estimate
 from pare.errors import UserInputError
+from pare.results.metrics import Estimate
 from pare.viewer._episode import build_episode, episode_log
 from pare.viewer._evidence import final_state, library_scenario, matched_entries, state_entries
 from pare.viewer._paths import OutsideRunError, slug

@@ -1,6 +1,6 @@
 """The benchmark's numbers for one configuration, computed from its episode records (no I/O).
 
-Everything here is derived from :class:`~pare.bench.records.EpisodeRecord` lines only, so a run can be
+Everything here is derived from :class:`~pare.results.records.EpisodeRecord` lines only, so a run can be
 re-scored from its store. The rules, in one place (each field's docstring repeats its own):
 
 * Only *planned* episodes count: records whose ``(scenario_id, run)`` is not planned are ignored and
@@ -25,7 +25,7 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field
 
 from pare.agents.models.ledger import RoleUsage
-from pare.bench.records import DECISIONS, RESOLUTIONS, EpisodeRecord
+from pare.results.records import DECISIONS, RESOLUTIONS, EpisodeRecord
 
 __all__ = [
     "TOTAL",

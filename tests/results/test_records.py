@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from pare.agents import ASSISTANT_WAIT, SEND_MESSAGE, WAIT, Action, AssistantPolicy, Task, UserPolicy
 from pare.bench import EpisodeSettings, run_episode
-from pare.bench.records import summarize
 from pare.env import AssistantObservation, ToolResult, UserView
+from pare.results.records import summarize
 from tests.scenarios.helpers import base, parse
 
 SCENARIO = parse(base())

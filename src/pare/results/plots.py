@@ -11,10 +11,10 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from pare.bench.metrics import ConfigurationMetrics, Estimate
 from pare.errors import UserInputError
 from pare.install import install_command
 from pare.output_paths import make_output_folder
+from pare.results.metrics import ConfigurationMetrics, Estimate
 
 __all__ = ["PANELS", "axis_label", "plot_sweep"]
 

@@ -7,10 +7,10 @@ from pathlib import Path
 
 import pytest
 
-from pare.bench.metrics import ConfigurationMetrics, compute_metrics
-from pare.bench.plots import _lines, axis_label, plot_sweep
 from pare.errors import UserInputError
-from tests.bench.test_metrics import record
+from pare.results.metrics import ConfigurationMetrics, compute_metrics
+from pare.results.plots import _lines, axis_label, plot_sweep
+from tests.results.test_metrics import record
 
 NOISE = "env.noise_rate_per_minute"
 

@@ -29,9 +29,9 @@ from typing import Any
 import pytest
 
 from pare.agents.models.ledger import RoleUsage
-from pare.bench.metrics import ConfigurationMetrics, Estimate, compute_metrics
-from pare.bench.records import EpisodeRecord, Failure, ProposalRecord
-from pare.bench.report import render_csv, render_markdown
+from pare.results.metrics import ConfigurationMetrics, Estimate, compute_metrics
+from pare.results.records import EpisodeRecord, Failure, ProposalRecord
+from pare.results.report import render_csv, render_markdown
 
 APPS = {"A": ["email", "calendar"], "B": ["email"], "C": ["messaging"], "D": ["email"]}
 TAGS = {"A": ["reply"], "B": ["schedule"], "C": ["reply", "schedule"], "D": []}

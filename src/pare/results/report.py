@@ -1,4 +1,4 @@
-"""Render :class:`~pare.bench.metrics.ConfigurationMetrics` as terminal tables, Markdown, CSV or JSON.
+"""Render :class:`~pare.results.metrics.ConfigurationMetrics` as terminal tables, Markdown, CSV or JSON.
 
 The terminal and Markdown renderers draw the same tables, built once from the metrics: the paper's
 main table (Table 1), the decision analysis, the gather-context resolution, cost and tokens per role,
@@ -21,10 +21,10 @@ from rich.console import Console
 from rich.padding import Padding
 from rich.table import Table
 
-from pare.bench.metrics import TOTAL, ConfigurationMetrics, Estimate, GroupMetrics, UsageSummary
-from pare.bench.records import DECISIONS, RESOLUTIONS
-from pare.bench.report_sections import SECTIONS as SECTIONS  # re-exported: reports are asked by section
 from pare.errors import UserInputError, did_you_mean
+from pare.results.metrics import TOTAL, ConfigurationMetrics, Estimate, GroupMetrics, UsageSummary
+from pare.results.records import DECISIONS, RESOLUTIONS
+from pare.results.report_sections import SECTIONS as SECTIONS  # re-exported: reports are asked by section
 from pare.terminal_text import plain_text, printable
 
 __all__ = [

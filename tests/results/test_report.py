@@ -9,8 +9,9 @@ import json
 import pytest
 from rich.console import Console
 
-from pare.bench.metrics import ConfigurationMetrics, Estimate, compute_metrics
-from pare.bench.report import (
+from pare.errors import UserInputError
+from pare.results.metrics import ConfigurationMetrics, Estimate, compute_metrics
+from pare.results.report import (
     SECTIONS,
     format_ci,
     format_estimate,
@@ -21,10 +22,9 @@ from pare.bench.report import (
     render_markdown,
     render_terminal,
 )
-from pare.errors import UserInputError
-from tests.bench.test_metrics import PLANNED, fixture_records, record
+from tests.results.test_metrics import PLANNED, fixture_records, record
 
-# "full" is tests/bench/test_metrics.py's fixture (numbers worked out there); "small" has every planned
+# "full" is tests/results/test_metrics.py's fixture (numbers worked out there); "small" has every planned
 # episode complete: A and B, runs 1..2, every episode costs user $0.01 + observe $0.02 = $0.03.
 #   A1 yes (1 proposal, accepted), A2 no (1 proposal, rejected), B1 yes, B2 yes (no proposals)
 # success per run: run 1: 2/2 = 1, run 2: 1/2 -> 75.0% ± 25.0%; Success@2 = 2/2, Success^2 = 1/2
