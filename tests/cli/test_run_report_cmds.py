@@ -153,3 +153,24 @@ def test_the_main_table_is_never_cut_at_the_consoles_width(
             [row] = [line for line in shown.splitlines() if line.startswith("│") and "[100.0%" in line]
             assert row.count("│") == 12  # all 11 columns of the main table
     assert "Gather context" in shown_by_report
+
+
+def test_run_by_kind_and_report_by_kind(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from pare.scenarios.library import library
+
+    no_proposal = sorted(s.id for s in library().values() if s.kind == "no_proposal")
+    out = tmp_path / "quiet"
+    assert main(["run", "--kind", "no_proposal", "--runs", "1", "-o", str(out), "--no-progress"]) == 0
+    loaded = load_run(out)
+    assert sorted(record.scenario_id for record in loaded.records) == no_proposal
+    assert {record.kind for record in loaded.records} == {"no_proposal"}
+    capsys.readouterr()
+    assert main(["report", str(out), "--section", "kinds", "--format", "markdown"]) == 0
+    report = capsys.readouterr().out
+    assert f"| no_proposal | oracle | {len(no_proposal)} | {len(no_proposal)} | 100.0% | 0.0% |" in report
+    assert "| proposal |" not in report
+
+
+def test_run_refuses_an_unknown_kind(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["run", "--kind", "no-proposal", "-o", str(tmp_path / "x"), "--no-progress"]) == 2
+    assert "no_proposal" in capsys.readouterr().err

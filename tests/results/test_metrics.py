@@ -29,7 +29,7 @@ from typing import Any
 import pytest
 
 from pare.agents.models.ledger import RoleUsage
-from pare.results.metrics import ConfigurationMetrics, Estimate, compute_metrics
+from pare.results.metrics import ConfigurationMetrics, Estimate, compute_metrics, pass_at_k, pass_hat_k
 from pare.results.records import EpisodeRecord, Failure, ProposalRecord
 from pare.results.report import render_csv, render_markdown
 
@@ -235,13 +235,82 @@ def test_goal_rate(metrics: ConfigurationMetrics) -> None:
     assert metrics.goal_rate.mean == pytest.approx(31 / 36)
 
 
-def test_proposal_rate(metrics: ConfigurationMetrics) -> None:
+def test_proposal_rate_is_per_turn_as_in_the_paper(metrics: ConfigurationMetrics) -> None:
+    # run 1: (1 + 2 + 0) proposals / (10 + 10 + 10) turns = 0.1
+    # run 2: (2 + 1) / (10 + 6) = 0.1875; run 3: (2 + 2) / (10 + 10) = 0.2
+    check(metrics.proposal_rate, [0.1, 0.1875, 0.2])
+    assert metrics.proposal_rate.mean == pytest.approx(0.1625)
+
+
+def test_observe_proposal_rate(metrics: ConfigurationMetrics) -> None:
     # run 1: (1 + 2 + 0) proposals / (5 + 5 + 5) observe turns = 0.2
     # run 2: (2 + 1) / (4 + 6) = 0.3; run 3: (2 + 2) / (5 + 5) = 0.4
     # mean 0.3; deviations -0.1, 0, 0.1 -> 0.02 / 2 = 0.01 -> se = sqrt(0.01 / 3)
-    assert metrics.proposal_rate.mean == pytest.approx(0.3)
-    assert metrics.proposal_rate.se == pytest.approx(math.sqrt(0.01 / 3))
-    assert metrics.proposal_rate.n == 3
+    assert metrics.observe_proposal_rate.mean == pytest.approx(0.3)
+    assert metrics.observe_proposal_rate.se == pytest.approx(math.sqrt(0.01 / 3))
+    assert metrics.observe_proposal_rate.n == 3
+
+
+def test_pass_hat_and_pass_at_for_every_k(metrics: ConfigurationMetrics) -> None:
+    # complete runs: A 3 (2 successes), B 3 (3), C 1 (0)
+    # pass^1 = mean(2/3, 1, 0) = 5/9; pass^2 over A, B = mean(C(2,2)/C(3,2) = 1/3, 1) = 2/3;
+    # pass^3 = mean(0, 1) = 1/2 (the paper's Success^3)
+    assert metrics.pass_hat == pytest.approx({1: 5 / 9, 2: 2 / 3, 3: 1 / 2})
+    # pass@1 = pass^1; pass@2 for A = 1 - C(1,2)/C(3,2) = 1, B = 1; pass@3 = 1 (Success@3)
+    assert metrics.pass_at == pytest.approx({1: 5 / 9, 2: 1.0, 3: 1.0})
+    assert metrics.pass_hat[3] == metrics.success_all_k
+    assert metrics.pass_at[3] == metrics.success_at_k
+
+
+@pytest.mark.parametrize(
+    ("n", "c", "k", "hat", "at"),
+    [
+        (4, 2, 1, 0.5, 0.5),
+        (4, 2, 2, 1 / 6, 5 / 6),
+        (4, 3, 3, 1 / 4, 1.0),
+        (5, 0, 2, 0.0, 0.0),
+        (5, 5, 5, 1, 1),
+    ],
+)
+def test_unbiased_estimators(n: int, c: int, k: int, hat: float, at: float) -> None:
+    # (4, 2, 2): C(2,2)/C(4,2) = 1/6; 1 - C(2,2)/C(4,2) = 5/6. (4, 3, 3): C(3,3)/C(4,3) = 1/4; C(1,3) = 0
+    assert pass_hat_k(n, c, k) == pytest.approx(hat)
+    assert pass_at_k(n, c, k) == pytest.approx(at)
+
+
+def test_estimators_refuse_impossible_counts() -> None:
+    with pytest.raises(ValueError, match="n=3, c=4"):
+        pass_hat_k(3, 4, 1)
+    with pytest.raises(ValueError, match="k=4"):
+        pass_at_k(3, 1, 4)
+
+
+def test_flips(metrics: ConfigurationMetrics) -> None:
+    # A (yes, no, yes) flips, B (yes x3) does not; C has one complete run and does not count
+    assert metrics.flip_scenarios == 1
+    assert metrics.flip_rate == pytest.approx(0.5)
+
+
+def test_accept_reward(metrics: ConfigurationMetrics) -> None:
+    # per episode: A1 +1; A2 -1 +1 = 0; A3 0 (expired, truncated); B1 +1; B2 +1; B3 +1 -1 = 0; C1 0
+    # run 1: (1 + 1 + 0) / 3; run 2: (0 + 1) / 2; run 3: (0 + 0) / 2
+    check(metrics.accept_reward, [2 / 3, 1 / 2, 0.0])
+
+
+def test_results_by_kind() -> None:
+    records = [
+        record("A", 1, success=True, proposals=(ACC,), kind="proposal"),
+        record("A", 2, success=False, proposals=(REJ,), kind="proposal"),
+        record("B", 1, success=True, kind="no_proposal"),
+        record("B", 2, success=False, proposals=(REJ,), kind="no_proposal"),
+    ]
+    metrics = compute_metrics(records, label="m", runs=2, planned=[("A", 1), ("A", 2), ("B", 1), ("B", 2)])
+    kinds = metrics.breakdowns.kinds
+    assert sorted(kinds) == ["no_proposal", "proposal"]
+    assert kinds["no_proposal"].success_rate.mean == pytest.approx(0.5)
+    # run 1: no proposal in 10 turns; run 2: one in 10 turns
+    assert kinds["no_proposal"].proposal_rate.mean == pytest.approx(0.05)
+    assert kinds["proposal"].acceptance_rate.mean == pytest.approx(0.5)
 
 
 def test_acceptance_rate(metrics: ConfigurationMetrics) -> None:
@@ -267,11 +336,12 @@ def test_read_actions_and_turns(metrics: ConfigurationMetrics) -> None:
 def test_runs_without_observe_turns_or_proposals_are_skipped() -> None:
     records = [
         record("A", 1, observe_turns=0),  # nothing to divide by: run 1 is skipped for both rates
-        record("A", 2, observe_turns=4, proposals=(ACC,)),  # 1/4 proposal rate, 1/1 accepted
-        record("A", 3, observe_turns=5),  # 0/5 proposal rate; no proposal: skipped for acceptance
+        record("A", 2, observe_turns=4, proposals=(ACC,)),  # 1/4 per observe turn, 1/1 accepted
+        record("A", 3, observe_turns=5),  # 0/5 per observe turn; no proposal: skipped for acceptance
     ]
     metrics = compute_metrics(records, label="x", runs=3, planned=[("A", r) for r in (1, 2, 3)])
-    check(metrics.proposal_rate, [0.25, 0.0])
+    check(metrics.observe_proposal_rate, [0.25, 0.0])
+    check(metrics.proposal_rate, [0.0, 0.1, 0.0])  # per turn (10 each): run 1 counts
     assert metrics.acceptance_rate == Estimate(mean=1.0, se=None, n=1)
     assert metrics.decisions["accept"] == Estimate(mean=1.0, se=None, n=1)
     assert metrics.gather_context_resolution["accepted"] == Estimate(mean=None, se=None, n=0)

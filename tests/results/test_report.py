@@ -19,6 +19,7 @@ from pare.results.report import (
     format_usd,
     render_csv,
     render_json,
+    render_latex,
     render_markdown,
     render_terminal,
 )
@@ -194,3 +195,26 @@ def test_empty() -> None:
     assert terminal([]) == "No results to report.\n"
     assert render_markdown([]) == "No results to report.\n"
     assert render_json([]) == '{\n  "configurations": []\n}\n'
+
+
+def test_reliability_consistency_and_kinds_in_every_format(
+    configurations: list[ConfigurationMetrics],
+) -> None:
+    # small: A (yes, no), B (yes, yes): pass^1 = 75%, pass^2 = (0 + 1) / 2 = 50%, pass@2 = 100%;
+    # A flips (1 of 2 scenarios); R_Accept per run: (+1 + 0) / 2, (-1 + 0) / 2 -> 0.00 ± 0.50
+    sections = ("reliability", "consistency", "kinds")
+    text = terminal([configurations[1]], sections=sections)
+    assert "Success over k runs" in text and "Consistency and reward" in text and "By kind" in text
+    assert "0.00 ± 0.50" in text
+    markdown = render_markdown([configurations[1]], sections=sections)
+    assert "| small-model | 2 | 50.0% | 100.0% |" in markdown
+    assert "| small-model | 1 | 50.0% | 0.00 ± 0.50 |" in markdown
+    assert "| unspecified | small-model |" in markdown  # records without a kind
+    latex = render_latex([configurations[1]], sections=sections)
+    assert r"small-model & 1 & 75.0\% & 75.0\% \\" in latex
+    row = next(csv.DictReader(io.StringIO(render_csv([configurations[1]]))))
+    assert float(row["pass_hat.2"]) == 0.5 and float(row["pass_at.2"]) == 1.0
+    assert row["flip_scenarios"] == "1" and float(row["flip_rate"]) == 0.5
+    assert float(row["accept_reward_se"]) == 0.5
+    data = json.loads(render_json([configurations[1]]))["configurations"][0]
+    assert data["pass_hat"] == {"1": 0.75, "2": 0.5}

@@ -66,6 +66,10 @@ class ScenarioSelection(BaseModel):
     apps: list[str] = Field(default_factory=list, description="Keep scenarios using any of these apps.")
     tags: list[str] = Field(default_factory=list, description="Keep scenarios with any of these tags.")
     difficulty: list[str] = Field(default_factory=list, description="Keep these difficulties.")
+    kinds: list[Literal["proposal", "no_proposal"]] = Field(
+        default_factory=list,
+        description="Keep these kinds: 'proposal' (the right move is to propose) or 'no_proposal'.",
+    )
     paths: list[str] = Field(
         default_factory=list, description="Scenario files or folders to use instead of the library."
     )

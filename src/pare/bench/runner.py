@@ -94,6 +94,7 @@ def select_scenarios(config: RunConfig) -> dict[str, Scenario]:
         apps=selection.apps,
         tags=selection.tags,
         difficulty=selection.difficulty,
+        kinds=selection.kinds,
     )
     if not chosen:
         raise UserInputError("no scenario matches the selection; see 'pare scenarios list' for what there is")
@@ -274,6 +275,7 @@ def _base_fields(plan: EpisodePlan) -> dict[str, Any]:
         "apps": list(scenario.all_apps),
         "tags": list(scenario.tags),
         "difficulty": scenario.difficulty,
+        "kind": scenario.kind,
     }
 
 

@@ -144,6 +144,14 @@ def run(
     difficulty: Annotated[
         list[str] | None, typer.Option("--difficulty", help="Only this difficulty (repeatable).")
     ] = None,
+    kind: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--kind",
+            help="Only scenarios of this kind: proposal (the right move is to propose) or no_proposal "
+            "(repeatable).",
+        ),
+    ] = None,
     scenario_path: Annotated[
         list[str] | None,
         typer.Option(
@@ -231,6 +239,7 @@ def run(
         "scenarios.apps": app_filter,
         "scenarios.tags": tag,
         "scenarios.difficulty": difficulty,
+        "scenarios.kinds": kind,
         "scenarios.paths": scenario_path,
         "runs": runs,
         "seed": seed,

@@ -12,6 +12,11 @@ re-scored from its store. The rules, in one place (each field's docstring repeat
   standard deviation with ddof=1 divided by sqrt(n)). A run index that has nothing to measure (no
   complete episode, no observe turn, no proposal, ...) is skipped, and ``n`` says how many runs counted.
   This is the paper's "± across 4 runs".
+* ``pass_hat`` and ``pass_at`` give, for every k up to the runs planned, the unbiased estimators of the
+  chance that k runs drawn without replacement from a scenario's complete runs all succeed (pass^k,
+  C(c, k) / C(n, k)) or at least one does (pass@k, 1 - C(n - c, k) / C(n, k)), with n the scenario's
+  complete runs and c its successes, averaged over the scenarios with at least k complete runs. At k = n
+  they equal the paper's Success^k and Success@k.
 """
 
 from __future__ import annotations
@@ -39,6 +44,8 @@ __all__ = [
     "MissingEpisode",
     "UsageSummary",
     "compute_metrics",
+    "pass_at_k",
+    "pass_hat_k",
 ]
 
 TOTAL = "total"
@@ -147,6 +154,11 @@ class GroupMetrics(BaseModel):
         "runs (runs without an episode of the group skipped)."
     )
     proposals: int = Field(description="Proposals made in the group's complete episodes.")
+    proposal_rate: Estimate = Field(
+        default_factory=Estimate,
+        description="Per run r: proposals / turns over the group's complete episodes of run r; Estimate "
+        "across runs.",
+    )
     acceptance_rate: Estimate = Field(
         description="Per run r: accepted / proposals over the group's complete episodes of run r; "
         "Estimate across runs (runs without proposals skipped)."
@@ -166,6 +178,11 @@ class Breakdowns(BaseModel):
     tags: dict[str, GroupMetrics] = Field(default_factory=dict)
     difficulty: dict[str, GroupMetrics] = Field(
         default_factory=dict, description=f"Episodes without a difficulty are under '{UNSPECIFIED}'."
+    )
+    kinds: dict[str, GroupMetrics] = Field(
+        default_factory=dict,
+        description="By scenario kind: 'proposal' (the right move is to propose) and 'no_proposal'; "
+        f"records written before kinds were recorded are under '{UNSPECIFIED}'.",
     )
 
 
@@ -265,8 +282,40 @@ class ConfigurationMetrics(BaseModel):
         default=0, description="Complete episodes with a side effect of the assistant's."
     )
     proposal_rate: Estimate = Field(
+        description="The paper's proposal rate, 'the proportion of turns in which the assistant proposed a "
+        "task': per run r, proposals / turns summed over its complete episodes; runs without turns skipped."
+    )
+    observe_proposal_rate: Estimate = Field(
+        default_factory=Estimate,
         description="Per run r: proposals / observe turns, summed over its complete episodes (share of the "
-        "assistant's observe turns in which it proposed); runs without observe turns skipped."
+        "turns in which the assistant was watching, not executing, in which it proposed); runs without "
+        "observe turns skipped.",
+    )
+    accept_reward: Estimate = Field(
+        default_factory=Estimate,
+        description="The paper's per-step reward R_Accept (+1 for each accepted proposal, -1 for each "
+        "rejected one, 0 otherwise) summed over an episode: per run r, its mean over the run's complete "
+        "episodes; Estimate across runs.",
+    )
+    pass_hat: dict[int, float | None] = Field(
+        default_factory=dict,
+        description="For k = 1..runs, the unbiased pass^k: the mean over scenarios with at least k complete "
+        "runs of C(c, k) / C(n, k) (n complete runs, c successes); None when no scenario has k.",
+    )
+    pass_at: dict[int, float | None] = Field(
+        default_factory=dict,
+        description="For k = 1..runs, the unbiased pass@k: the mean over scenarios with at least k complete "
+        "runs of 1 - C(n - c, k) / C(n, k); None when no scenario has k.",
+    )
+    flip_scenarios: int = Field(
+        default=0,
+        description="Scenarios with at least two complete runs whose verdicts differ (some succeed, some "
+        "fail).",
+    )
+    flip_rate: float | None = Field(
+        default=None,
+        description="flip_scenarios / scenarios with at least two complete runs: how often the same "
+        "configuration gets a different verdict on the same scenario; None without such a scenario.",
     )
     acceptance_rate: Estimate = Field(
         description="Per run r: accepted / proposals (accepted = resolution 'accepted', directly or after "
@@ -358,6 +407,7 @@ def compute_metrics(
     successes = sum(record.success for record in complete)
     proposals = [proposal for record in complete for proposal in record.proposals]
     gathered = [proposal for proposal in proposals if proposal.decision == "gather_context"]
+    flips = _flips(complete)
 
     return ConfigurationMetrics(
         label=label,
@@ -385,11 +435,17 @@ def compute_metrics(
             complete, run_indices, lambda group: _share(r.side_effects > 0 for r in group)
         ),
         side_effects=sum(record.side_effects > 0 for record in complete),
-        proposal_rate=_per_run(
+        proposal_rate=_proposal_rate(complete, run_indices),
+        observe_proposal_rate=_per_run(
             complete,
             run_indices,
             lambda group: _ratio(sum(len(r.proposals) for r in group), sum(r.observe_turns for r in group)),
         ),
+        accept_reward=_per_run(complete, run_indices, lambda group: _mean(r.accept_reward for r in group)),
+        pass_hat=_pass_estimates(complete, runs, pass_hat_k),
+        pass_at=_pass_estimates(complete, runs, pass_at_k),
+        flip_scenarios=flips[0],
+        flip_rate=_ratio(flips[0], flips[1]),
         acceptance_rate=_acceptance_rate(complete, run_indices),
         read_actions=_per_run(complete, run_indices, lambda group: _mean(r.read_actions for r in group)),
         turns=_per_run(complete, run_indices, lambda group: _mean(r.turns for r in group)),
@@ -411,6 +467,7 @@ def compute_metrics(
             apps=_breakdown(complete, run_indices, lambda record: record.apps),
             tags=_breakdown(complete, run_indices, lambda record: record.tags),
             difficulty=_breakdown(complete, run_indices, lambda record: [record.difficulty or UNSPECIFIED]),
+            kinds=_breakdown(complete, run_indices, lambda record: [record.kind or UNSPECIFIED]),
         ),
         coverage=_coverage(planned_keys, by_key, len(complete), unplanned),
         format_errors=_sum_counts(record.format_errors for record in complete),
@@ -459,6 +516,62 @@ def _per_run(
 def _success_rate(complete: Sequence[EpisodeRecord], run_indices: Iterable[int]) -> Estimate:
     """Per run: successes / complete episodes of the run; Estimate across runs."""
     return _per_run(complete, run_indices, lambda group: _share(r.success for r in group))
+
+
+def _proposal_rate(complete: Sequence[EpisodeRecord], run_indices: Iterable[int]) -> Estimate:
+    """Per run: proposals / turns over the run's complete episodes (the paper's definition)."""
+    return _per_run(
+        complete,
+        run_indices,
+        lambda group: _ratio(sum(len(r.proposals) for r in group), sum(r.turns for r in group)),
+    )
+
+
+def pass_hat_k(n: int, c: int, k: int) -> float:
+    """The unbiased estimate of pass^k from ``n`` runs with ``c`` successes: the chance that ``k`` runs
+    drawn without replacement all succeed, C(c, k) / C(n, k).
+    """
+    _check_pass_arguments(n, c, k)
+    return math.comb(c, k) / math.comb(n, k)
+
+
+def pass_at_k(n: int, c: int, k: int) -> float:
+    """The unbiased estimate of pass@k from ``n`` runs with ``c`` successes: the chance that at least one
+    of ``k`` runs drawn without replacement succeeds, 1 - C(n - c, k) / C(n, k).
+    """
+    _check_pass_arguments(n, c, k)
+    return 1 - math.comb(n - c, k) / math.comb(n, k)
+
+
+def _check_pass_arguments(n: int, c: int, k: int) -> None:
+    if not 0 <= c <= n or not 1 <= k <= n:
+        raise ValueError(f"need 0 <= c <= n and 1 <= k <= n, got n={n}, c={c}, k={k}")
+
+
+def _pass_estimates(
+    complete: Sequence[EpisodeRecord], runs: int, estimator: Callable[[int, int, int], float]
+) -> dict[int, float | None]:
+    """For k = 1..runs, ``estimator`` averaged over the scenarios with at least k complete runs."""
+    outcomes = _outcomes_by_scenario(complete)
+    estimates: dict[int, float | None] = {}
+    for k in range(1, runs + 1):
+        values = [estimator(len(runs_), sum(runs_), k) for runs_ in outcomes.values() if len(runs_) >= k]
+        estimates[k] = statistics.fmean(values) if values else None
+    return estimates
+
+
+def _flips(complete: Sequence[EpisodeRecord]) -> tuple[int, int]:
+    """Scenarios whose complete runs disagree on the verdict, and scenarios with two complete runs or more."""
+    repeated = [runs for runs in _outcomes_by_scenario(complete).values() if len(runs) >= 2]
+    return sum(len(set(runs)) > 1 for runs in repeated), len(repeated)
+
+
+def _outcomes_by_scenario(complete: Sequence[EpisodeRecord]) -> dict[str, list[bool]]:
+    """Each scenario's verdicts over its complete runs, scenarios sorted."""
+    outcomes: dict[str, list[bool]] = {}
+    for record in complete:
+        outcomes.setdefault(record.scenario_id, []).append(record.success)
+    return dict(sorted(outcomes.items()))
 
 
 def _acceptance_rate(complete: Sequence[EpisodeRecord], run_indices: Iterable[int]) -> Estimate:
@@ -574,6 +687,7 @@ def _breakdown(
             scenarios=len({record.scenario_id for record in group}),
             success_rate=_success_rate(group, indices),
             proposals=sum(len(record.proposals) for record in group),
+            proposal_rate=_proposal_rate(group, indices),
             acceptance_rate=_acceptance_rate(group, indices),
         )
         for value, group in sorted(groups.items())

@@ -90,6 +90,11 @@ class EpisodeRecord(BaseModel):
     apps: list[str] = Field(default_factory=list)
     tags: list[str] = Field(default_factory=list)
     difficulty: str = ""
+    kind: Literal["proposal", "no_proposal"] | None = Field(
+        default=None,
+        description="The scenario's kind: whether the right move was to propose (None in records written "
+        "before kinds were recorded).",
+    )
     # the verdict and the counts below are meaningful for complete episodes only
     success: bool = False
     goals: dict[str, bool] = Field(default_factory=dict)
@@ -135,6 +140,14 @@ class EpisodeRecord(BaseModel):
     def accepted(self) -> int:
         """Proposals the user accepted (directly or after gathering context)."""
         return sum(proposal.resolution == "accepted" for proposal in self.proposals)
+
+    @property
+    def accept_reward(self) -> int:
+        """The paper's per-step reward R_Accept summed over the episode: +1 per accepted proposal, -1 per
+        rejected one (an expired or unanswered proposal earns 0).
+        """
+        rewards = {"accepted": 1, "rejected": -1}
+        return sum(rewards.get(proposal.resolution, 0) for proposal in self.proposals)
 
     def cost_usd(self) -> float | None:
         """Cost of every model call of the episode; ``None`` when any is unknown."""

@@ -148,6 +148,7 @@ def _main_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
             "User did it ± SE",
             "Side effects ± SE",
             "Proposal rate ± SE",
+            "Per observe turn ± SE",
             "Acceptance rate ± SE",
             "Read actions ± SE",
             "Coverage",
@@ -156,7 +157,8 @@ def _main_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
         "runs are all complete. User did it: failed episodes in which the user made by hand what a goal "
         "wanted from the assistant (failures of the assistant, already in the success rate). Side "
         "effects: episodes in which the assistant changed something no solution of the scenario changes "
-        "(failures, already in the success rate).",
+        "(failures, already in the success rate). Proposal rate: proposals per turn, the paper's definition; "
+        "per observe turn: per turn in which the assistant was watching rather than executing.",
     )
     for m in metrics:
         covered = f"{m.coverage.complete}/{m.coverage.planned}"
@@ -170,6 +172,7 @@ def _main_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
             format_estimate(m.user_did_work_rate),
             format_estimate(m.side_effect_rate),
             format_estimate(m.proposal_rate),
+            format_estimate(m.observe_proposal_rate),
             format_estimate(m.acceptance_rate),
             format_estimate(m.read_actions, percent=False),
             covered if share is None or share == 1 else f"{covered} ({format_percent(share)})",
@@ -199,6 +202,41 @@ def _resolution_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
     for m in metrics:
         cells = (format_estimate(m.gather_context_resolution[r]) for r in RESOLUTIONS)
         table.add(m.label, *cells, str(m.gather_context_proposals))
+    return table
+
+
+def _reliability_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
+    table = _Report(
+        "reliability",
+        "Success over k runs",
+        ("Configuration", "k", "pass^k", "pass@k"),
+        text_columns=2,
+        note="pass^k: the chance that k runs of a scenario all succeed; pass@k: that at least one does. "
+        "Unbiased estimates from each scenario's complete runs (C(c,k)/C(n,k) and 1 - C(n-c,k)/C(n,k)), "
+        "averaged over scenarios with at least k complete runs; at k = n they are Success^k and Success@k.",
+    )
+    for m in metrics:
+        for k in sorted(m.pass_hat):
+            table.add(m.label, str(k), format_percent(m.pass_hat[k]), format_percent(m.pass_at.get(k)))
+    return table
+
+
+def _consistency_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
+    table = _Report(
+        "consistency",
+        "Consistency and reward",
+        ("Configuration", "Scenarios that flip", "Flip rate", "R_Accept / episode ± SE"),
+        note="A scenario flips when its complete runs disagree on the verdict (counted over scenarios with "
+        "two complete runs or more). R_Accept is the paper's per-step reward: +1 per accepted proposal, "
+        "-1 per rejected one, summed over the episode.",
+    )
+    for m in metrics:
+        table.add(
+            m.label,
+            str(m.flip_scenarios),
+            format_percent(m.flip_rate),
+            format_estimate(m.accept_reward, percent=False, digits=2),
+        )
     return table
 
 
@@ -252,7 +290,15 @@ def _breakdown_table(
     table = _Report(
         section,
         title,
-        (heading, "Configuration", "Scenarios", "Episodes", "Success rate ± SE", "Acceptance rate ± SE"),
+        (
+            heading,
+            "Configuration",
+            "Scenarios",
+            "Episodes",
+            "Success rate ± SE",
+            "Proposal rate ± SE",
+            "Acceptance rate ± SE",
+        ),
         text_columns=2,
         note="Complete episodes whose scenario lists the value; a scenario counts toward each of its values.",
     )
@@ -268,6 +314,7 @@ def _breakdown_table(
                 str(group.scenarios),
                 str(group.episodes),
                 format_estimate(group.success_rate),
+                format_estimate(group.proposal_rate),
                 format_estimate(group.acceptance_rate),
             )
     return table
@@ -304,7 +351,10 @@ def _tables(metrics: Sequence[ConfigurationMetrics], sections: Iterable[str]) ->
         "main": lambda: _main_table(metrics),
         "decisions": lambda: _decisions_table(metrics),
         "resolution": lambda: _resolution_table(metrics),
+        "reliability": lambda: _reliability_table(metrics),
+        "consistency": lambda: _consistency_table(metrics),
         "cost": lambda: _cost_table(metrics),
+        "kinds": lambda: _breakdown_table(metrics, "kinds", "By kind", "Kind", lambda m: m.breakdowns.kinds),
         "apps": lambda: _breakdown_table(metrics, "apps", "By app", "App", lambda m: m.breakdowns.apps),
         "tags": lambda: _breakdown_table(metrics, "tags", "By tag", "Tag", lambda m: m.breakdowns.tags),
         "difficulty": lambda: _breakdown_table(
@@ -487,6 +537,7 @@ def render_csv(metrics: Sequence[ConfigurationMetrics]) -> str:
     Columns: ``label``; ``param.<name>`` for every parameter any configuration has (strings as they are,
     other values as JSON); counts and coverage; ``<metric>_mean``, ``<metric>_se`` and ``<metric>_n`` for
     every estimate; the success-rate interval; ``decision.<name>_*`` and ``resolution.<name>_*``;
+    ``pass_hat.<k>`` and ``pass_at.<k>`` for every k up to the most runs any configuration has;
     ``usage.<role>.*`` for every role and the total. Empty cells are values that could not be computed
     (or a cost that is not known; ``usage.<role>.cost`` says which).
     """
@@ -495,6 +546,8 @@ def render_csv(metrics: Sequence[ConfigurationMetrics]) -> str:
     roles = [*sorted({role for m in metrics for role in m.usage if role != TOTAL}), TOTAL]
     columns = ["label", *(f"param.{name}" for name in params)]
     columns += list(_CSV_COLUMNS)
+    ks = sorted({k for m in metrics for k in m.pass_hat})
+    columns += [f"pass_hat.{k}" for k in ks] + [f"pass_at.{k}" for k in ks]
     for role in roles:
         columns += [f"usage.{role}.{name}" for name in _USAGE_COLUMNS]
     buffer = io.StringIO()
@@ -516,6 +569,8 @@ _ESTIMATES = (
     "user_did_work_rate",
     "side_effect_rate",
     "proposal_rate",
+    "observe_proposal_rate",
+    "accept_reward",
     "acceptance_rate",
     "read_actions",
     "turns",
@@ -555,6 +610,8 @@ _CSV_COLUMNS: tuple[str, ...] = (
     "proposals_per_episode",
     *(f"decision.{name}_{part}" for name in DECISIONS for part in ("mean", "se", "n")),
     "gather_context_proposals",
+    "flip_scenarios",
+    "flip_rate",
     *(f"resolution.{name}_{part}" for name in RESOLUTIONS for part in ("mean", "se", "n")),
 )
 
@@ -594,7 +651,11 @@ def _csv_row(m: ConfigurationMetrics) -> dict[str, str]:
         "accepted": _cell(m.accepted),
         "proposals_per_episode": _cell(m.proposals_per_episode),
         "gather_context_proposals": _cell(m.gather_context_proposals),
+        "flip_scenarios": _cell(m.flip_scenarios),
+        "flip_rate": _cell(m.flip_rate),
     }
+    row.update({f"pass_hat.{k}": _cell(value) for k, value in m.pass_hat.items()})
+    row.update({f"pass_at.{k}": _cell(value) for k, value in m.pass_at.items()})
     for name in _ESTIMATES:
         row.update(_estimate_cells(name, getattr(m, name)))
     for decision in DECISIONS:

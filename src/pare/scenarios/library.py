@@ -112,6 +112,10 @@ def splits() -> dict[str, list[str]]:
     return resolved
 
 
+SCENARIO_KINDS = ("proposal", "no_proposal")
+"""A scenario's kind: whether the right move is to propose (see ``Scenario.kind``)."""
+
+
 def select(
     scenarios: Sequence[Scenario],
     *,
@@ -120,8 +124,11 @@ def select(
     apps: Sequence[str] = (),
     tags: Sequence[str] = (),
     difficulty: Sequence[str] = (),
+    kinds: Sequence[str] = (),
 ) -> list[Scenario]:
-    """The scenarios matching every given filter (an app or tag filter keeps scenarios with any of them)."""
+    """The scenarios matching every given filter (an app or tag filter keeps scenarios with any of them;
+    ``kinds`` keeps ``proposal`` or ``no_proposal`` scenarios).
+    """
     chosen = list(scenarios)
     if ids:
         known = {s.id for s in scenarios}
@@ -143,6 +150,14 @@ def select(
         chosen = [s for s in chosen if set(tags) & set(s.tags)]
     if difficulty:
         chosen = [s for s in chosen if s.difficulty in difficulty]
+    if kinds:
+        for kind in kinds:
+            if kind not in SCENARIO_KINDS:
+                raise UserInputError(
+                    f"no scenario kind '{kind}'.{did_you_mean(kind, SCENARIO_KINDS)} "
+                    f"Kinds: {', '.join(SCENARIO_KINDS)}"
+                )
+        chosen = [s for s in chosen if s.kind in kinds]
     return chosen
 
 
