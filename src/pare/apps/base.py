@@ -110,7 +110,7 @@ class _LazyState:
     """``App.state``: an app's data, built when first read.
 
     An episode reads the data of only a few of its apps; building the others' states (unpickling a seed,
-    or an empty ``State()``) and dumping them again for every snapshot was a fifth of an episode. The
+    or an empty ``State()``) and dumping them again for every snapshot was a large share of an episode. The
     first read builds the state and stores it in the instance, where every later read finds it without
     coming here (a non-data descriptor, as ``functools.cached_property``). Assigning ``app.state``
     replaces it the same way.

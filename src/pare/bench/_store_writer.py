@@ -3,10 +3,10 @@
 :class:`pare.bench.store.RunStore` starts it as ``python -I -S _store_writer.py RUN`` (this module imports
 only the standard library, so it starts in milliseconds) and sends it every finished episode. The run plays
 its next episode while this process creates the files: creating a file can cost the kernel a millisecond
-(ext4 steps over the inodes of files deleted in the last minutes, and runs come and go), a fifth of an
-oracle episode. A thread of the run's own process would not do: each of its system calls hands the GIL
-back and must then wait to take it again from the thread playing the episodes; on a loaded machine those
-waits cost the run as much as the files did.
+(ext4 steps over the inodes of files deleted in the last minutes, and runs come and go), as long as a
+short episode takes to play. A thread of the run's own process would not do: each of its system calls
+hands the GIL back and must then wait to take it again from the thread playing the episodes; on a loaded
+machine those waits cost the run as much as the files did.
 
 The protocol. Stdin carries one frame per episode: a header of three little-endian 32-bit lengths (the
 trajectory's path relative to RUN, empty when the episode has no trajectory; the trajectory file's bytes;

@@ -1,17 +1,16 @@
 """How a benchmark run uses Python's cyclic garbage collector.
 
 A run's objects are of two kinds: what lives as long as the run (the modules, the scenario library, its
-blueprints, the plans: some 160,000 objects) and what one episode makes and drops. Episodes' worlds hold no
+blueprints, the plans) and what one episode makes and drops. Episodes' worlds hold no
 reference cycles (apps reach their siblings weakly, triggers hold only the log), so reference counting
 frees them as soon as an episode ends; the cyclic collector has little to find, yet each of its full
-collections walks every long-lived object again. Measured on an oracle run of the whole library, the
-collector took about a tenth of the process: three automatic full collections while the library loaded,
-one explicit one before freezing, and the interpreter's last one at exit.
+collections walks every long-lived object again: full collections while the library loads, one before
+freezing, and the interpreter's last one at exit (``benchmarks/phases.py`` shows their share).
 
 So a run does what follows. While it starts (loading the library and planning, which make only
 long-lived objects) the collector is paused; before the episodes it moves everything alive into the
 permanent generation (:func:`gc.freeze`) without a collection first, since at that point almost nothing
-is garbage (20 unreachable objects of 160,000 measured, for a collection that cost 0.1 s); while the
+is garbage, so a collection would walk the whole heap to free nearly nothing; while the
 episodes play it runs as usual over the episodes' own objects. Both are undone when the run ends, so a
 caller's process (a notebook, a test session) gets its collector back as it was.
 """

@@ -291,8 +291,8 @@ def run_episode(
 
     async def play() -> None:
         # Kept in a list rather than returned: on Python 3.11, asyncio.run formats the repr of the task
-        # (and so of what it returned) when it puts back the Ctrl-C handler, which cost about a seventh
-        # of a short episode.
+        # (and so of what it returned) when it puts back the Ctrl-C handler, and a result's repr walks
+        # the whole episode.
         played.append(
             await arun_episode(scenario, user, assistant, settings, judge=judge, side_effects=side_effects)
         )
