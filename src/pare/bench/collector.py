@@ -5,7 +5,8 @@ blueprints, the plans) and what one episode makes and drops. Episodes' worlds ho
 reference cycles (apps reach their siblings weakly, triggers hold only the log), so reference counting
 frees them as soon as an episode ends; the cyclic collector has little to find, yet each of its full
 collections walks every long-lived object again: full collections while the library loads, one before
-freezing, and the interpreter's last one at exit (``benchmarks/phases.py`` shows their share).
+freezing, and the interpreter's last one at exit (a profile of a whole-library run shows
+what they cost).
 
 So a run does what follows. While it starts (loading the library and planning, which make only
 long-lived objects) the collector is paused; before the episodes it moves everything alive into the

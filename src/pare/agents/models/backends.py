@@ -120,8 +120,7 @@ class OpenAIBackend:
         The body is posted as it is (``AsyncOpenAI.post``, the SDK's documented way to send a request it
         does not type): ``chat.completions.create`` would first walk every message against the SDK's
         typed-dict schemas, CPU work that grows with PARE's long conversations and caps throughput
-        against a fast local server (``benchmarks/rate_limits.py`` shows it). Our messages are plain JSON
-        already.
+        against a fast local server. Our messages are plain JSON already.
         """
         from openai.types.chat import ChatCompletion
 
