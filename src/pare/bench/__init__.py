@@ -9,6 +9,7 @@ from pare._lazy import lazy_exports
 if TYPE_CHECKING:
     from pare.bench.episode import EpisodeResult, EpisodeSettings, Step, arun_episode, run_episode
     from pare.bench.metrics import ConfigurationMetrics, Estimate, compute_metrics
+    from pare.bench.policies import PolicyContext
     from pare.bench.records import EpisodeRecord, ProposalRecord
     from pare.bench.runconfig import RunConfig, build_config
     from pare.bench.runner import RunSummary, run_benchmark
@@ -25,6 +26,7 @@ __getattr__, __dir__ = lazy_exports(
         "ConfigurationMetrics": "metrics",
         "Estimate": "metrics",
         "compute_metrics": "metrics",
+        "PolicyContext": "policies",
         "EpisodeRecord": "records",
         "ProposalRecord": "records",
         "RunConfig": "runconfig",
@@ -43,6 +45,7 @@ __all__ = [
     "EpisodeSettings",
     "Estimate",
     "LoadedRun",
+    "PolicyContext",
     "ProposalRecord",
     "RunConfig",
     "RunSummary",

@@ -52,6 +52,23 @@ JudgeModel = Annotated[
 ]
 JudgeProvider = Annotated[str | None, _model_flag("judge", "provider", "openai or litellm.")]
 JudgeEndpoint = Annotated[str | None, _model_flag("judge", "endpoint", "Base URL.")]
+UserPolicyName = Annotated[
+    str | None,
+    typer.Option(
+        "--user-policy",
+        help="Who plays the user: model, oracle, slow, busy, silent, or your own as MODULE:FACTORY.",
+        show_default=False,
+    ),
+]
+AssistantPolicyName = Annotated[
+    str | None,
+    typer.Option(
+        "--assistant-policy",
+        help="Who plays the assistant: model, oracle, silent, unrelated, or your own as MODULE:FACTORY "
+        "(a function taking a pare.bench.PolicyContext and returning an AssistantPolicy).",
+        show_default=False,
+    ),
+]
 
 
 def collect_overrides(
@@ -168,6 +185,8 @@ def run(
     judge_model: JudgeModel = None,
     judge_provider: JudgeProvider = None,
     judge_endpoint: JudgeEndpoint = None,
+    user_policy: UserPolicyName = None,
+    assistant_policy: AssistantPolicyName = None,
     max_turns: Annotated[
         int | None, typer.Option("--max-turns", help="Turns per episode (default 10).")
     ] = None,
@@ -235,6 +254,8 @@ def run(
         "runs": runs,
         "seed": seed,
         "name": name,
+        "policies.user": user_policy,
+        "policies.assistant": assistant_policy,
         "protocol.max_turns": max_turns,
         "protocol.user_steps": user_steps,
         "protocol.observe_steps": observe_steps,
@@ -263,6 +284,8 @@ def run(
         return
     if not config.oracle_only:
         print_roles(config, console)
+    if config.custom_policies():
+        print_policies(config, console)
     if config.scenarios.paths:
         warn_about_broken_oracles(config, console)
     try:
@@ -294,6 +317,14 @@ def print_roles(config: RunConfig, console: Console) -> None:
     parts.append(f"judge {judge['model'] or 'deterministic fallbacks'}")
     console.print(plain_text("models: " + ", ".join(parts)), highlight=False)
     print_judge_note(config, console)
+
+
+def print_policies(config: RunConfig, console: Console) -> None:
+    """Who plays each role, said when a role is not played by its model or the oracle as by default."""
+    from pare.terminal_text import plain_text
+
+    players = ", ".join(f"{role} {name}" for role, name in config.policy_names().items())
+    console.print(plain_text(f"policies: {players}"), highlight=False)
 
 
 def print_judge_note(config: RunConfig, console: Console) -> None:
