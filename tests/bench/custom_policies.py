@@ -115,3 +115,12 @@ class ModelProposer(AssistantPolicy):
 
     async def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
         return Action(SEND_MESSAGE, {"content": "Done."})
+
+
+class Crashing(DentistAssistant):
+    async def execute(self, task: Task | None, previous: ToolResult | None) -> Action:
+        raise RuntimeError("my scaffold broke")
+
+
+def crashing(context: PolicyContext) -> Crashing:
+    return Crashing()

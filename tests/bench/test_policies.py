@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -211,3 +212,27 @@ def test_the_dry_run_says_who_plays_each_role(capsys: pytest.CaptureFixture[str]
         "judge": "deterministic",
     }
     assert main([*argv, "--assistant-policy", f"{MODULE}:no_such_factory"]) == 2
+
+
+def test_a_policy_that_raises_fails_its_episode_and_plays_again_on_resume(tmp_path: Path) -> None:
+    assert run(tmp_path / "run", "--assistant-policy", f"{MODULE}:crashing", runs=1) == 1
+    [record] = load_run(tmp_path / "run").records
+    assert record.failure is not None and record.failure.kind == "internal_error"
+    assert "my scaffold broke" in record.failure.message
+    assert run(tmp_path / "run", "--assistant-policy", f"{MODULE}:crashing", runs=1) == 1
+    lines = (tmp_path / "run" / "episodes.jsonl").read_text(encoding="utf-8").splitlines()
+    assert len(lines) == 2  # played again on resume, not skipped as finished
+
+
+DOCS = Path(__file__).resolve().parents[2] / "docs" / "running-benchmarks.md"
+
+
+def test_the_documented_assistant_runs(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    blocks = re.findall(r"```python\n(.*?)```", DOCS.read_text(encoding="utf-8"), re.S)
+    (module,) = [block for block in blocks if block.startswith("# my_agents.py")]
+    (tmp_path / "docs_agents.py").write_text(module, encoding="utf-8")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert run(tmp_path / "run", "--assistant-policy", "docs_agents:make", runs=1) == 0
+    [record] = load_run(tmp_path / "run").records
+    assert record.complete and [p.decision for p in record.proposals] == ["accept"]
+    assert record.read_actions == 1
