@@ -28,6 +28,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Literal, get_args
 
+from pare.agents.policy import AssistantPolicy, UserPolicy
 from pare.errors import UserInputError, did_you_mean
 
 if TYPE_CHECKING:
@@ -310,22 +311,42 @@ def _import(role: PolicyRole, name: str, module_name: str) -> Any:
             ) from None
 
 
+@dataclass(frozen=True)
+class Player:
+    """A role's policy, resolved once for a run: its name and factory."""
+
+    role: PolicyRole
+    name: str
+    factory: Factory
+
+    @classmethod
+    def resolve(cls, role: PolicyRole, name: str) -> Player:
+        """The policy ``name`` plays ``role`` with (see :func:`resolve`)."""
+        return cls(role, name, resolve(role, name))
+
+    def build(self, context: PolicyContext) -> Any:
+        """A new policy for one episode: the factory called with ``context``, checked to be what the role
+        needs (``None`` is allowed for the built-in judges only: the deterministic fallbacks).
+
+        Raises:
+            UserInputError: The factory returned something that cannot play the role.
+        """
+        policy = self.factory(context)
+        _check_built(self.role, self.name, policy)
+        return policy
+
+
 def build(role: PolicyRole, name: str, context: PolicyContext) -> Any:
-    """A new policy for one episode: ``name``'s factory called with ``context``, checked to be what the
-    role needs (``None`` is allowed for the judge only: the deterministic fallbacks).
+    """A new policy for one episode, ``name`` resolved and built (see :meth:`Player.build`).
 
     Raises:
         UserInputError: The name cannot be resolved (see :func:`resolve`), or the factory returned
             something that cannot play the role.
     """
-    policy = resolve(role, name)(context)
-    _check_built(role, name, policy)
-    return policy
+    return Player.resolve(role, name).build(context)
 
 
 def _check_built(role: PolicyRole, name: str, policy: Any) -> None:
-    from pare.agents.policy import AssistantPolicy, UserPolicy
-
     wanted: dict[PolicyRole, tuple[type, str]] = {
         "user": (UserPolicy, "a pare.agents.UserPolicy (subclass it and implement step)"),
         "assistant": (

@@ -43,9 +43,7 @@ from pare.agents.models.types import ChatMessage, Completion
 from pare.agents.policy import AssistantPolicy, UserPolicy
 from pare.bench import collector
 from pare.bench.episode import arun_episode
-from pare.bench.policies import MODEL_ROLES, POLICY_ROLES, PolicyContext, PolicyRole
-from pare.bench.policies import build as build_policy
-from pare.bench.policies import resolve as resolve_policy
+from pare.bench.policies import MODEL_ROLES, POLICY_ROLES, Player, PolicyContext, PolicyRole
 from pare.bench.records import EpisodeRecord, Failure, FailureKind, summarize
 from pare.bench.run_requests import Learned, RunRequests, learned_refusals
 from pare.bench.runconfig import RunConfig
@@ -175,6 +173,8 @@ class RunModels:
     """What each role's requests carry, shared by the role's clients."""
     throttling: list[LimiterState] = field(default_factory=list)
     """The endpoints' limiters as the run left them (set when the local backend finishes)."""
+    players: dict[PolicyRole, Player] = field(default_factory=dict)
+    """Each role's policy, resolved on the first episode (by name: in a Ray worker too)."""
 
     @classmethod
     def create(cls, config: RunConfig, run_dir: Path, requests: RunRequests | None = None) -> RunModels:
@@ -228,8 +228,10 @@ class RunModels:
                 judge_config, self.cache, plan.namespace, ledger, self.requests.params.get("judge")
             )
         configs = config.models.roles()
+        if not self.players:
+            self.players = {role: Player.resolve(role, config.policy(role)) for role in POLICY_ROLES}
         built: dict[PolicyRole, Any] = {}
-        for role in POLICY_ROLES:
+        for role, player in self.players.items():
             names = MODEL_ROLES[role]
             context = PolicyContext(
                 role=role,
@@ -240,7 +242,7 @@ class RunModels:
                 model_configs={name: configs[name] for name in names if name in configs},
                 max_format_retries=config.protocol.max_format_retries,
             )
-            built[role] = build_policy(role, config.policy(role), context)
+            built[role] = player.build(context)
         return built["user"], built["assistant"], built["judge"]
 
 
@@ -567,7 +569,7 @@ def check_policies(config: RunConfig) -> None:
     the first episode builds it).
     """
     for role in POLICY_ROLES:
-        resolve_policy(role, config.policy(role))
+        Player.resolve(role, config.policy(role))
 
 
 def check_credentials(config: RunConfig) -> None:
