@@ -75,7 +75,8 @@ class ScenarioSelection(BaseModel):
 
 
 class Models(BaseModel):
-    """The model behind each role. A role without a model is played by the scenario's oracle.
+    """The model behind each role. A role without a model is played by the scenario's oracle, unless
+    ``policies`` names another player.
 
     ``assistant`` is a shorthand for the paper's symmetric setup: the same model observes and executes.
     """

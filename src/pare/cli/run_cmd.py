@@ -236,7 +236,7 @@ def run(
 
     With no model configured, the scenarios' oracle plays both roles: the whole pipeline, offline.
     """
-    from pare.bench.runner import run_benchmark
+    from pare.bench.runner import check_policies, run_benchmark
     from pare.terminal_text import make_console, markup_safe
 
     if output_format not in ("text", "json"):
@@ -276,6 +276,7 @@ def run(
         judge=(judge_model, judge_provider, judge_endpoint),
     )
     config = load_config(config_file, collect_overrides(sets=sets, flags=flags, models=models))
+    check_policies(config)  # a policy that cannot be found is named before anything else is said
     console = make_console()
     if dry_run:
         from pare.cli.dry_run import print_plan
