@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import importlib
+import sys
 from pathlib import Path
 
 import pytest
 
 from pare.bench.runconfig import build_config, read_config_file
 from pare.bench.sweep import load_sweep, point_configs
+from pare.cli import main as pare
 from pare.results.run_folder import load_run
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
@@ -45,3 +47,16 @@ def test_the_offline_rehearsal_runs_the_model_path_with_no_key(
     calls = sum(usage.calls for record in loaded.records for usage in record.usage.values())
     assert calls > 0 and f"the local server answered {calls} model calls" in out
     assert loaded.manifest["judge"]["model"] == "rehearsal-judge"
+
+
+def test_the_example_assistant_runs_from_its_folder(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    monkeypatch.setattr(sys, "path", [entry for entry in sys.path if entry not in ("", str(EXAMPLES))])
+    monkeypatch.chdir(EXAMPLES)  # `pare` looks for the module in the current folder, as the docstring says
+    argv = ["run", "--split", "smoke", "--runs", "1", "--no-progress", "--output", str(tmp_path / "run")]
+    assert pare([*argv, "--assistant-policy", "my_assistant:make"]) == 0
+    loaded = load_run(tmp_path / "run")
+    assert loaded.label == "my_assistant:make"
+    assert len(loaded.records) == 5 and all(record.complete for record in loaded.records)
+    assert all(record.proposals and record.proposals[0].decision == "accept" for record in loaded.records)

@@ -46,3 +46,16 @@ def test_the_ray_backend_stores_what_the_local_backend_stores(tmp_path: Path) ->
     assert [comparable(r) for r in with_ray.records] == [comparable(r) for r in local.records]
     assert files(tmp_path / "ray") == files(tmp_path / "local")
     assert len(files(tmp_path / "ray")) == len(SCENARIOS) * RUNS
+
+
+def test_ray_workers_resolve_a_policy_by_its_import_path(tmp_path: Path) -> None:
+    # only the name travels to the workers: each imports the module and builds its own assistant
+    policy = ["--assistant-policy", "tests.bench.custom_policies:dentist_assistant"]
+    assert main(command(tmp_path / "ray", "--backend", "ray", *policy)) == 0
+    assert main(command(tmp_path / "local", *policy)) == 0
+
+    with_ray, local = load_run(tmp_path / "ray"), load_run(tmp_path / "local")
+    assert with_ray.manifest["policies"]["assistant"] == "tests.bench.custom_policies:dentist_assistant"
+    assert [comparable(r) for r in with_ray.records] == [comparable(r) for r in local.records]
+    assert [r.success for r in with_ray.records if r.scenario_id == "dentist_moves_checkup"] == [True, True]
+    assert files(tmp_path / "ray") == files(tmp_path / "local")

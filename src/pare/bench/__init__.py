@@ -8,6 +8,7 @@ from pare._lazy import lazy_exports
 
 if TYPE_CHECKING:
     from pare.bench.episode import EpisodeResult, EpisodeSettings, Step, arun_episode, run_episode
+    from pare.bench.policies import PolicyContext
     from pare.bench.runconfig import RunConfig, build_config
     from pare.bench.runner import RunSummary, run_benchmark
 
@@ -19,6 +20,7 @@ __getattr__, __dir__ = lazy_exports(
         "Step": "episode",
         "arun_episode": "episode",
         "run_episode": "episode",
+        "PolicyContext": "policies",
         "RunConfig": "runconfig",
         "build_config": "runconfig",
         "RunSummary": "runner",
@@ -29,6 +31,7 @@ __getattr__, __dir__ = lazy_exports(
 __all__ = [
     "EpisodeResult",
     "EpisodeSettings",
+    "PolicyContext",
     "RunConfig",
     "RunSummary",
     "Step",

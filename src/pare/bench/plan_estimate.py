@@ -41,6 +41,7 @@ from pare.agents.models.secrets import redact_secrets
 from pare.agents.models.types import ChatMessage, Completion, Usage
 from pare.agents.policy import DEFAULT_BUDGET, Action, Task, TurnBudget
 from pare.bench.episode import arun_episode
+from pare.bench.policies import PolicyRole
 from pare.bench.runconfig import RunConfig
 from pare.env import AssistantObservation, Environment, ToolResult, UserView
 from pare.results.run_folder import EPISODES, MANIFEST, latest_records, read_manifest, read_records
@@ -88,6 +89,9 @@ class RoleLine:
     """The role whose model this one uses because it was not set itself."""
     prices: str | None = None
     """Where its prices come from: ``config``, ``litellm``, or ``None`` (unknown)."""
+    policy: str = "model"
+    """Who plays the role (:mod:`pare.bench.policies`): ``model``, ``oracle``, ``deterministic`` for the
+    judge, another built-in name, or an import path."""
 
 
 @dataclass(frozen=True)
@@ -102,6 +106,15 @@ class KeyStatus:
     note: str = ""
 
 
+_PLAYED_AS: dict[str, PolicyRole] = {
+    "user": "user",
+    "observe": "assistant",
+    "execute": "assistant",
+    "judge": "judge",
+}
+"""The policy that plays each model role."""
+
+
 def role_lines(config: RunConfig) -> list[RoleLine]:
     """The user, observe, execute and judge roles: their models, or who plays them without one."""
     models = config.models
@@ -109,8 +122,9 @@ def role_lines(config: RunConfig) -> list[RoleLine]:
     lines: list[RoleLine] = []
     for role in ("user", "observe", "execute", "judge"):
         model = configured.get(role)
+        policy = config.policy(_PLAYED_AS[role])
         if model is None:
-            lines.append(RoleLine(role=role, model=None))
+            lines.append(RoleLine(role=role, model=None, policy=policy))
             continue
         lines.append(
             RoleLine(
@@ -122,6 +136,7 @@ def role_lines(config: RunConfig) -> list[RoleLine]:
                 native_tools=model.native_tools,
                 inherited_from=models.inherited_from(role),
                 prices=price_source(model),
+                policy=policy,
             )
         )
     return lines

@@ -20,7 +20,7 @@ import re
 from collections.abc import Sequence
 from datetime import timedelta
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, Literal, cast
 
 from pydantic import (
     BaseModel,
@@ -29,12 +29,14 @@ from pydantic import (
     ModelWrapValidatorHandler,
     PrivateAttr,
     ValidationError,
+    ValidationInfo,
     field_validator,
     model_validator,
 )
 
 from pare.agents.models.cache import CacheMode
 from pare.agents.models.config import ModelConfig
+from pare.bench import policies as registry
 from pare.bench.episode import MAX_STEPS, MAX_TURN_DURATION, MAX_TURNS, EpisodeSettings
 from pare.env import EnvConfig
 from pare.env.config import MAX_NOISE_RATE_PER_MINUTE
@@ -76,7 +78,8 @@ class ScenarioSelection(BaseModel):
 
 
 class Models(BaseModel):
-    """The model behind each role. A role without a model is played by the scenario's oracle.
+    """The model behind each role. A role without a model is played by the scenario's oracle, unless
+    ``policies`` names another player.
 
     ``assistant`` is a shorthand for the paper's symmetric setup: the same model observes and executes.
     """
@@ -144,6 +147,30 @@ class Models(BaseModel):
         return {role: config for role, config in configured.items() if config is not None}
 
 
+class Policies(BaseModel):
+    """Who plays each role (see :mod:`pare.bench.policies`): a built-in name (``model``, ``oracle``, ...)
+    or your own as ``MODULE:FACTORY``. Unset: the role's model when it has one, else the oracle (for the
+    judge, the checks' deterministic fallbacks).
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    user: str | None = Field(default=None, description="The user: model, oracle, slow, busy, silent, or M:F.")
+    assistant: str | None = Field(
+        default=None, description="The assistant: model, oracle, silent, unrelated, or MODULE:FACTORY."
+    )
+    judge: str | None = Field(
+        default=None, description="The judge of free-text checks: model, deterministic, or MODULE:FACTORY."
+    )
+
+    @field_validator("user", "assistant", "judge")
+    @classmethod
+    def _known(cls, value: str | None, info: ValidationInfo) -> str | None:
+        if value is not None:
+            registry.check_name(cast(registry.PolicyRole, info.field_name), value)
+        return value
+
+
 class WorldSettings(BaseModel):
     """The episode world's settings a run may change (the seed is derived per episode)."""
 
@@ -192,6 +219,7 @@ class RunConfig(BaseModel):
         default=0, ge=0, lt=2**63, description="Base seed; each episode's seed derives from it."
     )
     models: Models = Field(default_factory=Models)
+    policies: Policies = Field(default_factory=Policies)
     protocol: ProtocolSettings = Field(default_factory=ProtocolSettings)
     world: WorldSettings = Field(default_factory=WorldSettings)
     concurrency: int = Field(default=8, ge=1, le=MAX_CONCURRENCY, description="Episodes in flight at once.")
@@ -206,11 +234,67 @@ class RunConfig(BaseModel):
     backend: ExecutionBackend = Field(default="local", description="local (asyncio) or ray.")
     ray_address: str | None = Field(default=None, description="Ray cluster address; none: local Ray.")
 
+    @model_validator(mode="before")
+    @classmethod
+    def _judge_without_model(cls, data: Any) -> Any:
+        # A judge named 'deterministic' does not take the user's model as a judge would by default.
+        if not isinstance(data, dict):
+            return data
+        named = data.get("policies")
+        models = data.get("models")
+        if not (isinstance(named, dict) and named.get("judge") == registry.DETERMINISTIC):
+            return data
+        if models is None or (isinstance(models, dict) and models.get("judge") is None):
+            return {**data, "models": {**(models or {}), "deterministic_judge": True}}
+        return data
+
+    @model_validator(mode="after")
+    def _policies_fit_models(self) -> RunConfig:
+        for role in registry.POLICY_ROLES:
+            name = getattr(self.policies, role)
+            built_in = registry.BUILT_IN[role].get(name) if name is not None else None
+            if built_in is None:
+                continue  # unset (the default fits), or your own: it takes the role's models if it has any
+            models = ", ".join(f"models.{model}" for model in self._role_models(role))
+            if built_in.uses_model and not self._role_models(role):
+                raise ValueError(
+                    f"policies.{role} is '{name}', but no {role} model is configured: give one "
+                    f"(--{role}-model, or models.{role} in the run file), or another policy"
+                )
+            if not built_in.uses_model and self._role_models(role):
+                raise ValueError(
+                    f"policies.{role} is '{name}', which plays without a model, but {models} is set: "
+                    "leave out the model or the policy"
+                )
+        return self
+
     # -- derived -----------------------------------------------------------------------------------------
     @property
     def oracle_only(self) -> bool:
         """Whether no role has a model (the offline pipeline run)."""
         return not self.models.roles()
+
+    def _role_models(self, role: registry.PolicyRole) -> dict[str, ModelConfig]:
+        """The configured models a policy of ``role`` is given, by name (see ``registry.MODEL_ROLES``)."""
+        configured = self.models.roles()
+        return {name: configured[name] for name in registry.MODEL_ROLES[role] if name in configured}
+
+    def policy(self, role: registry.PolicyRole) -> str:
+        """The name of the policy that plays ``role``: the one named, else the role's default."""
+        named: str | None = getattr(self.policies, role)
+        return named or registry.default_policy(role, bool(self._role_models(role)))
+
+    def policy_names(self) -> dict[str, str]:
+        """Every role's policy name (the manifest records them)."""
+        return {role: self.policy(role) for role in registry.POLICY_ROLES}
+
+    def custom_policies(self) -> dict[str, str]:
+        """The roles whose policy is not the default for their models (a part of the identity)."""
+        return {
+            role: self.policy(role)
+            for role in registry.POLICY_ROLES
+            if self.policy(role) != registry.default_policy(role, bool(self._role_models(role)))
+        }
 
     def episode_settings(self, seed: int) -> EpisodeSettings:
         """The episode loop's settings for one episode with environment seed ``seed``."""
@@ -231,8 +315,10 @@ class RunConfig(BaseModel):
         )
 
     def identity(self) -> dict[str, Any]:
-        """What shapes an episode's behaviour, as JSON (no secret: keys are never in a configuration)."""
-        return {
+        """What shapes an episode's behaviour, as JSON (no secret: keys are never in a configuration). The
+        policies appear only when one is not the default (a run made before they could be named resumes).
+        """
+        identity: dict[str, Any] = {
             "seed": self.seed,
             "models": {
                 role: {
@@ -246,34 +332,51 @@ class RunConfig(BaseModel):
             "protocol": self.protocol.model_dump(mode="json"),
             "world": self.world.model_dump(mode="json"),
         }
+        custom = self.custom_policies()
+        if custom:
+            identity["policies"] = custom
+        return identity
 
     def identity_hash(self) -> str:
         """A short hash of :meth:`identity`."""
         return hashlib.sha256(_canonical(self.identity()).encode("utf-8")).hexdigest()[:10]
 
     def label(self) -> str:
-        """The configuration's name: ``name``, else the assistant and user models (``oracle`` for none)."""
+        """The configuration's name: ``name``, else who plays the assistant and the user (a model, the
+        oracle, or a named policy with its models in brackets).
+        """
         if self.name:
             return self.name
         roles = self.models.roles()
         observe, execute, user = roles.get("observe"), roles.get("execute"), roles.get("user")
-        assistant = "oracle"
+        models = ""
         if observe is not None:
-            assistant = observe.model
+            models = observe.model
             if execute is not None and execute.model != observe.model:
-                assistant = f"{observe.model}+{execute.model}"
-        if user is None:
-            return assistant if assistant != "oracle" else "oracle"
-        return f"{assistant} (user {user.model})"
+                models = f"{observe.model}+{execute.model}"
+        assistant = self._player("assistant", models)
+        user_models = user.model if user is not None else ""
+        if user is None and "user" not in self.custom_policies():
+            return assistant
+        return f"{assistant} (user {self._player('user', user_models)})"
+
+    def _player(self, role: registry.PolicyRole, models: str) -> str:
+        """How the label names who plays ``role``: its model, the oracle, or the policy (with its models)."""
+        name = self.policy(role)
+        if name == registry.MODEL:
+            return models
+        return f"{name}[{models}]" if models else name
 
     def judge_provenance(self) -> dict[str, Any]:
         """Who judges the scenarios' free-text checks: a model (and whether it was set or taken from the
         user's role), or the checks' deterministic fallbacks. For the manifest and what ``pare run`` prints.
         """
         judge = self.models.judge
+        policy = self.policy("judge")
+        custom = {"policy": policy} if registry.is_import_path(policy) else {}
         if judge is None:
-            return {"model": None, "inherited_from": None, "deterministic_fallback": True}
-        return {
+            return {"model": None, "inherited_from": None, "deterministic_fallback": not custom} | custom
+        return custom | {
             "model": judge.model,
             "backend": judge.backend,
             "endpoint": judge.endpoint(),

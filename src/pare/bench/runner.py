@@ -43,6 +43,7 @@ from pare.agents.models.types import ChatMessage, Completion
 from pare.agents.policy import AssistantPolicy, UserPolicy
 from pare.bench import collector
 from pare.bench.episode import arun_episode
+from pare.bench.policies import MODEL_ROLES, POLICY_ROLES, Player, PolicyContext, PolicyRole
 from pare.bench.run_requests import Learned, RunRequests, learned_refusals
 from pare.bench.runconfig import RunConfig
 from pare.bench.store import CACHE_FILE, RunStore
@@ -51,10 +52,10 @@ from pare.results.records import EpisodeRecord, Failure, FailureKind, summarize
 from pare.results.run_folder import scenario_hash, trajectory_path
 from pare.scenarios.library import library, load_scenarios, select
 from pare.scenarios.model import Scenario
-from pare.scenarios.oracle import OracleAssistant, OracleUser
 
 if TYPE_CHECKING:  # imported where a run has models: an oracle run never loads the actors or the prompts
-    from pare.agents.judge import ModelJudge
+    from pare.agents.llm import ChatModel
+    from pare.scenarios.checks import Judge
 
 RETRY_PAUSE_S = 2.0
 """Pause before an episode that failed for infrastructure reasons runs again (doubling each time)."""
@@ -174,6 +175,8 @@ class RunModels:
     """What each role's requests carry, shared by the role's clients."""
     throttling: list[LimiterState] = field(default_factory=list)
     """The endpoints' limiters as the run left them (set when the local backend finishes)."""
+    players: dict[PolicyRole, Player] = field(default_factory=dict)
+    """Each role's policy, resolved on the first episode (by name: in a Ray worker too)."""
 
     @classmethod
     def create(cls, config: RunConfig, run_dir: Path, requests: RunRequests | None = None) -> RunModels:
@@ -213,43 +216,36 @@ class RunModels:
 
     def actors(
         self, plan: EpisodePlan, ledger: UsageLedger
-    ) -> tuple[UserPolicy, AssistantPolicy, ModelJudge | None]:
-        """The user, the assistant and the judge of one episode: models where configured, else the oracle."""
-        scenario, config = plan.scenario, self.config
-        retries = config.protocol.max_format_retries
-        user: UserPolicy
-        assistant: AssistantPolicy
-        if self.clients or config.models.judge is not None:
-            from pare.agents.judge import ModelJudge
-            from pare.agents.llm import LLMAssistant, LLMUser
-        if "user" in self.clients:
-            user = LLMUser(
-                EpisodeModel(self.clients["user"], plan.namespace, ledger),
-                persona=scenario.user.persona,
-                goal=scenario.user.goal,
-                native_tools=self.clients["user"].config.native_tools,
-                max_format_retries=retries,
-            )
-        else:
-            user = OracleUser(scenario)
-        if "observe" in self.clients:
-            assistant = LLMAssistant(
-                EpisodeModel(self.clients["observe"], plan.namespace, ledger),
-                EpisodeModel(self.clients["execute"], plan.namespace, ledger),
-                native_tools=self.clients["observe"].config.native_tools,
-                max_format_retries=retries,
-            )
-        else:
-            assistant = OracleAssistant(scenario)
+    ) -> tuple[UserPolicy, AssistantPolicy, Judge | None]:
+        """The user, the assistant and the judge of one episode, built by the policies the configuration
+        names (by default: models where configured, else the oracle) from this episode's models.
+        """
+        config = self.config
+        models: dict[str, ChatModel] = {
+            role: EpisodeModel(client, plan.namespace, ledger) for role, client in self.clients.items()
+        }
         judge_config = config.models.judge
-        judge = None
         if judge_config is not None:
-            judge = ModelJudge(
-                JudgeModel(
-                    judge_config, self.cache, plan.namespace, ledger, self.requests.params.get("judge")
-                )
+            models["judge"] = JudgeModel(
+                judge_config, self.cache, plan.namespace, ledger, self.requests.params.get("judge")
             )
-        return user, assistant, judge
+        configs = config.models.roles()
+        if not self.players:
+            self.players = {role: Player.resolve(role, config.policy(role)) for role in POLICY_ROLES}
+        built: dict[PolicyRole, Any] = {}
+        for role, player in self.players.items():
+            names = MODEL_ROLES[role]
+            context = PolicyContext(
+                role=role,
+                scenario=plan.scenario,
+                run=plan.run,
+                seed=plan.seed,
+                models={name: models[name] for name in names if name in models},
+                model_configs={name: configs[name] for name in names if name in configs},
+                max_format_retries=config.protocol.max_format_retries,
+            )
+            built[role] = player.build(context)
+        return built["user"], built["assistant"], built["judge"]
 
 
 # -- one episode ------------------------------------------------------------------------------------------
@@ -570,6 +566,15 @@ async def run_local(
     return written
 
 
+def check_policies(config: RunConfig) -> None:
+    """Fail before anything runs (or any folder is made) when a role's policy cannot be found: an unknown
+    name, a module that does not import, an attribute it lacks (what each factory returns is checked as
+    the first episode builds it).
+    """
+    for role in POLICY_ROLES:
+        Player.resolve(role, config.policy(role))
+
+
 def check_credentials(config: RunConfig) -> None:
     """Fail before anything runs (or any folder is made) when a role's API key is not in the environment."""
     for role, model in config.models.roles().items():
@@ -589,6 +594,7 @@ def run_benchmark(
         # made, and none of them walked by the collections made while the episodes play (collector.py).
         with collector.paused():
             scenarios = select_scenarios(config)
+            check_policies(config)
             check_credentials(config)
             run_dir = config.output_dir()
             started = time.perf_counter()

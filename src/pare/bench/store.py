@@ -498,6 +498,7 @@ def _manifest(
         "identity": redact_secrets(config.identity()),
         "config": redact_secrets(config.public_dict()),
         "judge": redact_secrets(config.judge_provenance()),
+        "policies": config.policy_names(),
         "sweep_point": dict(sweep_point or (previous or {}).get("sweep_point", {})),
         "plan": {"runs": config.runs, "scenarios": dict(hashes)},
         "scenario_set_hash": scenario_set_hash(hashes),

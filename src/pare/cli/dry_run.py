@@ -16,9 +16,10 @@ if TYPE_CHECKING:
 def print_plan(config: RunConfig, console: Console, *, as_json: bool = False) -> None:
     """Plan the run ``config`` describes (no provider called, no folder made) and print it."""
     from pare.bench.plan_estimate import plan_run
-    from pare.bench.runner import select_scenarios
+    from pare.bench.runner import check_policies, select_scenarios
     from pare.terminal_text import markup_safe
 
+    check_policies(config)
     plan = plan_run(config, select_scenarios(config))
     if as_json:
         from pare.terminal_text import printable_json
@@ -51,8 +52,8 @@ def _print_roles(roles: list[RoleLine], console: Console) -> None:
         table.add_column(column, overflow="fold")
     for line in roles:
         if line.model is None:
-            who = "deterministic fallbacks" if line.role == "judge" else "oracle"
-            table.add_row(line.role, who, "", "", "", "no model: nothing is called")
+            who = "deterministic fallbacks" if line.policy == "deterministic" else line.policy
+            table.add_row(line.role, plain_text(who), "", "", "", "no model: nothing is called")
             continue
         sends = (
             ", ".join(f"{name}={value}" for name, value in line.sampling.items())
@@ -66,6 +67,8 @@ def _print_roles(roles: list[RoleLine], console: Console) -> None:
         if line.native_tools:
             notes.append("native tools")
         notes.append(f"prices: {markup_safe(line.prices or 'unknown')}")
+        if line.policy != "model":
+            notes.append(f"played by {markup_safe(line.policy)}: estimated as PARE's own actor")
         cells = (line.model, line.backend, line.endpoint, sends)
         table.add_row(line.role, *(plain_text(cell) for cell in cells), "; ".join(notes))
     console.print(table)

@@ -52,6 +52,23 @@ JudgeModel = Annotated[
 ]
 JudgeProvider = Annotated[str | None, _model_flag("judge", "provider", "openai or litellm.")]
 JudgeEndpoint = Annotated[str | None, _model_flag("judge", "endpoint", "Base URL.")]
+UserPolicyName = Annotated[
+    str | None,
+    typer.Option(
+        "--user-policy",
+        help="Who plays the user: model, oracle, slow, busy, silent, or your own as MODULE:FACTORY.",
+        show_default=False,
+    ),
+]
+AssistantPolicyName = Annotated[
+    str | None,
+    typer.Option(
+        "--assistant-policy",
+        help="Who plays the assistant: model, oracle, silent, unrelated, or your own as MODULE:FACTORY "
+        "(a function taking a pare.bench.PolicyContext and returning an AssistantPolicy).",
+        show_default=False,
+    ),
+]
 
 
 def collect_overrides(
@@ -176,6 +193,8 @@ def run(
     judge_model: JudgeModel = None,
     judge_provider: JudgeProvider = None,
     judge_endpoint: JudgeEndpoint = None,
+    user_policy: UserPolicyName = None,
+    assistant_policy: AssistantPolicyName = None,
     max_turns: Annotated[
         int | None, typer.Option("--max-turns", help="Turns per episode (default 10).")
     ] = None,
@@ -225,7 +244,7 @@ def run(
 
     With no model configured, the scenarios' oracle plays both roles: the whole pipeline, offline.
     """
-    from pare.bench.runner import run_benchmark
+    from pare.bench.runner import check_policies, run_benchmark
     from pare.terminal_text import make_console, markup_safe
 
     if output_format not in ("text", "json"):
@@ -244,6 +263,8 @@ def run(
         "runs": runs,
         "seed": seed,
         "name": name,
+        "policies.user": user_policy,
+        "policies.assistant": assistant_policy,
         "protocol.max_turns": max_turns,
         "protocol.user_steps": user_steps,
         "protocol.observe_steps": observe_steps,
@@ -264,6 +285,7 @@ def run(
         judge=(judge_model, judge_provider, judge_endpoint),
     )
     config = load_config(config_file, collect_overrides(sets=sets, flags=flags, models=models))
+    check_policies(config)  # a policy that cannot be found is named before anything else is said
     console = make_console()
     if dry_run:
         from pare.cli.dry_run import print_plan
@@ -272,6 +294,8 @@ def run(
         return
     if not config.oracle_only:
         print_roles(config, console)
+    if config.custom_policies():
+        print_policies(config, console)
     if config.scenarios.paths:
         warn_about_broken_oracles(config, console)
     try:
@@ -303,6 +327,14 @@ def print_roles(config: RunConfig, console: Console) -> None:
     parts.append(f"judge {judge['model'] or 'deterministic fallbacks'}")
     console.print(plain_text("models: " + ", ".join(parts)), highlight=False)
     print_judge_note(config, console)
+
+
+def print_policies(config: RunConfig, console: Console) -> None:
+    """Who plays each role, said when a role is not played by its model or the oracle as by default."""
+    from pare.terminal_text import plain_text
+
+    players = ", ".join(f"{role} {name}" for role, name in config.policy_names().items())
+    console.print(plain_text(f"policies: {players}"), highlight=False)
 
 
 def print_judge_note(config: RunConfig, console: Console) -> None:

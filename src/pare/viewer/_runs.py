@@ -81,6 +81,16 @@ class Configuration:
         return self.loaded.label
 
     @property
+    def policies(self) -> dict[str, str]:
+        """Who played each role (user, assistant, judge), as the manifest records it (empty for a run made
+        before policies were recorded).
+        """
+        recorded = self.loaded.manifest.get("policies")
+        if not isinstance(recorded, dict):
+            return {}
+        return {str(role): str(name) for role, name in recorded.items()}
+
+    @property
     def sweep_point(self) -> dict[str, Any]:
         """The swept settings of this configuration (empty for a lone run)."""
         return self.loaded.sweep_point
