@@ -168,6 +168,15 @@ def _unrelated_assistant(context: PolicyContext) -> Any:
     return UnrelatedAssistant(context.scenario)
 
 
+def _baseline(name: str) -> Factory:
+    def build(context: PolicyContext) -> Any:
+        from pare.scenarios.baselines import BASELINES
+
+        return BASELINES[name].build(context.scenario, context.seed)
+
+    return build
+
+
 def _deterministic_judge(context: PolicyContext) -> Any:
     return None  # no judge: each free-text check is read by its deterministic fallback
 
@@ -203,6 +212,13 @@ BUILT_IN: dict[PolicyRole, dict[str, BuiltIn]] = {
         "unrelated": BuiltIn(
             _unrelated_assistant, "proposes and does a plausible task unrelated to the scenario"
         ),
+        "generic_offer": BuiltIn(
+            _baseline("generic_offer"), "offers vague help whenever nothing is pending; does nothing"
+        ),
+        "propose_only": BuiltIn(
+            _baseline("propose_only"), "proposes the right task at the right time, then does none of it"
+        ),
+        "random": BuiltIn(_baseline("random"), "reads, waits and offers help at random; random calls"),
     },
     "judge": {
         MODEL: BuiltIn(_model_judge, "the judge model reads free-text checks", uses_model=True),

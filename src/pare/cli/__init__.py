@@ -12,7 +12,16 @@ from collections.abc import Sequence
 import typer
 
 import pare
-from pare.cli import apps_cmd, doctor_cmd, generate_cmd, report_cmd, run_cmd, scenarios_cmd, view_cmd
+from pare.cli import (
+    apps_cmd,
+    baselines_cmd,
+    doctor_cmd,
+    generate_cmd,
+    report_cmd,
+    run_cmd,
+    scenarios_cmd,
+    view_cmd,
+)
 from pare.errors import UserInputError
 
 app = typer.Typer(
@@ -31,6 +40,7 @@ app.add_typer(scenarios_cmd.app, name="scenarios")
 app.command("run")(run_cmd.run)
 app.command("doctor")(doctor_cmd.doctor)
 app.command("sweep")(run_cmd.sweep)
+app.command("baselines")(baselines_cmd.baselines)
 app.command("report")(report_cmd.report)
 app.command("plot")(report_cmd.plot)
 app.command("view")(view_cmd.view)
