@@ -168,6 +168,14 @@ def run(
     judge_model: JudgeModel = None,
     judge_provider: JudgeProvider = None,
     judge_endpoint: JudgeEndpoint = None,
+    protocol: Annotated[
+        str | None,
+        typer.Option(
+            "--protocol",
+            help="The turn protocol's preset: pare (default) or paper (the paper's, as far as it specifies "
+            "it: docs/paper-conformance.md); the protocol flags and settings given override it.",
+        ),
+    ] = None,
     max_turns: Annotated[
         int | None, typer.Option("--max-turns", help="Turns per episode (default 10).")
     ] = None,
@@ -235,6 +243,7 @@ def run(
         "runs": runs,
         "seed": seed,
         "name": name,
+        "protocol.preset": protocol,
         "protocol.max_turns": max_turns,
         "protocol.user_steps": user_steps,
         "protocol.observe_steps": observe_steps,
