@@ -286,12 +286,16 @@ _WHOLE_FOR_THE_USER = (
     " always shown in full."
 )
 """What arrives whole whatever the user's level: the notifications posted ``always_full``."""
+_WHOLE_WITHOUT_EXPIRY = " Your assistant's messages to you (its reports) are always shown in full."
+"""The same when proposals never expire (no withdrawal notice to come)."""
 
 
-def _user_notifications(env: Environment) -> str:
+def _user_notifications(env: Environment, budget: TurnBudget) -> str:
     policy = env.config.notifications
     text = _USER_NOTIFICATIONS[policy.user].format(words=policy.preview_words)
-    return text if policy.user == "full" else text + _WHOLE_FOR_THE_USER
+    if policy.user == "full":
+        return text
+    return text + (_WHOLE_FOR_THE_USER if budget.proposal_ttl_turns is not None else _WHOLE_WITHOUT_EXPIRY)
 
 
 def _assistant_notifications(env: Environment) -> str:
@@ -316,7 +320,7 @@ def user_system_prompt(
         {"start": _start(env), "persona": persona, "goal": goal},
         apps=_apps(env),
         budget=budget,
-        notification_policy=_user_notifications(env),
+        notification_policy=_user_notifications(env, budget),
         example=example_for(env, "user"),
     )
 

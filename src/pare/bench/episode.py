@@ -2,7 +2,8 @@
 
 Each turn: events due by now are delivered, the user acts (``user_steps`` actions), then the assistant
 acts: in observe mode up to ``observe_steps`` actions, ending at ``wait`` or a proposal; while a proposal
-waits for an answer it holds back (the proposal expires after ``proposal_ttl_turns`` turns); once the user
+waits for an answer it holds back (the proposal expires after ``proposal_ttl_turns`` turns, unless that is
+``None``, the paper's protocol, where it waits to the end); once the user
 accepts, execute mode runs up to ``execute_steps`` actions, ending with a report. Then simulated time
 moves on (:meth:`_Episode._next_time`): by ``turn_duration``, or straight to the next scheduled event when
 the assistant has nothing in hand (it waited, no proposal pending) and the user either waited too or has
@@ -24,7 +25,7 @@ from dataclasses import dataclass, field, replace
 from datetime import datetime, timedelta
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field
 
 from pare.agents.policy import (
     ASSISTANT_WAIT,
@@ -52,72 +53,14 @@ from pare.sim.noise import NOISE_EVENT_PREFIX
 StepActor = Literal["user", "assistant"]
 
 
-MAX_TURNS = 1_000
-"""The most turns an episode may be given (the paper's protocol uses 10)."""
-MAX_STEPS = 200
-"""The most actions one actor may be given per turn, or to carry out a task."""
-MAX_TURN_DURATION = timedelta(days=1)
-MAX_REACTION_HORIZON = timedelta(days=30)
-
-
-class EpisodeSettings(BaseModel):
-    """The turn protocol's numbers and the world's settings; every count is configurable, within bounds
-    that keep one episode finite.
+class EpisodeSettings(TurnBudget):
+    """The turn protocol (every field of :class:`~pare.sim.budget.TurnBudget`, declared there once) and
+    the world's settings.
     """
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-    max_turns: int = Field(default=10, ge=1, le=MAX_TURNS, description="Turns before the episode is cut off.")
-    user_steps: int = Field(default=1, ge=1, le=MAX_STEPS, description="User actions per turn.")
-    observe_steps: int = Field(
-        default=5, ge=1, le=MAX_STEPS, description="Assistant actions per turn in observe mode."
-    )
-    execute_steps: int = Field(
-        default=10, ge=1, le=MAX_STEPS, description="Assistant actions to carry out an accepted task."
-    )
-    # 4, not 3: checking "the one thing you need first" in another app takes three actions (home, open the
-    # app, open the item) before the answer; docs/what-models-see.md, "How long a proposal waits"
-    proposal_ttl_turns: int = Field(
-        default=4,
-        ge=1,
-        le=MAX_TURNS,
-        description="Turns a proposal may wait for an answer before it expires.",
-    )
-    turn_duration: timedelta = Field(
-        default=timedelta(minutes=1),
-        gt=timedelta(0),
-        le=MAX_TURN_DURATION,
-        description="Simulated time one turn takes when someone acted.",
-    )
-    attention_turns: int = Field(
-        default=3,
-        ge=1,
-        le=MAX_TURNS,
-        description="Turns the world's timeline waits, after anything arrived (or the start), for a user "
-        "who keeps using the phone while the assistant has nothing in hand; then it moves on to its next "
-        "event whatever the user does.",
-    )
-    reaction_horizon: timedelta = Field(
-        default=timedelta(days=1),
-        ge=timedelta(0),
-        le=MAX_REACTION_HORIZON,
-        description="After the last turn, reactions already set in motion are delivered if due within "
-        "this much simulated time of its end.",
-    )
     env: EnvConfig = Field(
         default_factory=EnvConfig, description="Seed, tool failures, noise, notifications."
     )
-
-    def budget(self) -> TurnBudget:
-        """The limits the actors are told."""
-        return TurnBudget(
-            max_turns=self.max_turns,
-            user_steps=self.user_steps,
-            observe_steps=self.observe_steps,
-            execute_steps=self.execute_steps,
-            proposal_ttl_turns=self.proposal_ttl_turns,
-            turn_minutes=self.turn_duration.total_seconds() / 60,
-        )
 
 
 @dataclass(frozen=True, slots=True)
@@ -534,17 +477,19 @@ class _Episode:
         unanswered by the end of the user's part of the last, it is withdrawn (:meth:`_expire_stale`).
         """
         pending = self.env.agent_ui.pending
-        if pending is None:
+        lifetime = self.settings.proposal_ttl_turns
+        if pending is None or lifetime is None:
             return None
         asked = self.proposed_at.get(pending.proposal_id, turn)
-        return max(1, self.settings.proposal_ttl_turns - (turn - asked) + 1)
+        return max(1, lifetime - (turn - asked) + 1)
 
     def _expire_stale(self, turn: int) -> None:
         pending = self.env.agent_ui.pending
         if pending is None:
             return
         asked = self.proposed_at.setdefault(pending.proposal_id, turn)
-        if turn - asked >= self.settings.proposal_ttl_turns:
+        lifetime = self.settings.proposal_ttl_turns
+        if lifetime is not None and turn - asked >= lifetime:
             self.env.agent_ui.expire_pending()
             self.handled.add(pending.proposal_id)
             self.expired.append(pending.proposal_id)

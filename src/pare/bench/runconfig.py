@@ -18,7 +18,6 @@ import hashlib
 import json
 import re
 from collections.abc import Sequence
-from datetime import timedelta
 from pathlib import Path
 from typing import Any, Literal, cast
 
@@ -37,13 +36,11 @@ from pydantic import (
 from pare.agents.models.cache import CacheMode
 from pare.agents.models.config import ModelConfig
 from pare.bench import policies as registry
-from pare.bench.episode import MAX_STEPS, MAX_TURN_DURATION, MAX_TURNS, EpisodeSettings
-from pare.env import EnvConfig
-from pare.env.config import MAX_NOISE_RATE_PER_MINUTE
+from pare.bench.episode import EpisodeSettings
+from pare.env import WorldSettings as WorldSettings  # re-exported: a run's world
 from pare.errors import UserInputError
+from pare.protocols import ProtocolSettings as ProtocolSettings  # re-exported: a run's protocol
 from pare.results.run_folder import MAX_RUNS as MAX_RUNS  # re-exported: a run file's limit
-from pare.scenarios.times import TimeFormatError, parse_duration
-from pare.sim.notifications import NotificationPolicy
 from pare.yaml_source import UnreadableFile, YamlSyntaxError, load_yaml, read_text_file
 
 ExecutionBackend = Literal["local", "ray"]
@@ -171,42 +168,6 @@ class Policies(BaseModel):
         return value
 
 
-class WorldSettings(BaseModel):
-    """The episode world's settings a run may change (the seed is derived per episode)."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
-
-    tool_failure_probability: float = Field(default=0.0, ge=0.0, le=1.0)
-    noise_rate_per_minute: float = Field(default=0.0, ge=0.0, le=MAX_NOISE_RATE_PER_MINUTE)
-    notifications: NotificationPolicy = Field(default_factory=NotificationPolicy)
-
-
-class ProtocolSettings(BaseModel):
-    """The turn protocol's numbers (see :class:`pare.bench.EpisodeSettings`)."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
-
-    max_turns: int = Field(default=10, ge=1, le=MAX_TURNS)
-    user_steps: int = Field(default=1, ge=1, le=MAX_STEPS)
-    observe_steps: int = Field(default=5, ge=1, le=MAX_STEPS)
-    execute_steps: int = Field(default=10, ge=1, le=MAX_STEPS)
-    proposal_ttl_turns: int = Field(default=4, ge=1, le=MAX_TURNS)
-    turn_duration: timedelta = Field(default=timedelta(minutes=1), gt=timedelta(0), le=MAX_TURN_DURATION)
-    max_format_retries: int = Field(
-        default=2, ge=0, le=20, description="Times a malformed model answer is sent back within one step."
-    )
-
-    @field_validator("turn_duration", mode="before")
-    @classmethod
-    def _duration(cls, value: Any) -> Any:
-        if isinstance(value, str) and not value.startswith("P"):  # '1m', '90s'; ISO 8601 goes to pydantic
-            try:
-                return parse_duration(value)
-            except TimeFormatError as error:
-                raise ValueError(str(error)) from None
-        return value
-
-
 class RunConfig(BaseModel):
     """Everything one benchmark run needs."""
 
@@ -298,21 +259,8 @@ class RunConfig(BaseModel):
 
     def episode_settings(self, seed: int) -> EpisodeSettings:
         """The episode loop's settings for one episode with environment seed ``seed``."""
-        protocol = self.protocol
-        return EpisodeSettings(
-            max_turns=protocol.max_turns,
-            user_steps=protocol.user_steps,
-            observe_steps=protocol.observe_steps,
-            execute_steps=protocol.execute_steps,
-            proposal_ttl_turns=protocol.proposal_ttl_turns,
-            turn_duration=protocol.turn_duration,
-            env=EnvConfig(
-                seed=seed,
-                tool_failure_probability=self.world.tool_failure_probability,
-                noise_rate_per_minute=self.world.noise_rate_per_minute,
-                notifications=self.world.notifications,
-            ),
-        )
+        budget = self.protocol.budget().model_dump()
+        return EpisodeSettings.model_validate({**budget, "env": self.world.env_config(seed)})
 
     def identity(self) -> dict[str, Any]:
         """What shapes an episode's behaviour, as JSON (no secret: keys are never in a configuration). The
@@ -329,7 +277,7 @@ class RunConfig(BaseModel):
                 | {"native_tools": config.native_tools}
                 for role, config in self.models.roles().items()
             },
-            "protocol": self.protocol.model_dump(mode="json"),
+            "protocol": self.protocol.identity(),
             "world": self.world.model_dump(mode="json"),
         }
         custom = self.custom_policies()

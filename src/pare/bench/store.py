@@ -497,6 +497,7 @@ def _manifest(
         "identity_hash": config.identity_hash(),
         "identity": redact_secrets(config.identity()),
         "config": redact_secrets(config.public_dict()),
+        "protocol": config.protocol.record(),
         "judge": redact_secrets(config.judge_provenance()),
         "policies": config.policy_names(),
         "sweep_point": dict(sweep_point or (previous or {}).get("sweep_point", {})),

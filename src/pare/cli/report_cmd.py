@@ -14,6 +14,7 @@ from pare.results.report_sections import SECTIONS
 
 if TYPE_CHECKING:  # metrics and reports are imported by the commands: `pare --help` stays fast
     from pare.results.metrics import ConfigurationMetrics
+    from pare.results.run_folder import LoadedRun
 
 
 class Format(StrEnum):
@@ -36,22 +37,45 @@ Runs = Annotated[
 
 def collect_metrics(paths: list[Path]) -> list[ConfigurationMetrics]:
     """The metrics of every configuration in ``paths``, in the order given."""
-    from pare.results.metrics import compute_metrics
     from pare.results.run_folder import load_run, run_folders
 
-    metrics = []
-    for folder in run_folders(paths):
-        loaded = load_run(folder)
-        metrics.append(
-            compute_metrics(
-                loaded.records,
-                label=loaded.label,
-                runs=loaded.runs,
-                planned=loaded.planned,
-                params=loaded.sweep_point,
-            )
+    return [_metrics_of(load_run(folder)) for folder in run_folders(paths)]
+
+
+def _metrics_of(loaded: LoadedRun) -> ConfigurationMetrics:
+    """One run's metrics, with the protocol it played (for the reports' heading)."""
+    from pare.protocols import manifest_protocol
+    from pare.results.metrics import compute_metrics
+
+    preset, overrides = manifest_protocol(loaded.manifest)
+    metrics = compute_metrics(
+        loaded.records,
+        label=loaded.label,
+        runs=loaded.runs,
+        planned=loaded.planned,
+        params=loaded.sweep_point,
+    )
+    return metrics.model_copy(update={"protocol": preset, "protocol_overrides": overrides})
+
+
+def comparable_metrics(paths: list[Path], *, allow_mixed: bool) -> list[ConfigurationMetrics]:
+    """The metrics of every configuration in ``paths``, refused when the runs played different protocol
+    presets or different versions of a scenario (then, with ``allow_mixed``, a warning on stderr).
+    """
+    from pare.results.comparable import comparability_problems
+    from pare.results.run_folder import load_run, run_folders
+
+    loaded = [load_run(folder) for folder in run_folders(paths)]
+    problems = comparability_problems(loaded)
+    if problems and not allow_mixed:
+        raise UserInputError(
+            "these runs are not comparable: "
+            + "; ".join(problems)
+            + ". Report them apart, or pass --allow-mixed to put them in one report anyway."
         )
-    return metrics
+    for problem in problems:
+        typer.echo(f"warning: not comparable: {problem}", err=True)
+    return [_metrics_of(run) for run in loaded]
 
 
 def report(
@@ -64,10 +88,19 @@ def report(
         typer.Option("--section", help=f"Only these sections (repeatable): {', '.join(SECTIONS)}."),
     ] = None,
     output: Annotated[Path | None, typer.Option("--output", "-o", help="Write to this file instead.")] = None,
+    allow_mixed: Annotated[
+        bool,
+        typer.Option(
+            "--allow-mixed",
+            help="Report runs of different protocol presets or scenario versions together (with a warning) "
+            "instead of refusing.",
+        ),
+    ] = False,
 ) -> None:
     """Print the metrics of one or more runs: Success@k, Success^k, success rate ± SE and CI, proposal and
     acceptance rates, read actions, the decision analysis, cost per role, per-app and per-tag results,
-    and coverage.
+    and coverage, under a heading that names the protocol the runs played. Runs of different protocol
+    presets or scenario versions are refused unless ``--allow-mixed`` is given.
     """
     from pare.output_paths import write_output_file
     from pare.results.report import render_csv, render_json, render_latex, render_markdown, render_terminal
@@ -79,7 +112,7 @@ def report(
         raise UserInputError(
             f"unknown report section {', '.join(unknown)}; choose from {', '.join(SECTIONS)}"
         )
-    metrics = collect_metrics(runs)
+    metrics = comparable_metrics(runs, allow_mixed=allow_mixed)
     if output_format is Format.terminal:
         if output is not None:
             buffer = io.StringIO()

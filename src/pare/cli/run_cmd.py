@@ -195,6 +195,14 @@ def run(
     judge_endpoint: JudgeEndpoint = None,
     user_policy: UserPolicyName = None,
     assistant_policy: AssistantPolicyName = None,
+    protocol: Annotated[
+        str | None,
+        typer.Option(
+            "--protocol",
+            help="The turn protocol's preset: pare (default) or paper (the paper's, as far as it specifies "
+            "it: docs/paper-conformance.md); the protocol flags and settings given override it.",
+        ),
+    ] = None,
     max_turns: Annotated[
         int | None, typer.Option("--max-turns", help="Turns per episode (default 10).")
     ] = None,
@@ -265,6 +273,7 @@ def run(
         "name": name,
         "policies.user": user_policy,
         "policies.assistant": assistant_policy,
+        "protocol.preset": protocol,
         "protocol.max_turns": max_turns,
         "protocol.user_steps": user_steps,
         "protocol.observe_steps": observe_steps,

@@ -1,6 +1,6 @@
 """The environment: apps and kernel together, and what each actor may do and see."""
 
-from pare.env.config import EnvConfig
+from pare.env.config import EnvConfig, WorldSettings
 from pare.env.environment import Environment
 from pare.env.views import AssistantObservation, NamedTool, ToolResult, TurnMark, UserView, describe_action
 
@@ -12,5 +12,6 @@ __all__ = [
     "ToolResult",
     "TurnMark",
     "UserView",
+    "WorldSettings",
     "describe_action",
 ]

@@ -13,13 +13,13 @@ MAX_NOISE_RATE_PER_MINUTE = 60.0
 and its memory grows without bound."""
 
 
-class EnvConfig(BaseModel):
-    """Everything that shapes an episode's world besides the scenario's data."""
+class WorldSettings(BaseModel):
+    """The world's settings a benchmark run may change: the one declaration of them, which a run
+    configuration's ``world`` takes as it is and :class:`EnvConfig` extends with what each episode sets.
+    """
 
     model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
-    seed: int = Field(default=0, description="Seed of every random stream in the episode.")
-    start_time: datetime = Field(default=datetime(2025, 1, 6, 9, 0, tzinfo=UTC))
     tool_failure_probability: float = Field(
         default=0.0, ge=0.0, le=1.0, description="Chance that an assistant app-tool call fails transiently."
     )
@@ -30,6 +30,19 @@ class EnvConfig(BaseModel):
         description="Distractor events per simulated minute (Poisson arrivals).",
     )
     notifications: NotificationPolicy = Field(default_factory=NotificationPolicy)
+
+    def env_config(self, seed: int) -> EnvConfig:
+        """One episode's world with these settings and environment seed ``seed``."""
+        return EnvConfig(seed=seed, **{name: getattr(self, name) for name in WorldSettings.model_fields})
+
+
+class EnvConfig(WorldSettings):
+    """Everything that shapes an episode's world besides the scenario's data: the run's world settings,
+    and what each episode sets (its seed, its start, how app bugs surface).
+    """
+
+    seed: int = Field(default=0, description="Seed of every random stream in the episode.")
+    start_time: datetime = Field(default=datetime(2025, 1, 6, 9, 0, tzinfo=UTC))
     raise_internal_errors: bool = Field(
         default=False,
         description="Raise unexpected exceptions from app code instead of returning them as errors "

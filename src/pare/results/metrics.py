@@ -236,6 +236,12 @@ class ConfigurationMetrics(BaseModel):
 
     label: str
     params: dict[str, Any] = Field(default_factory=dict, description="Free metadata, e.g. the sweep point.")
+    protocol: str = Field(
+        default="pare", description="The protocol preset the run played (its manifest's protocol.preset)."
+    )
+    protocol_overrides: dict[str, Any] = Field(
+        default_factory=dict, description="The protocol settings the run changed from its preset's."
+    )
     runs: int = Field(description="k, the runs planned per scenario.")
     scenarios: int = Field(description="Distinct planned scenarios.")
     episodes_planned: int

@@ -131,6 +131,24 @@ def _same(metrics: Sequence[ConfigurationMetrics], value: Callable[[Configuratio
     return values.pop() if len(values) == 1 else None
 
 
+def protocol_text(m: ConfigurationMetrics) -> str:
+    """The protocol a configuration played: its preset, and its overrides (``paper (max_turns=20)``)."""
+    if not m.protocol_overrides:
+        return m.protocol
+    overrides = ", ".join(
+        f"{name}={'none' if value is None else value}" for name, value in m.protocol_overrides.items()
+    )
+    return f"{m.protocol} ({overrides})"
+
+
+def protocol_heading(metrics: Sequence[ConfigurationMetrics]) -> str:
+    """Every report's first line: the protocol the configurations played (each its own when they differ)."""
+    texts = {protocol_text(m) for m in metrics}
+    if len(texts) == 1:
+        return f"Protocol: {texts.pop()}"
+    return "Protocols: " + "; ".join(f"{m.label}: {protocol_text(m)}" for m in metrics)
+
+
 def _main_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
     k = _same(metrics, lambda m: m.runs)
     confidence = _same(metrics, lambda m: m.confidence)
@@ -383,9 +401,9 @@ def render_terminal(
     if not metrics:
         console.print("No results to report.")
         return
-    for index, report in enumerate(tables):
-        if index:
-            console.print()
+    console.print(plain_text(protocol_heading(metrics), "bold"))
+    for report in tables:
+        console.print()
         widths = _cell_widths(report)
         if sum(widths) + _BORDERS_PER_COLUMN * len(widths) + 1 > console.width:
             _print_blocks(report, console)
@@ -460,7 +478,7 @@ def render_markdown(metrics: Sequence[ConfigurationMetrics], *, sections: Iterab
     tables = _tables(metrics, sections)
     if not metrics:
         return "No results to report.\n"
-    parts: list[str] = []
+    parts: list[str] = [protocol_heading(metrics) + "\n"]
     for report in tables:
         lines = [f"## {report.title}", ""]
         if report.note:
@@ -511,7 +529,9 @@ def render_latex(metrics: Sequence[ConfigurationMetrics], *, sections: Iterable[
     if not metrics:
         return "% No results to report.\n"
     parts: list[str] = []
+    heading = _latex(protocol_heading(metrics))
     for report in tables:
+        note = " " + _latex(report.note) if report.note else ""
         align = "".join("l" if i < report.text_columns else "r" for i in range(len(report.columns)))
         lines = [
             "\\begin{table}[ht]",
@@ -523,7 +543,7 @@ def render_latex(metrics: Sequence[ConfigurationMetrics], *, sections: Iterable[
             *(" & ".join(_latex(cell) for cell in row) + r" \\" for row in report.rows),
             "\\bottomrule",
             "\\end{tabular}",
-            f"\\caption{{{_latex(report.title)}{'. ' + _latex(report.note) if report.note else ''}}}",
+            f"\\caption{{{_latex(report.title)}. {heading}.{note}}}",
             f"\\label{{tab:pare-{report.section}}}",
             "\\end{table}",
         ]
@@ -534,17 +554,17 @@ def render_latex(metrics: Sequence[ConfigurationMetrics], *, sections: Iterable[
 def render_csv(metrics: Sequence[ConfigurationMetrics]) -> str:
     """One row per configuration with flat columns.
 
-    Columns: ``label``; ``param.<name>`` for every parameter any configuration has (strings as they are,
-    other values as JSON); counts and coverage; ``<metric>_mean``, ``<metric>_se`` and ``<metric>_n`` for
-    every estimate; the success-rate interval; ``decision.<name>_*`` and ``resolution.<name>_*``;
-    ``pass_hat.<k>`` and ``pass_at.<k>`` for every k up to the most runs any configuration has;
-    ``usage.<role>.*`` for every role and the total. Empty cells are values that could not be computed
-    (or a cost that is not known; ``usage.<role>.cost`` says which).
+    Columns: ``label``; ``protocol`` (the preset and its overrides); ``param.<name>`` for every parameter
+    any configuration has (strings as they are, other values as JSON); counts and coverage;
+    ``<metric>_mean``, ``<metric>_se`` and ``<metric>_n`` for every estimate; the success-rate interval;
+    ``decision.<name>_*`` and ``resolution.<name>_*``; ``pass_hat.<k>`` and ``pass_at.<k>`` for every k up
+    to the most runs any configuration has; ``usage.<role>.*`` for every role and the total. Empty cells
+    are values that could not be computed (or a cost that is not known; ``usage.<role>.cost`` says which).
     """
     rows = [_csv_row(m) for m in metrics]
     params = sorted({name for m in metrics for name in m.params})
     roles = [*sorted({role for m in metrics for role in m.usage if role != TOTAL}), TOTAL]
-    columns = ["label", *(f"param.{name}" for name in params)]
+    columns = ["label", "protocol", *(f"param.{name}" for name in params)]
     columns += list(_CSV_COLUMNS)
     ks = sorted({k for m in metrics for k in m.pass_hat})
     columns += [f"pass_hat.{k}" for k in ks] + [f"pass_at.{k}" for k in ks]
@@ -555,6 +575,7 @@ def render_csv(metrics: Sequence[ConfigurationMetrics]) -> str:
     writer.writeheader()
     for m, row in zip(metrics, rows, strict=True):
         row["label"] = m.label
+        row["protocol"] = protocol_text(m)
         for name in params:
             if name in m.params:
                 value = m.params[name]
