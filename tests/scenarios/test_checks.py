@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import asyncio
 import re
 from collections.abc import Sequence
 from typing import Any
@@ -9,7 +10,7 @@ from typing import Any
 from pare.agents import SilentAssistant, SilentUser
 from pare.bench import run_episode
 from pare.scenarios import OracleAssistant, OracleUser, evaluate
-from pare.scenarios.checks import JudgeVerdict
+from pare.scenarios.checks import JudgeVerdict, aevaluate
 from tests.scenarios.helpers import base, parse
 
 
@@ -126,12 +127,14 @@ def test_judge_uses_the_model_when_given_and_the_fallback_otherwise() -> None:
     assert "no judge model; fallback" in result.outcome.goals[0].checks[-1].detail
     seen: list[tuple[str, str, Sequence[str]]] = []
 
-    def strict_judge(criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
+    async def strict_judge(criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
         seen.append((criterion, text, facts))
         return JudgeVerdict(False, "It does not name a time.")
 
-    outcome = evaluate(scenario, result.env.log.entries, result.env.snapshot(), judge=strict_judge)
-    assert not outcome.success and seen == [("says yes to Thursday", "Thursday works!", [])]
+    outcome = asyncio.run(
+        aevaluate(scenario, result.env.log.entries, result.env.snapshot(), judge=strict_judge)
+    )
+    assert not outcome.success and seen == [("says yes to Thursday", "Thursday works!", ())]
     assert outcome.failures()[0].detail.endswith(" | the judge: It does not name a time.")
 
 

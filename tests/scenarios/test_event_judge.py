@@ -48,7 +48,7 @@ class Reader:
         self.accepting = accepting
         self.asked: list[tuple[str, str, list[str]]] = []
 
-    def __call__(self, criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
+    async def __call__(self, criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
         self.asked.append((criterion, text, list(facts)))
         said = text.lower()
         if self.accepting in said and " not " not in said:

@@ -141,8 +141,9 @@ class EpisodeModel:
 
 @dataclass
 class JudgeModel:
-    """The judge's model for one episode. Checks call the judge synchronously from a worker thread, each
-    call in an event loop of its own, so each call gets a client of its own and closes it.
+    """A judge's model outside a run (the self-test gate asks it about reactive events' texts): each call
+    gets a client of its own and closes it, so there is nothing to close afterwards. In a run the judge
+    calls through the run's shared client instead (:meth:`RunModels.actors`), under its endpoint's limit.
     """
 
     config: ModelConfig
@@ -185,9 +186,8 @@ class RunModels:
             )
         models = cls(config, cache, requests=requests or RunRequests.create(config))
         for role, model in config.models.roles().items():
-            if role != "judge":
-                params = models.requests.params[role]
-                models.clients[role] = ModelClient(model, role, cache, models.ledger, params=params)
+            params = models.requests.params[role]
+            models.clients[role] = ModelClient(model, role, cache, models.ledger, params=params)
         return models
 
     def limiters(self) -> list[EndpointLimiter]:
@@ -217,7 +217,7 @@ class RunModels:
         retries = config.protocol.max_format_retries
         user: UserPolicy
         assistant: AssistantPolicy
-        if self.clients or config.models.judge is not None:
+        if self.clients:
             from pare.agents.judge import ModelJudge
             from pare.agents.llm import LLMAssistant, LLMUser
         if "user" in self.clients:
@@ -239,14 +239,10 @@ class RunModels:
             )
         else:
             assistant = OracleAssistant(scenario)
-        judge_config = config.models.judge
         judge = None
-        if judge_config is not None:
-            judge = ModelJudge(
-                JudgeModel(
-                    judge_config, self.cache, plan.namespace, ledger, self.requests.params.get("judge")
-                )
-            )
+        if "judge" in self.clients:
+            client = self.clients["judge"]
+            judge = ModelJudge(EpisodeModel(client, plan.namespace, ledger), client.config.model)
         return user, assistant, judge
 
 
