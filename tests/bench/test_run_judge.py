@@ -15,6 +15,8 @@ from typing import Any
 import pytest
 
 from pare.agents.judge import JUDGE_PROMPT
+from pare.bench.runconfig import build_config
+from pare.bench.runner import EpisodeOutput, plan_episodes, play_apart, select_scenarios
 from pare.bench.store import CACHE_FILE, load_run
 from pare.cli import main
 from pare.testing import ChatServer, Reply, completion, proactive_play
@@ -150,3 +152,25 @@ def test_a_replay_gives_the_judges_answers_without_calling(tmp_path: Path) -> No
         assert (second / path.relative_to(first)).read_bytes() == path.read_bytes()
     for record in load_run(second).records:
         assert record.usage["judge"].cached_calls == record.usage["judge"].calls == 1 + 3 * 2
+
+
+def test_an_episode_played_apart_asks_its_judge_and_keeps_the_answers(tmp_path: Path) -> None:
+    """What a Ray task runs (:func:`~pare.bench.runner.play_apart`): its own clients, the judge's too."""
+    path = tmp_path / "tiny_reply.yaml"
+    path.write_text(to_yaml(judged_scenario()))
+    responder = Responder()
+    with ChatServer(responder) as server:
+        models = {
+            role: {"model": f"pare-{role}", "api_base": server.base_url, "api_key_env": None}
+            for role in ("user", "observe", "execute", "judge")
+        }
+        data = {"scenarios": {"paths": [str(path)]}, "runs": 1, "models": models, "output": str(tmp_path)}
+        config = build_config(data)
+        (plan,) = plan_episodes(config, select_scenarios(config))
+        status, output = play_apart(plan, config, tmp_path / "run")
+    assert status == "ok" and isinstance(output, EpisodeOutput) and output.trajectory is not None
+    assert len(responder.judged_in_flight) == 1 + 3 * 2
+    checks = json.loads(output.trajectory)["outcome"]["goals"][0]["checks"]
+    assert [[text["verdict"]["answer"] for text in check["judged"]] for check in checks] == [
+        [CHECK_ANSWER, CHECK_ANSWER]
+    ] * 3
