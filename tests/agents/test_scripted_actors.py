@@ -151,4 +151,5 @@ def test_a_model_judge_decides_judge_checks_and_only_a_clear_yes_passes() -> Non
         result = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario), judge=judge)
         assert result.success is passed, answer
         assert "Thursday works!" in (model.requests[0][1].content or "")
-        assert judge.verdicts[0][2] is passed
+        (judged,) = result.outcome.goals[0].checks[0].judged
+        assert (judged.verdict.passed, judged.verdict.answer) == (passed, answer)

@@ -73,7 +73,8 @@ def test_a_run_against_a_rate_limiting_provider_completes_every_episode(
     assert all(record.complete for record in records)
     assert limited.rejected > 0  # the provider did rate limit the run
     printed = capsys.readouterr().out
-    assert f"throttling: user+assistant endpoint: {limited.rejected} rate-limit answer" in printed
+    # the judge (the user's model) calls the same endpoint, under the same limiter
+    assert f"throttling: user+assistant+judge endpoint: {limited.rejected} rate-limit answer" in printed
 
 
 def test_the_runner_reports_the_endpoints_limiter_while_models_are_called(tmp_path: Path) -> None:
@@ -100,7 +101,7 @@ def test_the_runner_reports_the_endpoints_limiter_while_models_are_called(tmp_pa
         )
         summary = run_benchmark(config, progress=progress)
     assert summary.complete == len(SCENARIOS) * 2
-    (state,) = summary.throttling  # one endpoint, one limiter for the three roles
-    assert state.roles == ("user", "observe", "execute") and state.requests_per_minute == 6000
+    (state,) = summary.throttling  # one endpoint, one limiter for every role (the judge is the user's model)
+    assert state.roles == ("user", "observe", "execute", "judge") and state.requests_per_minute == 6000
     assert (state.in_flight, state.waiting) == (0, 0)
     assert progress.seen and {seen.roles for seen in progress.seen} == {state.roles}

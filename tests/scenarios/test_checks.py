@@ -2,14 +2,18 @@
 
 from __future__ import annotations
 
+import asyncio
 import re
 from collections.abc import Sequence
 from typing import Any
 
+import pytest
+
 from pare.agents import SilentAssistant, SilentUser
 from pare.bench import run_episode
+from pare.errors import ProviderUnavailable
 from pare.scenarios import OracleAssistant, OracleUser, evaluate
-from pare.scenarios.checks import JudgeVerdict
+from pare.scenarios.checks import JudgeVerdict, aevaluate
 from tests.scenarios.helpers import base, parse
 
 
@@ -126,13 +130,46 @@ def test_judge_uses_the_model_when_given_and_the_fallback_otherwise() -> None:
     assert "no judge model; fallback" in result.outcome.goals[0].checks[-1].detail
     seen: list[tuple[str, str, Sequence[str]]] = []
 
-    def strict_judge(criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
+    async def strict_judge(criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
         seen.append((criterion, text, facts))
         return JudgeVerdict(False, "It does not name a time.")
 
-    outcome = evaluate(scenario, result.env.log.entries, result.env.snapshot(), judge=strict_judge)
-    assert not outcome.success and seen == [("says yes to Thursday", "Thursday works!", [])]
+    outcome = asyncio.run(
+        aevaluate(scenario, result.env.log.entries, result.env.snapshot(), judge=strict_judge)
+    )
+    assert not outcome.success and seen == [("says yes to Thursday", "Thursday works!", ())]
     assert outcome.failures()[0].detail.endswith(" | the judge: It does not name a time.")
+
+
+def test_a_question_two_judge_checks_share_is_asked_once_and_a_failed_call_raises_as_itself() -> None:
+    judged = {
+        "criterion": "says yes to Thursday",
+        "action": {"tool": "email__reply_to_email"},
+        "fallback": {"contains": "thursday"},
+    }
+    scenario, result = _oracle_run(_with_checks({"judge": judged}, {"judge": judged, "description": "again"}))
+    asked: list[str] = []
+
+    async def agreeing(criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
+        asked.append(text)
+        await asyncio.sleep(0)  # both checks wait on the one call
+        return JudgeVerdict(True, "It says yes.", "YES. It says yes.", "judge-model")
+
+    log, state = result.env.log.entries, result.env.snapshot()
+    outcome = asyncio.run(aevaluate(scenario, log, state, judge=agreeing))
+    assert outcome.success and asked == ["Thursday works!"]
+    for check in outcome.goals[0].checks[1:]:
+        (judged_text,) = check.judged
+        assert (
+            judged_text.verdict.answer == "YES. It says yes." and judged_text.verdict.model == "judge-model"
+        )
+    assert outcome.goals[0].checks[0].judged == ()  # not a judge check
+
+    async def down(criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
+        raise ProviderUnavailable("the judge's provider is down")
+
+    with pytest.raises(ProviderUnavailable, match="provider is down"):
+        asyncio.run(aevaluate(scenario, log, state, judge=down))
 
 
 def test_per_goal_results_and_goal_rate() -> None:

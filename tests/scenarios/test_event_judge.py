@@ -3,6 +3,7 @@ the triggering text says what it waits for, and its ``if_args`` rule decides wit
 
 from __future__ import annotations
 
+import asyncio
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -12,6 +13,7 @@ import pytest
 from pare.agents.judge import ModelJudge
 from pare.agents.scripted import ScriptedModel
 from pare.bench import run_episode
+from pare.bench.episode import EpisodeResult, arun_episode
 from pare.bench.selftest import check_scenario
 from pare.cli import main
 from pare.scenarios import OracleAssistant, OracleUser, ScenarioError
@@ -48,7 +50,7 @@ class Reader:
         self.accepting = accepting
         self.asked: list[tuple[str, str, list[str]]] = []
 
-    def __call__(self, criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
+    async def __call__(self, criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
         self.asked.append((criterion, text, list(facts)))
         said = text.lower()
         if self.accepting in said and " not " not in said:
@@ -136,3 +138,38 @@ def test_pare_scenarios_check_asks_a_judge_model_on_a_local_server(
     assert asked and all("Criterion: accepts Thursday" in question for question in asked)
     assert main(["scenarios", "check", str(tmp_path), "--judge-model", "j", "--judge-provider", "nope"]) == 2
     assert "--judge-* flags: backend" in capsys.readouterr().err
+
+
+class Meeting:
+    """A judge whose first reading in each episode waits until the other episode's has begun: it can
+    answer only if neither episode's judge holds up the event loop they share."""
+
+    def __init__(self, episodes: int) -> None:
+        self.episodes = episodes
+        self.asked = 0
+        self.everyone_asked = asyncio.Event()
+
+    async def __call__(self, criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
+        self.asked += 1
+        if self.asked >= self.episodes:
+            self.everyone_asked.set()
+        await asyncio.wait_for(self.everyone_asked.wait(), timeout=10)
+        return JudgeVerdict(True, "It accepts Thursday.")
+
+
+def test_the_judge_is_awaited_in_the_episodes_loop_while_other_episodes_play() -> None:
+    scenario = parse(_judged())
+    judge = Meeting(episodes=2)
+
+    async def side_by_side() -> list[EpisodeResult]:
+        return await asyncio.gather(
+            *(
+                arun_episode(scenario, OracleUser(scenario), OracleAssistant(scenario), judge=judge)
+                for _ in "ab"
+            )
+        )
+
+    for result in asyncio.run(side_by_side()):
+        fired = [entry.event_id for entry in result.env.log if entry.actor == "env" and entry.event_id]
+        assert fired == ["ann_asks", "ann_confirms"]
+    assert judge.asked == 2

@@ -4,8 +4,9 @@ from datetime import timedelta
 
 import pytest
 
-from pare.errors import UserInputError
+from pare.errors import SimulationBug, UserInputError
 from pare.sim import AfterEvent, AfterStart, AtTime, EventAction, EventScheduler, ScheduledEvent, WhenLogged
+from pare.sim.log import LogEntry
 from tests.conftest import START, make_env, ok
 from tests.fixture_app import NotebookApp
 
@@ -166,3 +167,35 @@ def test_delivering_reactions_fires_what_the_log_set_off_and_nothing_else() -> N
     assert env.clock.now == START + timedelta(minutes=21)
     assert env.scheduler.scheduled_reactions() == ["far"]  # beyond the bound: still due
     assert env.scheduler.next_time() == START + timedelta(minutes=5)  # the story event stays scheduled
+
+
+def test_a_condition_that_cannot_tell_yet_is_held_and_tested_again_in_order() -> None:
+    """A condition waiting for an answer (a judge's reading) is tested again on the entry it could not
+    tell, then on those logged since, and sets its event off as of the entry that met it.
+    """
+    env = make_env([NotebookApp()])
+    answers: dict[str, bool] = {}
+
+    def meant(entry: LogEntry) -> bool | None:
+        text = entry.args.get("text")
+        if entry.tool != "add_item" or not isinstance(text, str):
+            return False
+        return answers.get(text)  # None: not answered yet
+
+    env.schedule(ScheduledEvent("reply", WhenLogged(meant, timedelta(minutes=10)), arrive("reply")))
+    env.schedule(ScheduledEvent("plain", WhenLogged(lambda entry: entry.tool == "add_item"), arrive("p")))
+    for text in ("maybe", "yes please"):
+        ok(env.call("assistant", "notebook__add_item", {"text": text}, mode="execute"))
+    first, second = len(env.log) - 2, len(env.log) - 1
+    assert env.scheduler.undecided and env.scheduler.set_off == {"plain": first}  # the others go on
+    with pytest.raises(SimulationBug, match="waited for an answer"):
+        env.advance(timedelta(minutes=1))  # a reaction set off now would be due in the past
+
+    answers["maybe"] = False
+    env.scheduler.retest()  # 'maybe' does not meet it; 'yes please' is not answered yet
+    assert env.scheduler.undecided and "reply" not in env.scheduler.set_off
+    answers["yes please"] = True
+    env.scheduler.retest()
+    assert not env.scheduler.undecided and env.scheduler.set_off["reply"] == second
+    env.advance(timedelta(minutes=10))
+    assert fired(env) == [("plain", "09:00"), ("reply", "09:10")]

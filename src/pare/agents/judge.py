@@ -2,15 +2,19 @@
 
 The judge reads one criterion, one text and the scenario's facts, if it gives any, and answers YES or NO
 with one sentence saying why. The verdict is the answer's first word: anything but a clear yes counts as
-NO, so a check passes only on a clear yes. The reason is kept with the check's verdict. Scenarios always
-carry a deterministic fallback, used when no judge is configured.
+NO, so a check passes only on a clear yes. The answer, the reason and the model are kept with the check's
+result in the trajectory. Scenarios always carry a deterministic fallback, used when no judge is configured.
+
+The judge is awaited in the episode's event loop: in a run, its model is the run's shared client for the
+judge role, so its calls wait for the same per-endpoint limit as every other role's and go through the
+same call cache.
 """
 
 from __future__ import annotations
 
-import asyncio
 import re
 from collections.abc import Sequence
+from dataclasses import replace
 
 from pare.agents.llm import ChatModel
 from pare.agents.models.types import ChatMessage
@@ -49,25 +53,19 @@ def read_verdict(answer: str) -> JudgeVerdict:
     reason = " ".join(rest.split()).lstrip(" .,:;-\u2013\u2014")
     if len(reason) > _REASON_LENGTH:
         reason = reason[: _REASON_LENGTH - 3].rstrip() + "..."
-    return JudgeVerdict(passed, reason)
+    return JudgeVerdict(passed, reason, answer)
 
 
 class ModelJudge:
-    """A :class:`pare.scenarios.checks.Judge` backed by a model (any :class:`ChatModel`).
-
-    Called synchronously by the checks; the episode loop evaluates checks in a worker thread when a judge
-    is set, so the model call runs in its own event loop there.
+    """A :class:`pare.scenarios.checks.Judge` backed by a model (any :class:`ChatModel`), named
+    ``model_name`` in the verdicts it gives.
     """
 
-    def __init__(self, model: ChatModel) -> None:
+    def __init__(self, model: ChatModel, model_name: str = "") -> None:
         self.model = model
-        self.verdicts: list[tuple[str, str, bool]] = []
-        """Every (criterion, answer, verdict), for reports."""
+        self.model_name = model_name
 
-    def __call__(self, criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
+    async def __call__(self, criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
         """Whether ``text`` meets ``criterion`` given ``facts``, in the model's opinion, and why."""
-        completion = asyncio.run(self.model.complete(judge_request(criterion, text, facts)))
-        answer = (completion.text or "").strip()
-        verdict = read_verdict(answer)
-        self.verdicts.append((criterion, answer, verdict.passed))
-        return verdict
+        completion = await self.model.complete(judge_request(criterion, text, facts))
+        return replace(read_verdict((completion.text or "").strip()), model=self.model_name)

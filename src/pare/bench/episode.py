@@ -43,8 +43,8 @@ from pare.bench.envelope import expected_envelope
 from pare.bench.state_diff import state_changes
 from pare.env import AssistantObservation, EnvConfig, Environment, ToolResult, TurnMark, UserView
 from pare.errors import ModelRequestError
-from pare.scenarios.build import build_environment
-from pare.scenarios.checks import Judge, Outcome, evaluate, goals_met
+from pare.scenarios.build import EventReadings, build_environment
+from pare.scenarios.checks import Judge, Outcome, aevaluate, goals_met
 from pare.scenarios.model import Scenario
 from pare.scenarios.side_effects import Change, assistant_changes
 from pare.sim.log import AssistantMode, LogEntry
@@ -281,7 +281,9 @@ class _Episode:
         self.user = user
         self.assistant = assistant
         self.settings = settings
-        self.env = build_environment(scenario, settings.env, judge=judge)  # the world reads text by it too
+        self.readings = EventReadings(judge) if judge is not None else None
+        """The judge's readings of reactive events' triggering texts: the world reads text by it too."""
+        self.env = build_environment(scenario, settings.env, readings=self.readings)
         self.start_state = self.env.snapshot(shared=True)  # read only: diffed at the end
         self.steps: list[Step] = []
         self.handled: set[str] = set()
@@ -313,17 +315,9 @@ class _Episode:
         # The order matters: the world's pending replies first, then the final state, then the checks.
         after = self._after_last_turn()
         final = env.snapshot(shared=True)  # read only: evaluated and diffed
-        if judge is None:
-            outcome = evaluate(self.scenario, env.log.entries, final, attribution=env.attribution)
-        else:  # a model judge makes its own blocking calls: keep them off this event loop
-            outcome = await asyncio.to_thread(
-                evaluate,
-                self.scenario,
-                env.log.entries,
-                final,
-                judge=judge,
-                attribution=env.attribution,
-            )
+        outcome = await aevaluate(
+            self.scenario, env.log.entries, final, judge=judge, attribution=env.attribution
+        )
         changes = assistant_changes(self.start_state, final, env.attribution)
         if side_effects:
             envelope = await expected_envelope(self.scenario)
@@ -462,7 +456,7 @@ class _Episode:
                 self.env.user_view(), turn=self._turn_mark("user"), proposal_turns_left=self._turns_left(turn)
             )
             action = await self.user.step(view, self.user_previous)
-            result = self._perform("user", action, None)
+            result = await self._perform("user", action, None)
             self._record(turn, "user", None, action, result, view_record(view))
             self.user_previous = result
             if action.tool == WAIT:
@@ -521,7 +515,7 @@ class _Episode:
         previous = self.assistant_previous  # the result of its last action, which ended its last turn
         for step in range(self.settings.observe_steps):
             action = await self.assistant.observe(observation if step == 0 else None, previous)
-            previous = self._perform("assistant", action, "observe")
+            previous = await self._perform("assistant", action, "observe")
             self.assistant_previous = previous
             self._record(turn, "assistant", "observe", action, previous)
             if action.tool == ASSISTANT_WAIT:
@@ -537,18 +531,27 @@ class _Episode:
         previous: ToolResult | None = None
         for step in range(self.settings.execute_steps):
             action = await self.assistant.execute(task if step == 0 else None, previous)
-            previous = self._perform("assistant", action, "execute")
+            previous = await self._perform("assistant", action, "execute")
             self._record(turn, "assistant", "execute", action, previous)
             if action.tool == SEND_MESSAGE and previous.ok:
                 return
 
-    def _perform(self, actor: StepActor, action: Action, mode: AssistantMode | None) -> ToolResult:
-        """Hand a valid action to the environment; an actor's failure to produce one is its own result."""
+    async def _perform(self, actor: StepActor, action: Action, mode: AssistantMode | None) -> ToolResult:
+        """Hand a valid action to the environment; an actor's failure to produce one is its own result.
+        A reactive event that waits for the judge's reading of what the action wrote gets it before anything
+        else happens (:class:`~pare.scenarios.build.EventReadings`).
+        """
         if action.error is not None:
             return ToolResult(ok=False, error=action.error)
         if actor == "user":
-            return self.env.call("user", action.tool, action.args)
-        return self.env.call("assistant", action.tool, action.args, mode=mode)
+            result = self.env.call("user", action.tool, action.args)
+        else:
+            result = self.env.call("assistant", action.tool, action.args, mode=mode)
+        scheduler = self.env.scheduler
+        while scheduler.undecided and self.readings is not None:
+            await self.readings.ask()
+            scheduler.retest()
+        return result
 
     def _record(
         self,

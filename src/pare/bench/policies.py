@@ -123,7 +123,7 @@ def _model_assistant(context: PolicyContext) -> Any:
 def _model_judge(context: PolicyContext) -> Any:
     from pare.agents.judge import ModelJudge
 
-    return ModelJudge(context.model("judge"))
+    return ModelJudge(context.model("judge"), context.model_configs["judge"].model)
 
 
 def _oracle_user(context: PolicyContext) -> Any:

@@ -144,8 +144,9 @@ class EpisodeModel:
 
 @dataclass
 class JudgeModel:
-    """The judge's model for one episode. Checks call the judge synchronously from a worker thread, each
-    call in an event loop of its own, so each call gets a client of its own and closes it.
+    """A judge's model outside a run (the self-test gate asks it about reactive events' texts): each call
+    gets a client of its own and closes it, so there is nothing to close afterwards. In a run the judge
+    calls through the run's shared client instead (:meth:`RunModels.actors`), under its endpoint's limit.
     """
 
     config: ModelConfig
@@ -190,9 +191,8 @@ class RunModels:
             )
         models = cls(config, cache, requests=requests or RunRequests.create(config))
         for role, model in config.models.roles().items():
-            if role != "judge":
-                params = models.requests.params[role]
-                models.clients[role] = ModelClient(model, role, cache, models.ledger, params=params)
+            params = models.requests.params[role]
+            models.clients[role] = ModelClient(model, role, cache, models.ledger, params=params)
         return models
 
     def limiters(self) -> list[EndpointLimiter]:
@@ -224,11 +224,6 @@ class RunModels:
         models: dict[str, ChatModel] = {
             role: EpisodeModel(client, plan.namespace, ledger) for role, client in self.clients.items()
         }
-        judge_config = config.models.judge
-        if judge_config is not None:
-            models["judge"] = JudgeModel(
-                judge_config, self.cache, plan.namespace, ledger, self.requests.params.get("judge")
-            )
         configs = config.models.roles()
         if not self.players:
             self.players = {role: Player.resolve(role, config.policy(role)) for role in POLICY_ROLES}

@@ -223,6 +223,9 @@ def check_scenario(
             details[name], users[name] = played[0], user
         envelope = _envelope(scenario, details, settings, runner)
         played_mutants = tuple(_mutant_verdicts(scenario, settings, runner, envelope)) if mutants else ()
+        apart: list[list[str]] = []
+        if judge is not None:  # the judge is awaited in this loop too
+            runner.run(_kept(_readings_apart(scenario, details, judge), apart))
     for name, _, expected, why in plays:
         if name in broken:
             verdicts.append(RunVerdict(name, expected, None, (broken[name],), why=why))
@@ -234,8 +237,7 @@ def check_scenario(
         verdict = _verdict(name, scenario, users[name], result, expected, why, fails.get(name, []))
         verdicts.append(_with_reactions(verdict, scenario, result, excused.get(name, frozenset())))
     warnings = [*restated_answers(scenario), *(line for run in verdicts for line in run.warnings)]
-    if judge is not None:
-        warnings.extend(_readings_apart(scenario, details, judge))
+    warnings.extend(line for lines in apart for line in lines)
     return ScenarioVerdict(
         scenario.id,
         tuple(verdicts),
@@ -325,24 +327,26 @@ def _with_reactions(
     )
 
 
-def _readings_apart(scenario: Scenario, played: Mapping[str, EpisodeResult], judge: Judge) -> Iterator[str]:
+async def _readings_apart(scenario: Scenario, played: Mapping[str, EpisodeResult], judge: Judge) -> list[str]:
     """Where a reactive event's rule and the judge read a triggering text apart, in the runs ``played``:
     once per event and text (the oracle and the slow user write the same), each text judged once.
     """
     verdicts: dict[tuple[str, str, tuple[str, ...]], JudgeVerdict] = {}
 
-    def remembered(criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
+    async def remembered(criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
         key = (criterion, text, tuple(facts))
         if key not in verdicts:
-            verdicts[key] = judge(criterion, text, facts)
+            verdicts[key] = await judge(criterion, text, facts)
         return verdicts[key]
 
     seen: set[tuple[str, str]] = set()
+    lines = []
     for name, result in played.items():
-        for found in disagreements(scenario, result.env.log.entries, remembered):
+        for found in await disagreements(scenario, result.env.log.entries, remembered):
             if (found.event_id, found.text) not in seen:
                 seen.add((found.event_id, found.text))
-                yield f"[{name}] {found.describe()}"
+                lines.append(f"[{name}] {found.describe()}")
+    return lines
 
 
 def _envelope(

@@ -373,7 +373,7 @@ def self_test(
         from pare.agents.models.ledger import UsageLedger
         from pare.bench.runner import JudgeModel
 
-        model_judge = ModelJudge(JudgeModel(judge, None, f"gate/{scenario.id}", UsageLedger()))
+        model_judge = ModelJudge(JudgeModel(judge, None, f"gate/{scenario.id}", UsageLedger()), judge.model)
     verdict = check_scenario(scenario, judge=model_judge, mutants=mutants)
     outcomes = {name: result.outcome for name, result in verdict.details.items()}
     result = replace(verdict, details={}), outcomes

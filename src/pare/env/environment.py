@@ -647,6 +647,7 @@ class Environment:
         fire, but no distractors arrive on the way, so jumping to tomorrow's reminder does not bury the
         phone under a day of noise. Noise resumes from ``moment``.
         """
+        self._check_decided()
         if quiet:
             self.noise.skip_until(moment)
         while True:
@@ -672,6 +673,7 @@ class Environment:
         too. Nothing else happens on the way: no other scheduled event, app wakeup or noise (for after
         the last turn, when no one is left to see what is new). Returns the event ids delivered.
         """
+        self._check_decided()
         delivered: list[str] = []
         while (due := self.scheduler.pop_reaction(until)) is not None:
             self.clock.advance_to(due.time)
@@ -679,6 +681,14 @@ class Environment:
             self.scheduler.complete(due.event.event_id, self.clock.now)
             delivered.append(due.event.event_id)
         return delivered
+
+    def _check_decided(self) -> None:
+        """Time may not pass while a reactive event waits for an answer on an entry already logged (a
+        judge model's reading): its reaction would be due in the past. Whoever drives the episode
+        awaits the answer and calls :meth:`EventScheduler.retest` first.
+        """
+        if self.scheduler.undecided:
+            raise SimulationBug("the clock moved while a reactive event still waited for an answer")
 
     def _wake(self, app: App, due: datetime) -> None:
         tool = cast(str, app.wakeup_tool)

@@ -1,7 +1,7 @@
 """Scenarios: the file format, loading with clear errors, checks, the oracle and the PARE-Bench library."""
 
 from pare.scenarios.build import build_environment
-from pare.scenarios.checks import CheckResult, GoalResult, Judge, Outcome, evaluate
+from pare.scenarios.checks import CheckResult, GoalResult, Judge, JudgeVerdict, Outcome, aevaluate, evaluate
 from pare.scenarios.library import get_scenario, library, load_scenarios, select, splits
 from pare.scenarios.loader import ScenarioError, load_scenario, parse_scenario
 from pare.scenarios.model import TAGS, Scenario
@@ -13,12 +13,14 @@ __all__ = [
     "CheckResult",
     "GoalResult",
     "Judge",
+    "JudgeVerdict",
     "OracleAssistant",
     "OracleUser",
     "Outcome",
     "Scenario",
     "ScenarioError",
     "UnrelatedAssistant",
+    "aevaluate",
     "build_environment",
     "evaluate",
     "get_scenario",

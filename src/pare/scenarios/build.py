@@ -10,8 +10,8 @@ are shared between episodes.
 
 from __future__ import annotations
 
+import asyncio
 from collections.abc import Sequence
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from datetime import timedelta
 from typing import Any
@@ -19,7 +19,8 @@ from typing import Any
 from pare.apps.base import SeedState
 from pare.apps.registry import CORE_APPS
 from pare.env import EnvConfig, Environment
-from pare.scenarios.checks import Judge, JudgeVerdict
+from pare.errors import SimulationBug, first_error
+from pare.scenarios.checks import Judge, JudgeVerdict, Question
 from pare.scenarios.file_identity import FileIdentity
 from pare.scenarios.model import ActionPattern, Event, EventJudge, Scenario
 from pare.scenarios.patterns import CompiledPattern, event_positions
@@ -31,13 +32,14 @@ from pare.sim.log import ActionLog, LogEntry
 
 
 def build_environment(
-    scenario: Scenario, config: EnvConfig | None = None, *, judge: Judge | None = None
+    scenario: Scenario, config: EnvConfig | None = None, *, readings: EventReadings | None = None
 ) -> Environment:
     """An environment for ``scenario``: its apps (plus the core ones), seed data and scheduled events.
 
     The episode starts at the scenario's start time whatever ``config`` says; everything else (seed,
-    tool failures, noise, notifications) comes from ``config``. With ``judge`` (the run's judge model),
-    reactive events with a ``judge`` read the triggering text through it; without, by their ``if_args``.
+    tool failures, noise, notifications) comes from ``config``. With ``readings`` (the run's judge model,
+    asked by whoever drives the episode), reactive events with a ``judge`` read the text the user or the
+    assistant wrote through it; without, by their ``if_args``.
     """
     settings = (config or EnvConfig()).model_copy(update={"start_time": scenario.start})
     blueprint = _known_blueprint(scenario)
@@ -52,7 +54,7 @@ def build_environment(
         blueprint.seed(env)
     reader = register_live(env, blueprint.files)
     for plan in blueprint.events:
-        for scheduled in plan.scheduled(env, reader, judge):
+        for scheduled in plan.scheduled(env, reader, readings):
             env.schedule(scheduled)
     env.scheduler.validate()
     return env
@@ -65,7 +67,9 @@ class _Timed:
 
     event: ScheduledEvent
 
-    def scheduled(self, env: Environment, reader: CallReader, judge: Judge | None) -> list[ScheduledEvent]:
+    def scheduled(
+        self, env: Environment, reader: CallReader, readings: EventReadings | None
+    ) -> list[ScheduledEvent]:
         event = self.event
         action = EventAction(event.action.app, event.action.tool, _fresh(event.action.args))
         return [ScheduledEvent(event.event_id, event.trigger, action)]
@@ -90,8 +94,10 @@ class _Reactive:
     unjudged: CompiledPattern
     """``if_args`` without the judged field: what the judge's verdict is combined with."""
 
-    def scheduled(self, env: Environment, reader: CallReader, judge: Judge | None) -> list[ScheduledEvent]:
-        trigger = _Trigger(self, env.log, reader, judge if self.judged is not None else None)
+    def scheduled(
+        self, env: Environment, reader: CallReader, readings: EventReadings | None
+    ) -> list[ScheduledEvent]:
+        trigger = _Trigger(self, env.log, reader, readings if self.judged is not None else None)
         action = EventAction(self.action.app, self.action.tool, _fresh(self.action.args))
         condition = WhenLogged(trigger.meets, self.delay, self.description)
         events = [ScheduledEvent(self.event_id, condition, action)]
@@ -204,13 +210,40 @@ def _plan(event: Event, scenario: Scenario) -> _Timed | _Reactive:
     )
 
 
-def ask_judge(judge: Judge, judged: EventJudge, text: str) -> JudgeVerdict:
-    """The judge's verdict on a triggering ``text``. Events are tested as the action is logged, inside the
-    episode's event loop, where a model judge cannot run its own: it runs in a thread of its own while the
-    episode waits for the world's answer.
+class EventReadings:
+    """The judge's readings of the triggering texts of reactive events, in one episode.
+
+    A trigger is tested as the action is logged, synchronously, but a model judge is awaited: a trigger
+    whose text has no verdict yet asks for one here and cannot tell yet (the scheduler holds it). Whoever
+    drives the episode then awaits :meth:`ask` and has the scheduler test the trigger again
+    (:meth:`~pare.sim.events.EventScheduler.retest`), before the clock moves.
     """
-    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="pare-event-judge") as pool:
-        return pool.submit(judge, judged.criterion, text, judged.facts).result()
+
+    def __init__(self, judge: Judge) -> None:
+        self.judge = judge
+        self._known: dict[Question, JudgeVerdict] = {}
+        self._waiting: dict[Question, None] = {}
+        """The questions asked and not answered yet, in the order they were asked."""
+
+    def verdict(self, judged: EventJudge, text: str) -> JudgeVerdict | None:
+        """The judge's verdict on ``text`` for ``judged``, or ``None`` (asked for) while it is not known."""
+        question = (judged.criterion, text, tuple(judged.facts))
+        known = self._known.get(question)
+        if known is None:
+            self._waiting[question] = None
+        return known
+
+    async def ask(self) -> None:
+        """Ask the judge every question waiting (side by side)."""
+        waiting, self._waiting = list(self._waiting), {}
+        if not waiting:
+            raise SimulationBug("a reactive event waits for the judge but asked it nothing")
+        try:
+            async with asyncio.TaskGroup() as group:
+                tasks = [group.create_task(self.judge(*question)) for question in waiting]
+        except BaseExceptionGroup as errors:  # the call's own error (a provider down, a cache miss)
+            raise first_error(errors) from None
+        self._known.update(zip(waiting, (task.result() for task in tasks), strict=True))
 
 
 @dataclass(frozen=True, slots=True)
@@ -237,9 +270,10 @@ class Disagreement:
         return f"{where}: the rule says {rule}, the judge {judge}{said}"
 
 
-def disagreements(scenario: Scenario, log: Sequence[LogEntry], judge: Judge) -> list[Disagreement]:
+async def disagreements(scenario: Scenario, log: Sequence[LogEntry], judge: Judge) -> list[Disagreement]:
     """Where the rule and the judge read the triggering actions in ``log`` apart, for each reactive event of
-    ``scenario`` with a ``judge`` (every triggering action, whether or not the event had fired by then).
+    ``scenario`` with a ``judge`` (every triggering action the user or the assistant made, whether or not
+    the event had fired by then).
     """
     found = []
     positions = event_positions(log)
@@ -251,10 +285,14 @@ def disagreements(scenario: Scenario, log: Sequence[LogEntry], judge: Judge) -> 
         assert isinstance(plan, _Reactive)
         for entry in log:
             text = entry.args.get(judged.field)
-            if not isinstance(text, str) or not plan.pattern.matches(entry, positions):
+            if (
+                entry.actor == "env"
+                or not isinstance(text, str)
+                or not plan.pattern.matches(entry, positions)
+            ):
                 continue
             rule = plan.if_args.matches_args(entry)
-            verdict = ask_judge(judge, judged, text)
+            verdict = await judge(judged.criterion, text, judged.facts)
             reading = verdict.passed and plan.unjudged.matches_args(entry)
             if reading != rule:
                 found.append(Disagreement(event.id, entry.index, text, rule, reading, verdict.reason))
@@ -277,22 +315,24 @@ class _Trigger:
     """
 
     def __init__(
-        self, plan: _Reactive, log: ActionLog, reader: CallReader, judge: Judge | None = None
+        self, plan: _Reactive, log: ActionLog, reader: CallReader, readings: EventReadings | None = None
     ) -> None:
         self.plan = plan
         self.log = log
         self.reader = reader
         """Reads what a triggering call told whom, and its attached files, from the apps just after it."""
-        self.judge = judge
-        """The run's judge model, for an event whose ``if_args`` on free text it reads instead."""
+        self.readings = readings
+        """The run's judge model's readings, for an event whose ``if_args`` on free text it reads instead."""
         self.met = False
         """Whether the event's condition has been met: the scheduler stops waiting (and schedules the
         event) on the first entry it :meth:`meets`."""
         self._last: tuple[LogEntry, bool, bool] | None = None
         """The latest entry tested and its verdicts: the event and its ``otherwise`` test the same entry."""
 
-    def _verdicts(self, entry: LogEntry) -> tuple[bool, bool]:
-        """Whether ``entry`` is a triggering action, and whether its arguments meet ``if_args``."""
+    def _verdicts(self, entry: LogEntry) -> tuple[bool, bool | None]:
+        """Whether ``entry`` is a triggering action, and whether its arguments meet ``if_args`` (``None``
+        while the judge's reading of its text is being asked).
+        """
         last = self._last
         if last is not None and last[0] is entry:  # entries are immutable and the log only grows
             return last[1], last[2]
@@ -300,33 +340,41 @@ class _Trigger:
         triggers = pattern.matches_call(entry) and pattern.matches(
             entry, event_positions(self.log) if pattern.needs_event_positions else None, reader
         )
-        meets_if = triggers and self._meets_if(entry)
-        self._last = (entry, triggers, meets_if)
+        meets_if = self._meets_if(entry) if triggers else False
+        if meets_if is not None:
+            self._last = (entry, triggers, meets_if)
         return triggers, meets_if
 
-    def _meets_if(self, entry: LogEntry) -> bool:
+    def _meets_if(self, entry: LogEntry) -> bool | None:
         """Whether a triggering ``entry`` says what ``if_args`` wants: by the judge model where the event
-        has one and the text is there, else by the matchers.
+        has one and the user or the assistant wrote the text (the world's own texts are the scenario's,
+        which the rule reads exactly), else by the matchers; ``None`` while the judge is being asked.
         """
-        plan, judge, reader = self.plan, self.judge, self.reader
+        plan, readings, reader = self.plan, self.readings, self.reader
         # with 'to', the reply reads what the person got: a forward's text is the forwarded email
         told = plan.pattern.people is not None
         judged = plan.judged
-        if judge is None or judged is None or not isinstance(text := entry.args.get(judged.field), str):
+        text = entry.args.get(judged.field) if judged is not None else None
+        if readings is None or judged is None or entry.actor == "env" or not isinstance(text, str):
             return plan.if_args.matches_args(entry, reader, told=told)
-        return plan.unjudged.matches_args(entry, reader, told=told) and ask_judge(judge, judged, text).passed
+        if not plan.unjudged.matches_args(entry, reader, told=told):
+            return False
+        verdict = readings.verdict(judged, text)
+        return None if verdict is None else verdict.passed
 
-    def meets(self, entry: LogEntry) -> bool:
+    def meets(self, entry: LogEntry) -> bool | None:
         triggers, meets_if = self._verdicts(entry)
         if triggers and meets_if:
             self.met = True
             return True
-        return False
+        return meets_if if triggers else False
 
-    def misses(self, entry: LogEntry) -> bool:
+    def misses(self, entry: LogEntry) -> bool | None:
         # only while the event itself still waits: once it was met, the world has answered (an entry that
         # meets the event is never a miss, so the order in which the two are tested does not matter)
         if self.met:
             return False
         triggers, meets_if = self._verdicts(entry)
-        return triggers and not meets_if
+        if not triggers:
+            return False
+        return None if meets_if is None else not meets_if

@@ -7,6 +7,7 @@ itself.
 
 from __future__ import annotations
 
+import asyncio
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, fields, replace
@@ -15,6 +16,7 @@ from types import MappingProxyType
 from typing import Any, Protocol
 
 from pare.env.attribution import Attribution, StatePath, item_key, place_of
+from pare.errors import first_error
 from pare.scenarios import explain as explaining
 from pare.scenarios.file_identity import ATTACHMENT_FIELDS, FileIdentity
 from pare.scenarios.item_text import item_text
@@ -44,16 +46,58 @@ class JudgeVerdict:
 
     passed: bool
     reason: str = ""
+    answer: str = ""
+    """The judge's answer as it gave it, which the verdict and the reason were read from."""
+    model: str = ""
+    """The model that answered (empty for a judge that is not a model)."""
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready form."""
+        return {"passed": self.passed, "reason": self.reason, "answer": self.answer, "model": self.model}
 
 
 class Judge(Protocol):
-    """A model-judged condition: ``judge(criterion, text, facts)`` says whether ``text`` meets
-    ``criterion``, given what the scenario says is true (``facts``, maybe none), and why.
+    """A model-judged condition: ``await judge(criterion, text, facts)`` says whether ``text`` meets
+    ``criterion``, given what the scenario says is true (``facts``, maybe none), and why. It is awaited in
+    the episode's event loop, so a model judge calls through the run's shared client.
     """
 
-    def __call__(self, criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
+    async def __call__(self, criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
         """The verdict on ``text``."""
         ...
+
+
+Question = tuple[str, str, tuple[str, ...]]
+"""What a judge is asked: a criterion, a text and the facts."""
+
+
+class JudgeAnswers:
+    """The judge's verdicts on the texts of one evaluation's judge checks, asked before the checks are
+    evaluated (:func:`aevaluate`): evaluating is synchronous, asking a model is not.
+    """
+
+    def __init__(self, verdicts: Mapping[Question, JudgeVerdict] | None = None) -> None:
+        self._verdicts = dict(verdicts or {})
+
+    def verdict(self, criterion: str, text: str, facts: Sequence[str]) -> JudgeVerdict:
+        """The verdict asked for ``text`` (a question never asked is a mistake of the caller's)."""
+        try:
+            return self._verdicts[(criterion, text, tuple(facts))]
+        except KeyError:
+            raise LookupError(f"the judge was never asked about {text[:60]!r} for: {criterion}") from None
+
+
+@dataclass(frozen=True, slots=True)
+class JudgedText:
+    """One text a judge check gave the judge, and the judge's verdict on it."""
+
+    entries: tuple[int, ...]
+    """The log indexes of the calls the text is from (several when the check judges them together)."""
+    verdict: JudgeVerdict
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready form."""
+        return {"entries": list(self.entries), "verdict": self.verdict.to_dict()}
 
 
 _AT_LEAST_ONE = Count(min=1)
@@ -71,13 +115,19 @@ class CheckResult:
     description: str = ""
     user_made: bool = False
     """The check failed, but would hold had the user's own work been the assistant's: the user did it."""
+    judged: tuple[JudgedText, ...] = ()
+    """A judge check read by a model: each text it gave the judge, in order, with the judge's whole answer
+    (up to the first text accepted: the rest were not sent)."""
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready form: every field, in declaration order (the values are immutable: no copies)."""
-        return {name: getattr(self, name) for name in _CHECK_FIELDS}
+        data = {name: getattr(self, name) for name in _CHECK_FIELDS}
+        data["judged"] = [text.to_dict() for text in self.judged]
+        return data
 
 
-_CHECK_FIELDS = tuple(field.name for field in fields(CheckResult))
+_CHECK_FIELDS = tuple(field.name for field in fields(CheckResult) if field.name != "judged")
+"""The fields given as they are (``judged`` holds dataclasses, turned into dicts)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -138,7 +188,7 @@ class Outcome:
         return replace(self, success=self.success and not found, side_effects=found)
 
 
-def evaluate(
+async def aevaluate(
     scenario: Scenario,
     log: Sequence[LogEntry],
     state: Mapping[str, Any],
@@ -146,9 +196,61 @@ def evaluate(
     judge: Judge | None = None,
     attribution: Attribution | None = None,
 ) -> Outcome:
+    """:func:`evaluate`, with the judge checks read by ``judge`` (awaited in the running event loop, so a
+    model judge's calls go through the run's client and its endpoint's limit). The judge checks' texts are
+    asked first, the checks side by side, each check's texts in turn (an accepted text ends its judging, as
+    the check reads them); then the checks are evaluated on the answers.
+    """
+    answers = None if judge is None else await _ask(scenario, log, state, judge)
+    return evaluate(scenario, log, state, answers=answers, attribution=attribution)
+
+
+async def _ask(
+    scenario: Scenario, log: Sequence[LogEntry], state: Mapping[str, Any], judge: Judge
+) -> JudgeAnswers:
+    """The judge's verdicts on every text the judge checks of ``scenario`` would read (one question asked
+    once, however many checks ask it).
+    """
+    compiled = compiled_goals(scenario)
+    rules = [rule for _, rules in compiled.goals for rule in rules if isinstance(rule, _JudgeRule)]
+    if not rules:
+        return JudgeAnswers()
+    view = _StateView(state)
+    context = _Context(
+        scenario.start, log, view, Attribution(), None, CallReader.of_state(view.whole, compiled.files)
+    )
+    asked: dict[Question, asyncio.Task[JudgeVerdict]] = {}
+    try:
+        async with asyncio.TaskGroup() as group:  # one failing call cancels the others
+
+            async def judged(rule: _JudgeRule) -> None:
+                check = rule.judge
+                for _, text in rule.texts(context).candidates:
+                    question = (check.criterion, text, tuple(check.facts))
+                    if question not in asked:
+                        asked[question] = group.create_task(judge(*question))
+                    if (await asked[question]).passed:
+                        return
+
+            for rule in rules:
+                group.create_task(judged(rule))
+    except BaseExceptionGroup as errors:  # the call's own error (a provider down, a cache miss), as raised
+        raise first_error(errors) from None
+    return JudgeAnswers({question: task.result() for question, task in asked.items()})
+
+
+def evaluate(
+    scenario: Scenario,
+    log: Sequence[LogEntry],
+    state: Mapping[str, Any],
+    *,
+    answers: JudgeAnswers | None = None,
+    attribution: Attribution | None = None,
+) -> Outcome:
     """Evaluate every goal of ``scenario`` on ``log`` and the final ``state`` snapshot.
 
-    Judge checks use ``judge`` when given, else their deterministic fallback. ``attribution`` (the
+    Judge checks read the judge's ``answers`` when given (asked beforehand: :func:`aevaluate`), else use
+    their deterministic fallback. ``attribution`` (the
     environment's) says who last set each field of each item, for state checks with ``by``: an item is an
     actor's work when it wrote a value the check reads; without it nothing counts as anyone's work. A
     failing check on the assistant's work is evaluated again with the user's work credited to the
@@ -157,7 +259,7 @@ def evaluate(
     view = _StateView(state)
     compiled = compiled_goals(scenario)
     reader = CallReader.of_state(view.whole, compiled.files)
-    context = _Context(scenario.start, log, view, attribution or Attribution(), judge, reader)
+    context = _Context(scenario.start, log, view, attribution or Attribution(), answers, reader)
     credited = _Context(scenario.start, log, view, context.attribution, None, reader, credit_user=True)
     goals = []
     for goal, rules in compiled.goals:
@@ -165,8 +267,9 @@ def evaluate(
         for index, rule in enumerate(rules):
             passed, detail = rule.verdict(context)
             user_made = not passed and rule.on_the_assistant and rule.verdict(credited, explain=False)[0]
+            judged = rule.judged(context)
             results.append(
-                CheckResult(goal.id, index, rule.form, passed, detail, rule.description, user_made)
+                CheckResult(goal.id, index, rule.form, passed, detail, rule.description, user_made, judged)
             )
         goals.append(GoalResult(goal.id, goal.description, all(r.passed for r in results), tuple(results)))
     success = all(goal.passed for goal in goals)
@@ -215,7 +318,7 @@ def state_check_places(
 class _Context:
     """What the checks of one evaluation read (a plain class: two are made for every evaluation)."""
 
-    __slots__ = ("attribution", "credit_user", "judge", "log", "reader", "start", "state")
+    __slots__ = ("answers", "attribution", "credit_user", "log", "reader", "start", "state")
 
     def __init__(
         self,
@@ -223,7 +326,7 @@ class _Context:
         log: Sequence[LogEntry],
         state: _StateView,
         attribution: Attribution,
-        judge: Judge | None,
+        answers: JudgeAnswers | None,
         reader: CallReader,
         *,
         credit_user: bool = False,
@@ -232,7 +335,8 @@ class _Context:
         self.log = log
         self.state = state
         self.attribution = attribution
-        self.judge = judge
+        self.answers = answers
+        """The judge's verdicts for the judge checks (``None``: no judge model, the fallbacks decide)."""
         self.reader = reader
         """Reads the calls against the final state: whom each told, attached files by content."""
         self.credit_user = credit_user
@@ -344,6 +448,12 @@ class _Rule(ABC):
     @abstractmethod
     def wanted(self) -> str:
         """What the check looks for, as its verdicts say it (for a person reading the scenario)."""
+
+    def judged(self, context: _Context) -> tuple[JudgedText, ...]:
+        """The texts a judge model read for the check in ``context``, with its verdicts (none but for a
+        judge check read by a model).
+        """
+        return ()
 
 
 class _ActionRule(_Rule):
@@ -493,6 +603,20 @@ class _StateRule(_Rule):
         ]
 
 
+@dataclass(frozen=True, slots=True)
+class _Texts:
+    """What a judge check reads: the calls with a text, and the texts it gives the judge."""
+
+    described: str
+    """The pattern, as the check's sentence names it."""
+    read: list[LogEntry]
+    """The matched calls that carry a text in the check's field, in log order."""
+    candidates: list[tuple[tuple[int, ...], str]]
+    """Each text given to the judge (or the fallback), with the log indexes of the calls it is from."""
+    sent: list[datetime]
+    """When each call in ``read`` was made."""
+
+
 class _JudgeRule(_Rule):
     cost = 2
 
@@ -510,39 +634,52 @@ class _JudgeRule(_Rule):
             f"(without a judge model: {self.fallback_text})"
         )
 
-    def verdict(self, context: _Context, *, explain: bool = True) -> tuple[bool, str]:
+    def texts(self, context: _Context) -> _Texts:
+        """The texts the check reads in ``context``: each matched call's text, or all of them as one."""
         check = self.judge
         pattern, described = self.pattern.of(context)
         reader = context.reader
         found = [(entry, pattern.arguments(entry, reader)) for entry in pattern.find(context.log, reader)]
-        read = [entry for entry, args in found if isinstance(args.get(check.field), str)]
-        if not read:
-            return False, f"no {described} with a text in '{check.field}' to judge"
-        texts_read = [
-            (entry, args[check.field]) for entry, args in found if isinstance(args.get(check.field), str)
-        ]
-        candidates = [text for _, text in texts_read]
-        # days and times in a text are read as of when it was sent
-        sent = [entry.time for entry, _ in texts_read]
+        read = [(entry, args[check.field]) for entry, args in found if isinstance(args.get(check.field), str)]
+        candidates: list[tuple[tuple[int, ...], str]] = [((entry.index,), text) for entry, text in read]
         if check.together and len(candidates) > 1:
-            candidates = ["\n\n".join(candidates)]  # one answer sent in parts is judged as the whole
-        texts = f"{len(candidates)} text(s) ({', '.join(f'#{entry.index}' for entry in read)})"
-        judge = context.judge
-        if judge is not None:
-            verdicts = []
-            for text in candidates:  # one accepted text is enough: the rest are not sent
-                verdicts.append(judge(check.criterion, text, check.facts))
-                if verdicts[-1].passed:
-                    break
+            # one answer sent in parts is judged as the whole
+            candidates = [(tuple(entry.index for entry, _ in read), "\n\n".join(text for _, text in read))]
+        # days and times in a text are read as of when it was sent
+        return _Texts(described, [entry for entry, _ in read], candidates, [entry.time for entry, _ in read])
+
+    def judged(self, context: _Context) -> tuple[JudgedText, ...]:
+        answers = context.answers
+        if answers is None:
+            return ()
+        check, judged = self.judge, []
+        for entries, text in self.texts(
+            context
+        ).candidates:  # one accepted text is enough: the rest were not sent
+            judged.append(JudgedText(entries, answers.verdict(check.criterion, text, check.facts)))
+            if judged[-1].verdict.passed:
+                break
+        return tuple(judged)
+
+    def verdict(self, context: _Context, *, explain: bool = True) -> tuple[bool, str]:
+        check = self.judge
+        texts = self.texts(context)
+        if not texts.read:
+            return False, f"no {texts.described} with a text in '{check.field}' to judge"
+        candidates = [text for _, text in texts.candidates]
+        counted = f"{len(candidates)} text(s) ({', '.join(f'#{entry.index}' for entry in texts.read)})"
+        if context.answers is not None:
+            verdicts = [judged.verdict for judged in self.judged(context)]
             passed = verdicts[-1].passed
             said = verdicts[-1:] if passed else verdicts  # why it accepted, or why it refused each text
             reasons = [verdict.reason for verdict in said if verdict.reason]
             more = f" and {len(reasons) - _EXPLAINED} more" if len(reasons) > _EXPLAINED else ""
-            detail = f"judge {'accepted' if passed else 'rejected'} {texts} for: {check.criterion}"
+            detail = f"judge {'accepted' if passed else 'rejected'} {counted} for: {check.criterion}"
             return passed, detail + "".join(f"{JUDGE_SAID}{reason}" for reason in reasons[:_EXPLAINED]) + more
+        sent = texts.sent
         passed = any(self._holds(text, at, context.start) for text, at in zip(candidates, sent, strict=False))
         verdict = "holds" if passed else "fails"
-        detail = f"no judge model; fallback {self.fallback_text} {verdict} on {texts}"
+        detail = f"no judge model; fallback {self.fallback_text} {verdict} on {counted}"
         if explain and not passed:
             shown = []
             for text, at in zip(candidates[:_EXPLAINED], sent, strict=False):

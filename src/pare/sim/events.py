@@ -43,9 +43,14 @@ class AfterEvent:
 
 @dataclass(frozen=True, slots=True)
 class WhenLogged:
-    """Fire ``delay`` after the first action-log entry for which ``condition`` holds."""
+    """Fire ``delay`` after the first action-log entry for which ``condition`` holds.
 
-    condition: Callable[[LogEntry], bool]
+    The condition may answer ``None``: it cannot tell yet (it waits for an answer asked elsewhere, such as
+    a judge model's reading of the text). The scheduler then holds it on that entry until
+    :meth:`EventScheduler.retest`.
+    """
+
+    condition: Callable[[LogEntry], bool | None]
     delay: timedelta = timedelta(0)
     description: str = "a condition on the action log"
 
@@ -99,6 +104,9 @@ class EventScheduler:
         self.set_off: dict[str, int] = {}
         """Events waiting on a log condition that it set off, each with the index of the log entry that
         did (the action a reactive event answers); set off before it is due, so also for one still due."""
+        self._held: dict[str, list[LogEntry]] = {}
+        """Events whose condition could not tell yet on an entry, each with that entry and every entry
+        observed since, to be tested in order by :meth:`retest`."""
 
     def add(self, event: ScheduledEvent) -> None:
         """Schedule ``event``. An ``AfterEvent`` may name an event added later; :meth:`validate` checks."""
@@ -149,12 +157,47 @@ class EventScheduler:
             self._log_cursor += len(entries)
             return
         for entry in entries:
-            fired = [e for e in self._conditions if _when_logged(e).condition(entry)]
+            fired = []
+            for event in self._conditions:
+                held = self._held.get(event.event_id)
+                if held is not None:  # tested in order: not on this entry before the one it waits on
+                    held.append(entry)
+                    continue
+                holds = _when_logged(event).condition(entry)
+                if holds is None:
+                    self._held[event.event_id] = [entry]
+                elif holds:
+                    fired.append(event)
             for event in fired:
-                self._conditions.remove(event)
-                self.set_off[event.event_id] = entry.index
-                self._push(entry.time + _when_logged(event).delay, event.event_id)
+                self._set_off(event, entry)
         self._log_cursor += len(entries)
+
+    def _set_off(self, event: ScheduledEvent, entry: LogEntry) -> None:
+        self._conditions.remove(event)
+        self.set_off[event.event_id] = entry.index
+        self._push(entry.time + _when_logged(event).delay, event.event_id)
+
+    @property
+    def undecided(self) -> bool:
+        """Whether a condition waits for an answer before it can tell whether an entry meets it."""
+        return bool(self._held)
+
+    def retest(self) -> None:
+        """Test each held condition again on the entries it was held on, in order, once the answers it
+        waited for are in: it sets its event off on the first entry that meets it, or is held again where
+        it still cannot tell. Call it before the clock moves, so a reaction is due when it would have been.
+        """
+        held, self._held = self._held, {}
+        for event in [event for event in self._conditions if event.event_id in held]:
+            entries = held[event.event_id]
+            for position, entry in enumerate(entries):
+                holds = _when_logged(event).condition(entry)
+                if holds is None:
+                    self._held[event.event_id] = entries[position:]
+                    break
+                if holds:
+                    self._set_off(event, entry)
+                    break
 
     @property
     def log_cursor(self) -> int:
