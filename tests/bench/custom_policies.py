@@ -70,7 +70,7 @@ def waiting_user(context: PolicyContext) -> WaitingUser:
 
 
 def always_yes(context: PolicyContext) -> Any:
-    def judge(criterion: str, text: str, facts: Any = ()) -> JudgeVerdict:
+    async def judge(criterion: str, text: str, facts: Any = ()) -> JudgeVerdict:
         return JudgeVerdict(True, "always yes")
 
     return judge

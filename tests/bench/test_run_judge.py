@@ -17,8 +17,9 @@ import pytest
 from pare.agents.judge import JUDGE_PROMPT
 from pare.bench.runconfig import build_config
 from pare.bench.runner import EpisodeOutput, plan_episodes, play_apart, select_scenarios
-from pare.bench.store import CACHE_FILE, load_run
+from pare.bench.store import CACHE_FILE
 from pare.cli import main
+from pare.results.run_folder import load_run
 from pare.testing import ChatServer, Reply, completion, proactive_play
 from tests.scenarios.helpers import base, to_yaml
 

@@ -11,7 +11,7 @@ from typing import Any
 
 import pytest
 
-from pare.bench.store import EPISODES, MANIFEST
+from pare.results.run_folder import EPISODES, MANIFEST
 from pare.cli import main
 from pare.testing import ChatServer, Reply, completion, conversation_role, proactive_play
 
