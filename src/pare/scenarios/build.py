@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from datetime import timedelta
 from typing import Any
 
@@ -204,6 +204,10 @@ def _plan(event: Event, scenario: Scenario) -> _Timed | _Reactive:
     )
 
 
+_TOLD_TEXT = ("content",)
+"""The argument that carries what a person was told: read together over a reactive event's triggers."""
+
+
 def ask_judge(judge: Judge, judged: EventJudge, text: str) -> JudgeVerdict:
     """The judge's verdict on a triggering ``text``. Events are tested as the action is logged, inside the
     episode's event loop, where a model judge cannot run its own: it runs in a thread of its own while the
@@ -313,8 +317,38 @@ class _Trigger:
         told = plan.pattern.people is not None
         judged = plan.judged
         if judge is None or judged is None or not isinstance(text := entry.args.get(judged.field), str):
-            return plan.if_args.matches_args(entry, reader, told=told)
-        return plan.unjudged.matches_args(entry, reader, told=told) and ask_judge(judge, judged, text).passed
+            if plan.if_args.matches_args(entry, reader, told=told):
+                return True
+            together = self._told_together(entry) if told else None
+            return together is not None and plan.if_args.matches_args(together)
+        if plan.unjudged.matches_args(entry, reader, told=told) and ask_judge(judge, judged, text).passed:
+            return True
+        together = self._told_together(entry) if told else None
+        if together is None or not isinstance(joined := together.args.get(judged.field), str):
+            return False
+        return plan.unjudged.matches_args(together) and ask_judge(judge, judged, joined).passed
+
+    def _told_together(self, entry: LogEntry) -> LogEntry | None:
+        """``entry`` as everything the person of ``to`` was told by the triggering calls so far, its text
+        the texts of all of them in the order sent (``None`` when it is the first): a reply waits for the
+        facts, not for them to come in one message.
+        """
+        pattern, reader = self.plan.pattern, self.reader
+        events = event_positions(self.log) if pattern.needs_event_positions else None
+        earlier = [
+            before
+            for before in self.log
+            if before.index < entry.index and pattern.matches(before, events, reader)
+        ]
+        if not earlier:
+            return None
+        said = [reader.args(call, told=True) for call in (*earlier, entry)]
+        args = dict(said[-1])
+        for name in _TOLD_TEXT:
+            texts = [text for call in said if isinstance(text := call.get(name), str)]
+            if len(texts) > 1:
+                args[name] = "\n\n".join(texts)
+        return replace(entry, args=args)
 
     def meets(self, entry: LogEntry) -> bool:
         triggers, meets_if = self._verdicts(entry)
