@@ -534,8 +534,7 @@ class _JudgeRule(_Rule):
         candidates = [text for _, text in texts_read]
         # days and times in a text are read as of when it was sent
         sent = [entry.time for entry, _ in texts_read]
-        together = check.together if check.together is not None else check.action.to is not None
-        if together and len(candidates) > 1:
+        if check.together and len(candidates) > 1:
             candidates = ["\n\n".join(candidates)]  # one answer sent in parts is judged as the whole
         texts = f"{len(candidates)} text(s) ({', '.join(f'#{entry.index}' for entry in read)})"
         judge = context.judge

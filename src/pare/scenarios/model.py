@@ -370,6 +370,16 @@ class JudgeCheck(_Strict):
     def _check_facts(cls, value: list[str]) -> list[str]:
         return _checked_facts(value)
 
+    @model_validator(mode="before")
+    @classmethod
+    def _together_where_told(cls, data: Any) -> Any:
+        # decided once, here: a check without 'to' dumps (and hashes) as before the default changed
+        if isinstance(data, dict) and data.get("together") is None:
+            action = data.get("action")
+            told = action.get("to") if isinstance(action, dict) else getattr(action, "to", None)
+            data = {**data, "together": told is not None}
+        return data
+
     @model_serializer(mode="wrap")
     def _dump(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
         return _without_unused(handler(self), "facts", self.facts)
