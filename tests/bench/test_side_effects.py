@@ -114,6 +114,16 @@ PROBES = [
         "changed notes.notes note-dumplings",
         id="wipes-a-note",
     ),
+    pytest.param(  # the item is one the solutions edit, but not this field of it
+        "colleague_new_number_update_contact",
+        {
+            "tool": "contacts__edit_contact",
+            "args": {"contact_id": "contact-priya-raman", "updates": {"email": "priya.raman@harbourline.nl"}},
+        },
+        None,
+        "changed contacts.contacts contact-priya-raman: email",
+        id="writes-a-field-no-solution-writes",
+    ),
 ]
 
 
@@ -205,6 +215,19 @@ def test_the_envelope_is_kept_per_scenario_content() -> None:
     first = asyncio.run(expected_envelope(scenario))
     assert first is asyncio.run(expected_envelope(scenario))
     assert ("calendar", "events", "changed", "ev-checkup-sam") in first.counts
+    moved = first.fields[("calendar", "events", "changed", "ev-checkup-sam")]
+    assert {"start_datetime", "end_datetime"} <= moved
+
+
+def test_the_envelope_keeps_the_fields_each_edit_may_write() -> None:
+    key = ("contacts", "contacts", "changed", "c1")
+    envelope = Envelope.of([[Change("contacts", "contacts", "changed", "c1", fields=("phone",))]])
+    assert Envelope.from_json(envelope.to_json()) == envelope
+    assert Envelope.from_json([[*key, 1]]).fields == {}  # a row written before fields were kept
+    wider = Change("contacts", "contacts", "changed", "c1", fields=("email", "phone"))
+    (extra,) = envelope.unexpected([wider])
+    assert extra.fields == ("email",)
+    assert envelope.unexpected([Change("contacts", "contacts", "changed", "c1", fields=("phone",))]) == []
 
 
 @pytest.mark.parametrize(
@@ -217,7 +240,10 @@ def test_the_envelope_is_kept_per_scenario_content() -> None:
             },
             [],
         ),
-        ({"tool": "email__delete_email", "args": {"email_id": "e1"}}, ["changed email.emails e1 ('Lunch')"]),
+        (
+            {"tool": "email__delete_email", "args": {"email_id": "e1"}},
+            ["changed email.emails e1 ('Lunch'): folder"],
+        ),
         (
             {"tool": "calendar__delete_calendar_event", "args": {"event_id": "ev1"}},
             ["removed calendar.events ev1 ('Standup')"],

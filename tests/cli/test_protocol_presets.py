@@ -11,8 +11,8 @@ from typing import Any
 
 import pytest
 
-from pare.results.run_folder import EPISODES, MANIFEST
 from pare.cli import main
+from pare.results.run_folder import EPISODES, MANIFEST
 from pare.testing import ChatServer, Reply, completion, conversation_role, proactive_play
 
 KEY_VARIABLE = "PARE_PROTOCOL_TEST_KEY"

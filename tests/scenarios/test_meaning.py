@@ -103,6 +103,10 @@ def test_negated_clauses_affirm_nothing(text: str, affirmed: bool) -> None:
         ("No, Friday is fine", False),
         ("Good news, Zoe said yes for Friday night! No need to worry.", False),
         ("No bus needed, a taxi will meet you at Central at midnight", False),
+        ("Afraid the audit review is not going ahead this afternoon", True),
+        ("They've called off Friday's session", True),
+        ("The offsite is scrapped, sorry", True),
+        ("Friday's session is not happening, but Monday works", False),
     ],
 )
 def test_declines(text: str, declined: bool) -> None:

@@ -165,6 +165,50 @@ def test_the_world_reacts_to_whoever_was_told_through_any_channel() -> None:
     assert not {"ann_answers", "ann_answers_otherwise"} & set(env.scheduler.completed)
 
 
+def test_the_world_reads_what_the_person_was_told_together() -> None:
+    reaction = {
+        "id": "ann_answers",
+        "when": {"to": [ANN, "user-ann"]},
+        "if_args": {"content": {"mentions_time": "day+3 12:30"}},
+        "tool": "messaging__receive_message",
+        "args": {"message_id": "msg-ann-yes", "sender": "user-ann", "content": "Great!"},
+    }
+    scenario = _scenario(TOLD_ANN, events=[reaction])
+    day = ("messaging__send_message", {"user_id": "user-ann", "content": "Lunch on Thursday?"})
+    clock = ("email__send_email", {"recipients": [ANN], "subject": "Lunch", "content": "At 12:30, I mean."})
+    env, _ = _played(scenario, day, clock)
+    assert "ann_answers" in env.scheduler.completed  # the day in a message, the time in an email
+    to_bob = ("messaging__send_message", {"user_id": "user-bob", "content": "At 12:30, I mean."})
+    env, _ = _played(scenario, day, to_bob)
+    assert "ann_answers" not in env.scheduler.completed  # what Bob was told, Ann was not
+
+
+def _judged_told_ann(**options: Any) -> Scenario:
+    judge = {
+        "criterion": "Ann is told lunch is on Thursday at 12:30, and no other day.",
+        "action": {"to": [ANN, "user-ann"]},
+        "fallback": {"mentions_time": "day+3 12:30", "not": {"mentions_day": "day+4"}},
+        **options,
+    }
+    return _scenario({"judge": judge})
+
+
+DAY_TO_ANN = ("messaging__send_message", {"user_id": "user-ann", "content": "Lunch on Thursday?"})
+CLOCK_TO_ANN = (
+    "email__send_email",
+    {"recipients": [ANN], "subject": "Lunch", "content": "At 12:30, I mean."},
+)
+
+
+def test_a_judge_of_what_a_person_was_told_reads_all_of_it_together() -> None:
+    assert _played(_judged_told_ann(), DAY_TO_ANN, CLOCK_TO_ANN)[1]  # the facts over two messages
+    assert not _played(_judged_told_ann(together=False), DAY_TO_ANN, CLOCK_TO_ANN)[1]
+    right = ("messaging__send_message", {"user_id": "user-ann", "content": "Lunch Thursday at 12:30."})
+    wrong = ("messaging__send_message", {"user_id": "user-ann", "content": "Or Friday, whichever."})
+    assert _played(_judged_told_ann(), right)[1]
+    assert not _played(_judged_told_ann(), right, wrong)[1]  # a contradicting message counts against
+
+
 def test_a_renamed_copy_is_the_file_and_a_namesake_is_not() -> None:
     sent_menu = {"action": {"to": ANN, "args": {"attachments": {"contains": "menu.txt"}}}}
     scenario = _scenario(sent_menu)

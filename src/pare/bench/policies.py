@@ -15,7 +15,8 @@ between processes, names can. A name is either
 A factory is called once per episode with one argument, a :class:`PolicyContext`, and returns a new
 policy: an :class:`~pare.agents.policy.AssistantPolicy` for the assistant, a
 :class:`~pare.agents.policy.UserPolicy` for the user, a :class:`~pare.scenarios.checks.Judge` (an async
-callable: ``await judge(criterion, text, facts)`` gives a ``JudgeVerdict``) for the judge. A class whose constructor takes the context is a factory too.
+callable: ``await judge(criterion, text, facts)`` gives a ``JudgeVerdict``) for the judge. A class whose
+constructor takes the context is a factory too.
 """
 
 from __future__ import annotations

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import asyncio
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from datetime import timedelta
 from typing import Any
 
@@ -210,6 +210,10 @@ def _plan(event: Event, scenario: Scenario) -> _Timed | _Reactive:
     )
 
 
+_TOLD_TEXT = ("content",)
+"""The argument that carries what a person was told: read together over a reactive event's triggers."""
+
+
 class EventReadings:
     """The judge's readings of the triggering texts of reactive events, in one episode.
 
@@ -356,11 +360,44 @@ class _Trigger:
         judged = plan.judged
         text = entry.args.get(judged.field) if judged is not None else None
         if readings is None or judged is None or entry.actor == "env" or not isinstance(text, str):
-            return plan.if_args.matches_args(entry, reader, told=told)
-        if not plan.unjudged.matches_args(entry, reader, told=told):
+            if plan.if_args.matches_args(entry, reader, told=told):
+                return True
+            together = self._told_together(entry) if told else None
+            return together is not None and plan.if_args.matches_args(together)
+        if plan.unjudged.matches_args(entry, reader, told=told):
+            verdict = readings.verdict(judged, text)
+            if verdict is None or verdict.passed:  # not known yet, or this message alone says it
+                return None if verdict is None else True
+        # a reply waits for the facts, not for them to come in one message
+        together = self._told_together(entry) if told else None
+        if together is None or not isinstance(joined := together.args.get(judged.field), str):
             return False
-        verdict = readings.verdict(judged, text)
+        if not plan.unjudged.matches_args(together):
+            return False
+        verdict = readings.verdict(judged, joined)
         return None if verdict is None else verdict.passed
+
+    def _told_together(self, entry: LogEntry) -> LogEntry | None:
+        """``entry`` as everything the person of ``to`` was told by the triggering calls so far, its text
+        the texts of all of them in the order sent (``None`` when it is the first): a reply waits for the
+        facts, not for them to come in one message.
+        """
+        pattern, reader = self.plan.pattern, self.reader
+        events = event_positions(self.log) if pattern.needs_event_positions else None
+        earlier = [
+            before
+            for before in self.log
+            if before.index < entry.index and pattern.matches(before, events, reader)
+        ]
+        if not earlier:
+            return None
+        said = [reader.args(call, told=True) for call in (*earlier, entry)]
+        args = dict(said[-1])
+        for name in _TOLD_TEXT:
+            texts = [text for call in said if isinstance(text := call.get(name), str)]
+            if len(texts) > 1:
+                args[name] = "\n\n".join(texts)
+        return replace(entry, args=args)
 
     def meets(self, entry: LogEntry) -> bool | None:
         triggers, meets_if = self._verdicts(entry)

@@ -34,6 +34,7 @@ from pare.scenarios.model import (
     StateCheck,
     as_count,
 )
+from pare.scenarios.occurrences import DUE_FIELD, occurrence_records
 from pare.scenarios.patterns import CompiledPattern
 from pare.scenarios.reading import CallReader
 from pare.scenarios.side_effects import Change
@@ -513,6 +514,8 @@ class _StateRule(_Rule):
         self.counted = self.count.describe()
         self.read = self.where.read()
         """The item fields the check reads: what an actor must have written for an item to be its work."""
+        self.every_occurrence = self.count.max == 0 and DUE_FIELD in self.read
+        """Whether a repeating item is forbidden when one of its occurrences is (:mod:`.occurrences`)."""
 
     def wanted(self) -> str:
         made = f", made by the {self.state.by}" if self.state.by is not None else ""
@@ -546,7 +549,14 @@ class _StateRule(_Rule):
                 f"{check.path} is not a collection (it is {type(value).__name__}); use 'value' to match it",
             )
         test, reader = self.where.test, context.reader
-        matching = [(key, record) for key, _, record in items if test(record, key, start, reader)]
+        if self.every_occurrence:
+            matching = [
+                (key, record)
+                for key, _, record in items
+                if any(test(view, key, start, reader) for view in occurrence_records(record))
+            ]
+        else:
+            matching = [(key, record) for key, _, record in items if test(record, key, start, reader)]
         detail = f"{check.path}: {len(matching)} of {len(items)} items match {self.condition}"
         if makers is None:
             return self.count.allows(len(matching)), f"{detail}; wanted {self.counted}"

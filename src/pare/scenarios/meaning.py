@@ -41,6 +41,14 @@ def _edge(char: str, *, before: bool) -> str:
     return ""
 
 
+def _after_sign(parts: list[str], at: int) -> bool:
+    """Whether the separator ``parts[at]`` (of a piece split at spaces and hyphens) follows a word that
+    ends in a sign, not a letter or a digit, and is itself spaces only.
+    """
+    before = parts[at - 1] if at else ""
+    return " " in parts[at] and "-" not in parts[at] and bool(before) and not before[-1].isalnum()
+
+
 @lru_cache(maxsize=4096)
 def word_pattern(piece: str) -> re.Pattern[str]:
     """A case-insensitive pattern finding ``piece`` at word boundaries (see the module docstring)."""
@@ -51,8 +59,15 @@ def word_pattern(piece: str) -> re.Pattern[str]:
         raise ValueError(f"{piece!r} has no text besides '*'")
     # A space in the piece also finds a hyphen, and a hyphen also a space or nothing: "dry clean*" and
     # "dry-clean*" both find "dry cleaning", "dry-cleaning" and (for the hyphen) "drycleaning".
+    # A space after a stop or other sign may also be left out: "no. 14" finds "no.14" as well.
+    parts = re.split(r"([ -])", core)
     body = "".join(
-        {" ": r"[\s-]+", "-": r"[\s-]?"}.get(part, re.escape(part)) for part in re.split(r"([ -])", core)
+        (r"[\s-]*" if part == " " and _after_sign(parts, at) else r"[\s-]+")
+        if part == " "
+        else r"[\s-]?"
+        if part == "-"
+        else re.escape(part)
+        for at, part in enumerate(parts)
     )
     left = "" if open_start else _edge(core[0], before=True)
     right = "" if open_end else _edge(core[-1], before=False)
@@ -87,9 +102,13 @@ class WordFinder:
         plain = core.isascii() and bool(parts[0]) and bool(parts[-1])
         self.words: tuple[str, ...] | None = tuple(parts[::2]) if plain else None
         """The piece's words, lowercased, as sought in ASCII text; ``None`` when only the pattern finds it."""
-        self.gaps = tuple((run.count(" "), None if " " in run else len(run)) for run in parts[1::2])
+        self.gaps = tuple(
+            (0 if _after_sign(parts, 2 * at + 1) else run.count(" "), None if " " in run else len(run))
+            for at, run in enumerate(parts[1::2])
+        )
         """The fewest and most separators between two words (``None``: no most): a space in the piece
-        stands for one or more, a hyphen for one or none."""
+        stands for one or more (none after a sign such as a stop: "no. 14" finds "no.14"), a hyphen for
+        one or none."""
         first, last = core[0], core[-1]
         self._letter_before = not open_start and first.isalpha()
         self._digit_before = not open_start and first.isdigit()
@@ -245,6 +264,15 @@ DECLINE_CUES: tuple[str, ...] = (
     "have to cancel",
     "need to cancel",
     "must cancel",
+    # a plan that is off, said without "cancel": the meeting is "called off", "not going ahead", "scrapped"
+    "called off",
+    "call it off",
+    "not going ahead",
+    "won't go ahead",
+    "will not go ahead",
+    "not happening",
+    "scrapped",
+    "off the table",
     "won't make it",
     "not going to make",
     "can't take",
@@ -452,6 +480,23 @@ def _denies(clause: str) -> bool:
 
 
 # -- days and clock times (read by pare.scenarios.timewords) ---------------------------------------------
+_BOUND_CLAUSE = re.compile(
+    r"(?<![^\W\d_])(?:before|until|till|by the time|ahead of when)\s+(?:you|she|he|they|we|i|it)"
+    r"(?:'(?:re|s|ll|m|ve|d))?\s+\S.*",
+    re.IGNORECASE | re.DOTALL,
+)
+"""A subordinate clause of someone's own act that bounds the plan: "I'll pop round before you head off on
+Thursday" plans a visit before Thursday, not on it."""
+
+
+def without_bound(clause: str) -> str:
+    """``clause`` without a bounding clause ("before you fly on Thursday"): the day such a clause names is
+    when the plan must be done by, not a day the clause affirms.
+    """
+    return _BOUND_CLAUSE.sub("", clause) if has_any(clause, _BOUND_WORDS) else clause
+
+
+_BOUND_WORDS = ("before", "until", "till", "by the time", "ahead of when")
 
 
 @lru_cache(maxsize=4096)
@@ -464,7 +509,7 @@ def _affirmed_mentions(text: str, anchor: datetime) -> tuple[tuple[Mention, ...]
     for sentence in _SENTENCE_BREAK.split(normalise_quotes(text)):
         group: list[Mention] = []
         for clause in affirmed_clauses(sentence):
-            group.extend(mentions(clause, anchor))
+            group.extend(mentions(without_bound(clause), anchor))
         if group:
             groups.append(tuple(group))
     return tuple(groups)

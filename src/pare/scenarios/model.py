@@ -337,18 +337,21 @@ class JudgeCheck(_Strict):
     """Free text judged by a model against a criterion, with a deterministic fallback.
 
     The text is the argument ``field`` of the actions matched by ``action``; the check holds when one of
-    them meets the criterion, or, with ``together``, when all of them read as one text (an answer that
-    may come in several messages) do. Without a judge model, ``fallback`` (a matcher on the same text)
-    decides.
+    them meets the criterion, or, with ``together`` (the default where ``action`` has ``to``), when all of
+    them read as one text (an answer that may come in several messages) do. Without a judge model,
+    ``fallback`` (a matcher on the same text) decides.
     """
 
     criterion: str = Field(min_length=1, description="What the text must do, for the judge model.")
     action: ActionPattern = Field(description="Which actions carry the text.")
     field: str = Field(default="content", description="The argument holding the text.")
-    together: bool = Field(
-        default=False,
+    together: bool | None = Field(
+        default=None,
         description="Judge the texts of all matched actions as one (in the order they were made), for an "
-        "answer that may be split over several messages; by default each is judged alone and one must pass.",
+        "answer that may be split over several messages; false judges each alone and one must pass. By "
+        "default, together where the action names who was told ('to': what a person knows is everything "
+        "they were told, so facts split over two messages count and a contradicting one counts against), "
+        "else each alone.",
     )
     fallback: Matcher = Field(description="A matcher on the text, used when no judge model is configured.")
     facts: list[str] = Field(
@@ -366,6 +369,16 @@ class JudgeCheck(_Strict):
     @classmethod
     def _check_facts(cls, value: list[str]) -> list[str]:
         return _checked_facts(value)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _together_where_told(cls, data: Any) -> Any:
+        # decided once, here: a check without 'to' dumps (and hashes) as before the default changed
+        if isinstance(data, dict) and data.get("together") is None:
+            action = data.get("action")
+            told = action.get("to") if isinstance(action, dict) else getattr(action, "to", None)
+            data = {**data, "together": told is not None}
+        return data
 
     @model_serializer(mode="wrap")
     def _dump(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
