@@ -31,9 +31,10 @@ like the variants (side effects included): a mutant must fail unless the scenari
 (``equivalent_mutants``), a rewrite must pass. Their verdicts are reported as the library's mutation score,
 and a surviving mutant or a failing rewrite is a breach like a misjudged variant.
 
-Warnings do not fail the gate: a reactive reply that restates what the assistant was meant to find, an
-``otherwise_ok`` that the variant's run never needed and, given a judge model, a triggering text that a
-reactive event's rule and the judge read apart.
+Warnings do not fail the gate: a reactive reply that restates what the assistant was meant to find, a
+text a goal looks for in the assistant's work that no screen of the user's shows
+(:mod:`pare.scenarios.user_reach`), an ``otherwise_ok`` that the variant's run never needed and, given a
+judge model, a triggering text that a reactive event's rule and the judge read apart.
 """
 
 from __future__ import annotations
@@ -58,6 +59,7 @@ from pare.scenarios.mutants import rewrites as generated_rewrites
 from pare.scenarios.oracle import BusyUser, OracleAssistant, OracleUser, SlowUser, UnrelatedAssistant
 from pare.scenarios.side_effects import Envelope
 from pare.scenarios.stats import FREE_TEXT_FIELDS
+from pare.scenarios.user_reach import unseen_facts
 
 T = TypeVar("T")
 
@@ -236,7 +238,11 @@ def check_scenario(
         )
         verdict = _verdict(name, scenario, users[name], result, expected, why, fails.get(name, []))
         verdicts.append(_with_reactions(verdict, scenario, result, excused.get(name, frozenset())))
-    warnings = [*restated_answers(scenario), *(line for run in verdicts for line in run.warnings)]
+    warnings = [
+        *restated_answers(scenario),
+        *(fact.warning() for fact in unseen_facts(scenario)),
+        *(line for run in verdicts for line in run.warnings),
+    ]
     warnings.extend(line for lines in apart for line in lines)
     return ScenarioVerdict(
         scenario.id,

@@ -183,4 +183,6 @@ def gate_table(scenario: Scenario) -> Table:
         )
     for problem in verdict.problems:
         table.add_row("(declarations)", "", "[red]breach[/red]", "", plain_text(problem))
+    for warning in verdict.warnings:
+        table.add_row("(warning)", "", "[yellow]warning[/yellow]", "", plain_text(warning))
     return table
