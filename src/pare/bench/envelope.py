@@ -22,9 +22,6 @@ from pare.scenarios.side_effects import Change, Envelope
 
 _KNOWN: dict[str, Envelope] = {}
 """Envelopes of this process, by :func:`_key`."""
-_BY_OBJECT: dict[int, tuple[Scenario, Envelope]] = {}
-"""Envelopes by the scenario object's id (kept with it, so the id is not reused while the entry lives): a
-scenario not read from the parsed-scenario cache computes its content hash afresh each time it is asked."""
 _KEPT = 4096
 
 
@@ -35,9 +32,9 @@ def envelope_solutions(scenario: Scenario) -> list[str | None]:
 
 async def expected_envelope(scenario: Scenario) -> Envelope:
     """The envelope of ``scenario``: from memory, from disk, or by playing its solutions now."""
-    same = _BY_OBJECT.get(id(scenario))
-    if same is not None and same[0] is scenario:
-        return same[1]
+    same: Envelope | None = scenario.known(Envelope)
+    if same is not None:
+        return same
     key = _key(scenario)
     known = _KNOWN.get(key) or _read(key)
     if known is not None:
@@ -66,12 +63,10 @@ def remember(scenario: Scenario, played: Iterable[Sequence[Change]]) -> Envelope
 
 
 def _keep(scenario: Scenario, key: str, envelope: Envelope) -> Envelope:
-    if len(_KNOWN) >= _KEPT or len(_BY_OBJECT) >= _KEPT:  # a long-lived process loading scenarios again
+    if len(_KNOWN) >= _KEPT:  # a long-lived process loading scenarios again
         _KNOWN.clear()
-        _BY_OBJECT.clear()
     _KNOWN[key] = envelope
-    _BY_OBJECT[id(scenario)] = (scenario, envelope)
-    return envelope
+    return scenario.keep(Envelope, envelope)
 
 
 def _key(scenario: Scenario) -> str:

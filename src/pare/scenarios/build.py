@@ -42,13 +42,13 @@ def build_environment(
     assistant wrote through it; without, by their ``if_args``.
     """
     settings = (config or EnvConfig()).model_copy(update={"start_time": scenario.start})
-    blueprint = _known_blueprint(scenario)
+    blueprint: _Blueprint | None = scenario.known(_Blueprint)
     if blueprint is None:
         env = Environment([app for app in scenario.all_apps if app not in CORE_APPS], settings)
         # The first episode of a scenario validates and checks its seed (errors are raised here, and
         # again for every later build, since nothing is kept); its loaded states become the blueprint.
         env.load({app: prepare_seed(app, data, scenario.start)[0] for app, data in scenario.seed.items()})
-        blueprint = _remember(_Blueprint.of(scenario, env))
+        blueprint = scenario.keep(_Blueprint, _Blueprint.of(scenario, env))
     else:
         env = Environment(blueprint.apps, settings)
         blueprint.seed(env)
@@ -124,8 +124,6 @@ class _Otherwise:
 class _Blueprint:
     """A scenario's world before its first call, shared (read only) by all its episodes."""
 
-    scenario: Scenario
-    """Kept so that the scenario's id, the cache key, is not reused while the blueprint lives."""
     apps: tuple[str, ...]
     """The apps besides the core ones."""
     states: tuple[tuple[str, SeedState], ...]
@@ -141,7 +139,6 @@ class _Blueprint:
     def of(cls, scenario: Scenario, env: Environment) -> _Blueprint:
         """The blueprint of ``scenario``, from ``env``: an environment for it whose seed was just loaded."""
         return cls(
-            scenario=scenario,
             apps=tuple(app for app in scenario.all_apps if app not in CORE_APPS),
             states=tuple((app, SeedState.of(env.apps[app].state)) for app in scenario.seed),
             events=tuple(_plan(event, scenario) for event in scenario.events),
@@ -152,22 +149,6 @@ class _Blueprint:
         """Give each seeded app of ``env`` its seed state (its own copy, made if it reads it)."""
         for app, state in self.states:
             env.app(app).adopt_seed(state)
-
-
-_BLUEPRINTS: dict[int, _Blueprint] = {}
-"""Blueprints by the scenario object's id (each keeps its scenario, so the id is not reused)."""
-
-
-def _known_blueprint(scenario: Scenario) -> _Blueprint | None:
-    known = _BLUEPRINTS.get(id(scenario))
-    return known if known is not None and known.scenario is scenario else None
-
-
-def _remember(blueprint: _Blueprint) -> _Blueprint:
-    if len(_BLUEPRINTS) >= 1024:  # a long-lived process that loads scenarios again and again
-        _BLUEPRINTS.clear()
-    _BLUEPRINTS[id(blueprint.scenario)] = blueprint
-    return blueprint
 
 
 def _fresh(value: Any) -> Any:

@@ -734,11 +734,6 @@ class CompiledGoals:
         )
 
 
-_COMPILED: dict[int, tuple[Scenario, CompiledGoals]] = {}
-"""Each scenario's compiled goals, by the scenario object's id (kept with it, so the id is not reused
-while the entry lives). A scenario is immutable once loaded; a changed copy is another object."""
-
-
 def check_sentences(scenario: Scenario) -> dict[str, list[str]]:
     """Each goal's checks as sentences, by goal id: the check's own ``description`` when it has one, then
     what the check looks for (``pare scenarios review`` shows them).
@@ -756,14 +751,7 @@ def compiled_goals(scenario: Scenario) -> CompiledGoals:
     """``scenario``'s goals compiled, once per scenario object: every episode of it, and every idle turn
     of one that ends when met, evaluates the same checks.
     """
-    known = _COMPILED.get(id(scenario))
-    if known is not None and known[0] is scenario:
-        return known[1]
-    compiled = CompiledGoals(scenario)
-    if len(_COMPILED) >= 1024:  # a long-lived process that loads scenarios again and again
-        _COMPILED.clear()
-    _COMPILED[id(scenario)] = (scenario, compiled)
-    return compiled
+    return scenario.derived(CompiledGoals, lambda: CompiledGoals(scenario))
 
 
 def _on_the_assistant(check: Check) -> bool:

@@ -12,10 +12,10 @@ import functools
 import hashlib
 import json
 import re
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Hashable, Mapping
 from dataclasses import dataclass
 from datetime import UTC, datetime
-from typing import TYPE_CHECKING, Annotated, Any, Literal
+from typing import TYPE_CHECKING, Annotated, Any, Literal, Self, TypeVar
 
 from pydantic import (
     BaseModel,
@@ -93,8 +93,51 @@ def reference(value: Any) -> tuple[str, str] | None:
     return None
 
 
+_DERIVED = "_derived"
+"""Key in a scenario part's ``__dict__`` (not a field) of what was computed from it (see ``_Strict.keep``)."""
+_T = TypeVar("_T")
+
+
 class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
+
+    # -- what is computed from a scenario part, kept on it ----------------------------------------------
+    # Compiled checks, an environment blueprint, an envelope: every episode of a scenario needs the same
+    # ones, and the parts are immutable, so each is computed once and kept on the object it came from
+    # (in its ``__dict__`` beside the fields, where pydantic's equality and dumps do not look). A copy
+    # starts without any: one made with updated fields would otherwise reuse what the original computed.
+
+    def known(self, key: Hashable) -> Any:
+        """What was kept on this object under ``key`` (see :meth:`keep`), or ``None``."""
+        store = self.__dict__.get(_DERIVED)
+        return None if store is None else store.get(key)
+
+    def keep(self, key: Hashable, value: _T) -> _T:
+        """Keep ``value``, computed from this object alone, under ``key``; return it."""
+        self.__dict__.setdefault(_DERIVED, {})[key] = value
+        return value
+
+    def derived(self, key: Hashable, make: Callable[[], _T]) -> _T:
+        """``make()``, computed from this object alone, once: later calls with ``key`` return it."""
+        known: _T | None = self.known(key)
+        return known if known is not None else self.keep(key, make())
+
+    def __copy__(self) -> Self:
+        copied = super().__copy__()
+        copied.__dict__.pop(_DERIVED, None)
+        return copied
+
+    def __deepcopy__(self, memo: dict[int, Any] | None = None) -> Self:
+        copied = super().__deepcopy__(memo)
+        copied.__dict__.pop(_DERIVED, None)
+        return copied
+
+    def __getstate__(self) -> dict[Any, Any]:
+        state = super().__getstate__()
+        fields = state.get("__dict__")
+        if isinstance(fields, dict) and _DERIVED in fields:  # compiled artefacts stay in their process
+            state = {**state, "__dict__": {k: v for k, v in fields.items() if k != _DERIVED}}
+        return state
 
 
 def _valid_matcher(raw: Any, label: str = "") -> Any:

@@ -13,9 +13,6 @@ from pare.scenarios.model import ActionPattern
 from pare.scenarios.reading import CallReader
 from pare.sim.log import LogEntry
 
-_COMPILED: dict[tuple[int, int], CompiledPattern] = {}
-"""Compiled patterns by the ids of the pattern and the start (see :meth:`CompiledPattern.of`)."""
-
 
 def event_positions(log: Iterable[LogEntry]) -> dict[str, int]:
     """Log index at which each scheduled event fired (its first successful call)."""
@@ -48,14 +45,14 @@ class CompiledPattern:
     def of(cls, pattern: ActionPattern, start: datetime) -> CompiledPattern:
         """Compile ``pattern``; relative times in its matchers resolve against ``start``.
 
-        Compiled once per pattern object and start object: every episode of a scenario compiles its
-        patterns (its event triggers, the oracle's conditions) from the same two, and a compiled pattern
-        holds no state, so the episodes can share it.
+        Compiled once per pattern and start, and kept on the pattern: every episode of a scenario
+        compiles its patterns (its event triggers, the oracle's conditions) from the same two, and a
+        compiled pattern holds no state, so the episodes can share it.
         """
-        key = (id(pattern), id(start))
-        known = _COMPILED.get(key)
-        if known is not None and known.pattern is pattern and known.start is start:
-            return known
+        return pattern.derived((CompiledPattern, start), lambda: cls._compile(pattern, start))
+
+    @classmethod
+    def _compile(cls, pattern: ActionPattern, start: datetime) -> CompiledPattern:
         args = tuple((name, compile_matcher(raw)) for name, raw in pattern.args.items())
         result = compile_matcher(pattern.result) if pattern.result is not None else None
         tools = None if pattern.tools is None else frozenset(pattern.tools)
@@ -63,13 +60,7 @@ class CompiledPattern:
         via = None if pattern.via is None else frozenset(pattern.via)
         reads_files = any(name in ATTACHMENT_FIELDS for name in pattern.args)
         reads_days = any(matcher.reads_days for _, matcher in args)
-        compiled = cls(
-            pattern, args, result, start, tools, screen, pattern.people, via, reads_files, reads_days
-        )
-        if len(_COMPILED) >= 16384:  # a long-lived process that loads scenarios again and again
-            _COMPILED.clear()
-        _COMPILED[key] = compiled  # it holds both: their ids are not reused while the entry lives
-        return compiled
+        return cls(pattern, args, result, start, tools, screen, pattern.people, via, reads_files, reads_days)
 
     @property
     def needs_reader(self) -> bool:
