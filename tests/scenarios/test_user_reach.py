@@ -144,3 +144,11 @@ def test_only_what_the_assistant_must_write_is_read() -> None:
     data["goals"][0]["checks"][0]["state"]["where"]["content"] = {"not": {"contains": "4471"}}
     data["goals"][0]["checks"][1]["state"]["where"]["content"] = {"contains": "9999"}  # a count of 0
     assert list(unseen_facts(parse(data))) == []
+
+
+def test_what_the_user_typed_in_their_own_steps_is_theirs_to_know() -> None:
+    data = _code_wanted(fair())
+    assert [fact.field for fact in unseen_facts(parse(data))] == ["content"]
+    # the user typed the code themselves (a search for it) before the assistant used it: nothing on trust
+    data["oracle"]["user"].insert(1, {"tool": "search_emails", "args": {"query": "code 4471"}})
+    assert list(unseen_facts(parse(data))) == []

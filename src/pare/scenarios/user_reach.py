@@ -9,9 +9,11 @@ only the story), the user can only accept it on trust. This module finds those d
 The rule is static: the text the user can reach is every text value of the seed data of the apps with
 screens (not the contents of Files documents, only their paths; not the cab's ``known_distances`` or the
 shop's ``discount_codes``, which no screen lists) and every text argument of the scenario's events (what
-arrives on the phone, a reaction included), with the phone's own words (its apps' titles and the
-descriptions of what their screens offer). A goal's text is *reachable* when one such value, or the values
-of one record or collection read together (an email, a contact, a listing), meets the check's matcher.
+arrives on the phone, a reaction included), what the user writes in the scenario's own steps (a card
+they save by hand, a message they send: they know what they wrote), with the phone's own words (its apps'
+titles and the descriptions of what their screens offer). A goal's text is *reachable* when one such
+value, or the values of one record or collection read together (an email, a contact, a listing), meets
+the check's matcher.
 Only the plain word operators are read (``contains``, ``contains_any``, and ``any_of`` over them): they
 name words that must be copied from somewhere, while times, counts and meanings (``mentions_day``,
 ``declines``...) are worked out rather than copied. It is a warning, not a breach: words that are the
@@ -75,6 +77,8 @@ def reachable_texts(scenario: Scenario) -> list[str]:
         if isinstance(data, Mapping):
             data = {key: value for key, value in data.items() if key not in hidden}
         _collect(data, texts)
+    for step in scenario.oracle.user:  # what the user typed, they know
+        _collect(step.args, texts)
     for event in scenario.events:
         _collect(event.args, texts)
         if event.otherwise is not None:
