@@ -21,6 +21,7 @@ from pydantic import (
     BaseModel,
     ConfigDict,
     Field,
+    GetJsonSchemaHandler,
     SerializerFunctionWrapHandler,
     TypeAdapter,
     WithJsonSchema,
@@ -28,10 +29,13 @@ from pydantic import (
     model_serializer,
     model_validator,
 )
+from pydantic.json_schema import JsonSchemaValue
+from pydantic_core import CoreSchema
 
 from pare.apps.registry import phone_apps
 from pare.errors import did_you_mean
-from pare.scenarios.matchers import OPERATORS, MatcherError, compile_matcher
+from pare.scenarios.matchers import MatcherError, compile_matcher
+from pare.scenarios.operator_docs import matcher_description
 from pare.scenarios.times import TimeFormatError, parse_duration, parse_time
 from pare.scenarios.told import CHANNELS, Channel
 from pare.sim.log import AssistantMode, ToolKind
@@ -55,12 +59,17 @@ MAX_SCENARIO_ID_LENGTH = 100
 allow 255 bytes a name; the library's longest is under 60."""
 _REF = re.compile(r"^\$\{([A-Za-z0-9_-]+)(?:\.([A-Za-z0-9_.\[\]-]+))?\}$")
 
-_MATCHER_SCHEMA: dict[str, Any] = {
-    "description": "A value (equal to it), a mapping of operators that must all hold ("
-    + "; ".join(f"{name}: {text}" for name, text in OPERATORS.items())
-    + "), or a mapping of field names to matchers.",
-}
-Matcher = Annotated[Any, WithJsonSchema(_MATCHER_SCHEMA)]
+
+class _MatcherSchema:
+    """A matcher's JSON Schema: its description, naming the operators registered when it is made."""
+
+    def __get_pydantic_json_schema__(
+        self, core: CoreSchema, handler: GetJsonSchemaHandler
+    ) -> JsonSchemaValue:
+        return {"description": matcher_description()}
+
+
+Matcher = Annotated[Any, _MatcherSchema()]
 TimeText = Annotated[
     str,
     WithJsonSchema(
