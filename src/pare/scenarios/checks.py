@@ -15,6 +15,7 @@ from types import MappingProxyType
 from typing import Any, Protocol
 
 from pare.env.attribution import Attribution, StatePath, item_key, place_of
+from pare.errors import RunFailure, UserInputError
 from pare.scenarios import explain as explaining
 from pare.scenarios.file_identity import ATTACHMENT_FIELDS, FileIdentity
 from pare.scenarios.item_text import item_text
@@ -163,8 +164,8 @@ def evaluate(
     for goal, rules in compiled.goals:
         results = []
         for index, rule in enumerate(rules):
-            passed, detail = rule.verdict(context)
-            user_made = not passed and rule.on_the_assistant and rule.verdict(credited, explain=False)[0]
+            passed, detail = _verdict(rule, context)
+            user_made = not passed and rule.on_the_assistant and _verdict(rule, credited, explain=False)[0]
             results.append(
                 CheckResult(goal.id, index, rule.form, passed, detail, rule.description, user_made)
             )
@@ -191,7 +192,7 @@ def goals_met(
     reader = CallReader.of_state(view.whole, compiled.files)
     context = _Context(scenario.start, log, view, attribution or Attribution(), None, reader)
     rules = compiled.cheapest_first
-    return all(rule.verdict(context, explain=False)[0] for rule in rules)
+    return all(_verdict(rule, context, explain=False)[0] for rule in rules)
 
 
 def state_check_places(
@@ -210,6 +211,25 @@ def state_check_places(
         for index, rule in enumerate(rules)
         if isinstance(rule, _StateRule)
     }
+
+
+def _verdict(rule: _Rule, context: _Context, *, explain: bool = True) -> tuple[bool, str]:
+    """``rule``'s verdict; a check that raises fails, saying what it raised, and the others still count.
+
+    A bug in one check (a matcher meeting a value it was not written for) costs that check, not the
+    episode. A model provider's failure or a run's configuration (:class:`RunFailure`,
+    :class:`UserInputError`, which a judge model raises) is no verdict on the episode: it goes on up.
+    """
+    try:
+        return rule.verdict(context, explain=explain)
+    except (RunFailure, UserInputError):
+        raise
+    except Exception as error:  # the check's own failure: its verdict says what it was
+        return False, f"{CHECK_RAISED}{type(error).__name__}: {error}"
+
+
+CHECK_RAISED = "the check raised "
+"""How the sentence of a check that raised begins (its exception's type and message follow)."""
 
 
 class _Context:
