@@ -405,6 +405,9 @@ def _checked_facts(value: list[str]) -> list[str]:
 class Check(_Strict):
     """One check; exactly one of its forms is given."""
 
+    # A form is a field here (its key in a scenario file, and its model) and a CheckForm registered under
+    # the same key in pare.scenarios.checks (its rule). The docstring is the schema's description.
+
     action: ActionCheck | None = Field(default=None, description="An action that must have happened.")
     no_action: ActionPattern | None = Field(
         default=None, description="An action that must not have happened."
@@ -415,22 +418,29 @@ class Check(_Strict):
 
     @model_validator(mode="after")
     def _exactly_one(self) -> Check:
-        given = [
-            name for name in ("action", "no_action", "state", "judge") if getattr(self, name) is not None
-        ]
+        given = [name for name in CHECK_FORM_KEYS if getattr(self, name) is not None]
         if len(given) != 1:
             raise ValueError(
-                "a check has exactly one of action, no_action, state, judge"
+                f"a check has exactly one of {', '.join(CHECK_FORM_KEYS)}"
                 + (f"; this one has {given}" if given else "")
             )
         return self
 
     @property
     def form(self) -> str:
-        """Which form the check takes: ``action``, ``no_action``, ``state`` or ``judge``."""
-        return next(
-            name for name in ("action", "no_action", "state", "judge") if getattr(self, name) is not None
-        )
+        """Which form the check takes (its key): ``action``, ``no_action``, ``state`` or ``judge``."""
+        return next(name for name in CHECK_FORM_KEYS if getattr(self, name) is not None)
+
+    @property
+    def body(self) -> BaseModel:
+        """The check's part of its form (``self.action`` for an action check, ...)."""
+        body: BaseModel = getattr(self, self.form)
+        return body
+
+
+CHECK_FORM_KEYS: tuple[str, ...] = tuple(name for name in Check.model_fields if name != "description")
+"""The forms of check, by their keys: the fields of :class:`Check` but its description. Each form's rule
+is registered in :data:`pare.scenarios.checks.CHECK_FORMS`."""
 
 
 class Goal(_Strict):
