@@ -18,7 +18,8 @@ from datetime import date, datetime, time
 from typing import Any
 
 from pare.scenarios import meaning
-from pare.scenarios.matchers import Matcher, item_texts, reading_moment
+from pare.scenarios.matchers import Matcher, reading_moment
+from pare.scenarios.operators import item_texts
 from pare.scenarios.times import TimeFormatError, parse_time
 
 TEXT_WIDTH = 80
