@@ -9,6 +9,8 @@ from typing import Any
 
 import pytest
 
+from pare.bench import run_episode
+from pare.scenarios import OracleAssistant, OracleUser
 from pare.scenarios.explain import explain
 from pare.scenarios.kinds import matcher_problems
 from pare.scenarios.matchers import (
@@ -22,6 +24,7 @@ from pare.scenarios.matchers import (
 from pare.scenarios.operator_docs import operator_table
 from pare.scenarios.schema import scenario_json_schema
 from pare.scenarios.stats import _reads_text
+from tests.scenarios.helpers import base, parse
 
 START = datetime(2025, 3, 3, 9, 0, tzinfo=UTC)
 
@@ -94,6 +97,22 @@ def test_a_registered_operator_is_in_the_schema_the_guides_table_and_matching(en
     ]
     assert not list(matcher_problems({"ends_with": "x"}, str))
     assert _reads_text({"not": {"ends_with": "x"}})
+
+
+def test_a_registered_operator_works_in_a_scenario_file(ends_with: Operator) -> None:
+    data = base()
+    content = data["goals"][0]["checks"][0]["action"]["args"]["content"]
+    content["ends_with"] = "works"  # the oracle replies "Thursday works!"
+    scenario = parse(data)
+    result = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
+    assert result.success, result.outcome.failures()
+    content["ends_with"] = "does not work"
+    scenario = parse(data)
+    result = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
+    (failure,) = result.outcome.failures()
+    assert "ends_with 'does not work'" in failure.detail
+    data["goals"][0]["checks"][0]["action"]["args"]["email_id"] = {"ends_with": "ann"}
+    parse(data)  # an id is text: the operator applies
 
 
 def test_an_unregistered_operator_is_gone_everywhere() -> None:
