@@ -39,6 +39,10 @@ def _ends_with(suffix: str, value: Any, start: datetime) -> bool:
     return isinstance(value, str) and value.casefold().rstrip(" .!?").endswith(suffix)
 
 
+def _why_not(text: str, suffix: str, start: datetime) -> str:
+    return f"it ends with {text.split()[-1]!r}"
+
+
 ENDS_WITH = Operator(
     "ends_with",
     "a string",
@@ -46,6 +50,7 @@ ENDS_WITH = Operator(
     _ends_with,
     _suffix,
     reads="text",
+    explain=_why_not,
 )
 
 
@@ -87,7 +92,7 @@ def test_a_registered_operator_is_in_the_schema_the_guides_table_and_matching(en
     assert not matcher.test(None, START)  # refuses a missing value, as operators do by default
     assert matcher.describe() == "ends_with 'see you then' and contains ['thursday']"
     assert matcher.cost == 2
-    assert "ends_with 'see you then': got" in explain(matcher, "Thursday works", START)
+    assert explain(matcher, "Thursday works", START) == "ends_with 'see you then': it ends with 'works'"
     with pytest.raises(MatcherError, match="'ends_with' needs a non-empty string"):
         compile_matcher({"ends_with": 3})
 

@@ -26,6 +26,7 @@ from pydantic import BaseModel
 from pare.env.attribution import Attribution, StatePath, item_key, place_of
 from pare.errors import RunFailure, UserInputError
 from pare.scenarios import explain as explaining
+from pare.scenarios.excerpts import quote
 from pare.scenarios.file_identity import ATTACHMENT_FIELDS, FileIdentity
 from pare.scenarios.item_text import item_text
 from pare.scenarios.matchers import compile_matcher, written_at
@@ -623,9 +624,7 @@ class _JudgeRule(Rule):
             shown = []
             for text, at in zip(candidates[:_EXPLAINED], sent, strict=False):
                 with written_at(at):
-                    shown.append(
-                        f"{explaining.quote(text)}: {explaining.explain(self.fallback, text, context.start)}"
-                    )
+                    shown.append(f"{quote(text)}: {explaining.explain(self.fallback, text, context.start)}")
             more = f" and {len(candidates) - _EXPLAINED} more" if len(candidates) > _EXPLAINED else ""
             detail += ": " + " / ".join(shown) + more
         return passed, detail

@@ -84,6 +84,11 @@ class Operator:
     """The matchers written inside it (``not``, ``any_of``), for the checks that look into them."""
     describe: Callable[[Any], str] | None = None
     """How it reads with its kept value, when ``<name> <value>`` does not say it (``not (...)``)."""
+    explain: Callable[[str, Any, datetime], str] | None = None
+    """Why one text of a value fails it, ``explain(text, kept, start)``, for an operator that reads text
+    (read again only to explain a failing check; without it, a failure shows what the value was)."""
+    label: Callable[[Any, datetime], str] | None = None
+    """How an explanation names it with its kept value, relative days resolved (default: ``describe``)."""
 
     @property
     def cost(self) -> int:

@@ -29,6 +29,19 @@ from pare.scenarios.matchers import (
     reading_moment,
     register_operator,
 )
+from pare.scenarios.text_reasons import (
+    clock_label,
+    declines_label,
+    moment_label,
+    pieces_label,
+    regex_label,
+    why_declines_differs,
+    why_none_contained,
+    why_not_affirmed,
+    why_not_contained,
+    why_not_found,
+    why_not_mentioned,
+)
 from pare.scenarios.times import TimeFormatError, is_relative_time, parse_time
 
 
@@ -368,6 +381,8 @@ for _operator in (
         _contains,
         partial(_pieces, "contains"),
         reads="text",
+        explain=why_not_contained,
+        label=partial(pieces_label, "contains"),
     ),
     Operator(
         "contains_any",
@@ -376,6 +391,8 @@ for _operator in (
         _contains_any,
         partial(_pieces, "contains_any"),
         reads="text",
+        explain=why_none_contained,
+        label=partial(pieces_label, "contains_any"),
     ),
     Operator(
         "affirms",
@@ -385,6 +402,8 @@ for _operator in (
         _reader(_read_affirms),
         partial(_pieces, "affirms"),
         reads="text",
+        explain=why_not_affirmed,
+        label=partial(pieces_label, "affirms"),
     ),
     Operator(
         "declines",
@@ -396,6 +415,8 @@ for _operator in (
         _reader(_read_declines),
         partial(_flag, "declines"),
         reads="text",
+        explain=why_declines_differs,
+        label=declines_label,
     ),
     Operator(
         "mentions_day",
@@ -405,6 +426,8 @@ for _operator in (
         _day,
         reads="text",
         reads_days=True,
+        explain=why_not_mentioned,
+        label=partial(moment_label, "mentions_day"),
     ),
     Operator(
         "mentions_clock",
@@ -414,6 +437,8 @@ for _operator in (
         _clock,
         reads="text",
         reads_days=True,
+        explain=why_not_mentioned,
+        label=clock_label,
     ),
     Operator(
         "mentions_time",
@@ -424,6 +449,8 @@ for _operator in (
         partial(_moment, "mentions_time"),
         reads="text",
         reads_days=True,
+        explain=why_not_mentioned,
+        label=partial(moment_label, "mentions_time"),
     ),
     Operator(
         "regex",
@@ -432,6 +459,8 @@ for _operator in (
         _regex,
         _pattern,
         reads="text",
+        explain=why_not_found,
+        label=regex_label,
     ),
     Operator(
         "one_of",
