@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import re
+import subprocess
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -15,6 +17,7 @@ from pare.scenarios import parse_scenario
 from pare.scenarios.kinds import matcher_problems
 from pare.scenarios.matchers import OPERATORS, compile_matcher
 from pare.scenarios.model import ActionPattern
+from pare.scenarios.operator_docs import TABLE_END, TABLE_START
 from pare.scenarios.schema import SCHEMA_FILE
 from pare.yaml_source import load_yaml
 
@@ -103,9 +106,23 @@ def test_the_either_a_reply_or_a_new_email_pattern_is_given_whole() -> None:
     assert "an `any_of` of patterns" not in GUIDE.read_text(encoding="utf-8")
 
 
-def test_the_operator_table_lists_every_operator() -> None:
-    text = GUIDE.read_text(encoding="utf-8")
-    table = text[text.index("| operator | holds when the value |") : text.index("A mapping of field names")]
-    listed = set(re.findall(r"^\| `(\w+)`(?:, `(\w+)`)?", table, re.M))
-    names = {name for pair in listed for name in pair if name}
-    assert names == set(OPERATORS)
+def test_the_operator_table_is_the_one_the_operators_records_make() -> None:
+    script = Path(__file__).parents[2] / "scripts" / "operator_table.py"
+    done = subprocess.run(
+        [sys.executable, str(script), "--check"], capture_output=True, text=True, check=False
+    )
+    assert done.returncode == 0, done.stdout + done.stderr
+    table = GUIDE.read_text(encoding="utf-8").split(TABLE_START)[1].split(TABLE_END)[0]
+    assert re.findall(r"^\| `(\w+)` \|", table, re.M) == list(OPERATORS)
+
+
+def test_the_operator_table_check_fails_on_a_stale_table(tmp_path: Path) -> None:
+    stale = tmp_path / "guide.md"
+    stale.write_text(
+        GUIDE.read_text(encoding="utf-8").replace("| `regex` |", "| `regexp` |"), encoding="utf-8"
+    )
+    script = Path(__file__).parents[2] / "scripts" / "operator_table.py"
+    command = [sys.executable, str(script), "--guide", str(stale)]
+    assert subprocess.run([*command, "--check"], capture_output=True, check=False).returncode == 1
+    assert subprocess.run(command, capture_output=True, check=False).returncode == 0
+    assert stale.read_text(encoding="utf-8") == GUIDE.read_text(encoding="utf-8")

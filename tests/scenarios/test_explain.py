@@ -7,7 +7,8 @@ from typing import Any
 
 import pytest
 
-from pare.scenarios.explain import excerpt, explain, quote
+from pare.scenarios.excerpts import excerpt, quote
+from pare.scenarios.explain import explain
 from pare.scenarios.matchers import compile_matcher
 
 START = datetime(2025, 3, 3, 9, tzinfo=UTC)  # a Monday: day+3 is Thursday 6 March

@@ -10,19 +10,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pare.scenarios.matchers import (
-    Matcher,
-    MatcherError,
-    _contains,
-    _contains_any,
-    _frozen,
-    _leaves,
-    _operator_check,
-    _text,
-    _time,
-    compile_matcher,
-)
+from pare.scenarios.matchers import Matcher, MatcherError, _frozen, _operator_check, compile_matcher
 from pare.scenarios.meaning import has_word, normalise_quotes
+from pare.scenarios.operators import _contains, _contains_any, _leaves, _text, _time
 from pare.scenarios.times import TimeFormatError, parse_time
 
 START = datetime(2025, 3, 3, 9, 0, tzinfo=UTC)

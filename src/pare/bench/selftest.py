@@ -52,7 +52,7 @@ from pare.bench.reactions import WorldEvent, corrected_solution, unused_excuses,
 from pare.errors import UserInputError
 from pare.scenarios.build import disagreements
 from pare.scenarios.checks import Judge, JudgeVerdict
-from pare.scenarios.matchers import OPERATORS, TEXT_OPERATORS, compile_matcher
+from pare.scenarios.matchers import compile_matcher, reads_text
 from pare.scenarios.model import Scenario, Solution
 from pare.scenarios.mutants import mutants as generated_mutants
 from pare.scenarios.mutants import rewrites as generated_rewrites
@@ -583,12 +583,7 @@ def _forbids(count: Any) -> bool:
 
 
 def _reads_text(raw: Any) -> bool:
-    return (
-        isinstance(raw, Mapping)
-        and bool(raw)
-        and all(str(key) in OPERATORS for key in raw)
-        and all(str(key) in TEXT_OPERATORS for key in raw)
-    )
+    return isinstance(raw, Mapping) and bool(raw) and all(reads_text(str(key)) for key in raw)
 
 
 def _strings(value: Any) -> Iterator[str]:

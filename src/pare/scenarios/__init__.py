@@ -1,5 +1,7 @@
 """Scenarios: the file format, loading with clear errors, checks, the oracle and the PARE-Bench library."""
 
+# First: the built-in matcher operators register themselves before anything here compiles a matcher.
+from pare.scenarios import operators as _operators  # noqa: F401
 from pare.scenarios.build import build_environment
 from pare.scenarios.checks import CheckResult, GoalResult, Judge, JudgeVerdict, Outcome, aevaluate, evaluate
 from pare.scenarios.library import get_scenario, library, load_scenarios, select, splits

@@ -3,11 +3,18 @@
 A goal is met when all its checks hold; the scenario succeeds when every goal is met. Each check's
 result carries a sentence saying what was looked for and what was found, so a failing run explains
 itself.
+
+Each form of check (``action``, ``no_action``, ``state``, ``judge``: its key in a scenario file) is one
+:class:`CheckForm` in :data:`CHECK_FORMS`: its model, its compiled rule (a :class:`Rule`: the verdict,
+what it looks for, and the log entries or state places the viewer links it to) and what the loader asks
+of it. A new form is a module with its model and rule, its field on :class:`~pare.scenarios.model.Check`
+and one :func:`register_check_form` call.
 """
 
 from __future__ import annotations
 
 import asyncio
+import typing
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, fields, replace
@@ -15,13 +22,17 @@ from datetime import datetime
 from types import MappingProxyType
 from typing import Any, Protocol
 
+from pydantic import BaseModel
+
 from pare.env.attribution import Attribution, StatePath, item_key, place_of
-from pare.errors import first_error
+from pare.errors import RunFailure, UserInputError, first_error
 from pare.scenarios import explain as explaining
+from pare.scenarios.excerpts import quote
 from pare.scenarios.file_identity import ATTACHMENT_FIELDS, FileIdentity
 from pare.scenarios.item_text import item_text
 from pare.scenarios.matchers import compile_matcher, written_at
 from pare.scenarios.model import (
+    CHECK_FORM_KEYS,
     WHERE_ANY,
     WHERE_KEY,
     WHERE_TEXT,
@@ -266,8 +277,8 @@ def evaluate(
     for goal, rules in compiled.goals:
         results = []
         for index, rule in enumerate(rules):
-            passed, detail = rule.verdict(context)
-            user_made = not passed and rule.on_the_assistant and rule.verdict(credited, explain=False)[0]
+            passed, detail = _verdict(rule, context)
+            user_made = not passed and rule.on_the_assistant and _verdict(rule, credited, explain=False)[0]
             judged = rule.judged(context)
             results.append(
                 CheckResult(goal.id, index, rule.form, passed, detail, rule.description, user_made, judged)
@@ -295,7 +306,7 @@ def goals_met(
     reader = CallReader.of_state(view.whole, compiled.files)
     context = _Context(scenario.start, log, view, attribution or Attribution(), None, reader)
     rules = compiled.cheapest_first
-    return all(rule.verdict(context, explain=False)[0] for rule in rules)
+    return all(_verdict(rule, context, explain=False)[0] for rule in rules)
 
 
 def state_check_places(
@@ -309,11 +320,48 @@ def state_check_places(
     compiled = compiled_goals(scenario)
     reader = CallReader.of_state(view.whole, compiled.files)
     return {
-        (goal.id, index): rule.places(view, scenario.start, reader)
+        (goal.id, index): places
         for goal, rules in compiled.goals
         for index, rule in enumerate(rules)
-        if isinstance(rule, _StateRule)
+        if (places := rule.places(view, scenario.start, reader)) is not None
     }
+
+
+def linked_entries(
+    scenario: Scenario, log: Sequence[LogEntry], final: Mapping[str, Any] | None = None
+) -> dict[tuple[str, int], list[int]]:
+    """For each check that reads the action log (by goal id and position): the indexes of the entries
+    that decided it (:meth:`Rule.linked`), for pages that link a verdict to its calls. The final state,
+    when known, tells whom each call told and which files it carried (without it, a pattern with ``to``
+    matches nothing).
+    """
+    compiled = compiled_goals(scenario)
+    reader = None if final is None else CallReader.of_state(lambda: final, compiled.files)
+    return {
+        (goal.id, index): linked
+        for goal, rules in compiled.goals
+        for index, rule in enumerate(rules)
+        if (linked := rule.linked(log, reader)) is not None
+    }
+
+
+def _verdict(rule: Rule, context: _Context, *, explain: bool = True) -> tuple[bool, str]:
+    """``rule``'s verdict; a check that raises fails, saying what it raised, and the others still count.
+
+    A bug in one check (a matcher meeting a value it was not written for) costs that check, not the
+    episode. A model provider's failure or a run's configuration (:class:`RunFailure`,
+    :class:`UserInputError`, which a judge model raises) is no verdict on the episode: it goes on up.
+    """
+    try:
+        return rule.verdict(context, explain=explain)
+    except (RunFailure, UserInputError):
+        raise
+    except Exception as error:  # the check's own failure: its verdict says what it was
+        return False, f"{CHECK_RAISED}{type(error).__name__}: {error}"
+
+
+CHECK_RAISED = "the check raised "
+"""How the sentence of a check that raised begins (its exception's type and message follow)."""
 
 
 class _Context:
@@ -427,15 +475,21 @@ class _Pattern:
         return self.own, self.own_text
 
 
-class _Rule(ABC):
-    """One check compiled once per scenario: ``verdict`` only runs it (see :func:`compiled_goals`)."""
+class Rule(ABC):
+    """One check compiled once per scenario: ``verdict`` only runs it (see :func:`compiled_goals`).
+
+    A form's rule is made by ``rule(check, body, start)``: the check, its form's part (``check.action``
+    ...) and the scenario's start.
+    """
 
     cost = 0
     """For :func:`goals_met`: which checks to run first (cheap ones, on the action log)."""
 
     def __init__(self, check: Check) -> None:
         self.check = check
-        self.on_the_assistant = _on_the_assistant(check)
+        self.on_the_assistant = CHECK_FORMS[check.form].about_the_assistant(check.body)
+        """Whether the check is about who did the work (then it is asked again crediting the user's work
+        to the assistant, to tell whether the user did it by hand)."""
         self.form = check.form
         self.description = check.description
 
@@ -456,8 +510,20 @@ class _Rule(ABC):
         """
         return ()
 
+    def linked(self, log: Sequence[LogEntry], reader: CallReader | None) -> list[int] | None:
+        """The indexes of the entries of ``log`` that decided the check, or ``None`` for a check that
+        does not read the log (the viewer links such a check by :meth:`places`).
+        """
+        return None
 
-class _ActionRule(_Rule):
+    def places(self, view: _StateView, start: datetime, reader: CallReader) -> list[StatePath] | None:
+        """The places of the final state where the check found what it counted, or ``None`` for a check
+        that does not read the state.
+        """
+        return None
+
+
+class _ActionRule(Rule):
     def __init__(self, check: Check, action: ActionCheck, start: datetime) -> None:
         super().__init__(check)
         self.pattern = _Pattern(action, start)
@@ -483,8 +549,14 @@ class _ActionRule(_Rule):
                 detail += _why_not(pattern, near[0], context.reader)
         return False, detail
 
+    def linked(self, log: Sequence[LogEntry], reader: CallReader | None) -> list[int]:
+        """The matching calls; when there is none, the calls of the tool it wanted."""
+        pattern = self.pattern.own
+        found = pattern.find(log, reader) or [entry for entry in log if pattern.matches_call(entry)]
+        return [entry.index for entry in found]
 
-class _NoActionRule(_Rule):
+
+class _NoActionRule(Rule):
     def __init__(self, check: Check, pattern: ActionPattern, start: datetime) -> None:
         super().__init__(check)
         self.pattern = CompiledPattern.of(pattern, start)
@@ -499,11 +571,15 @@ class _NoActionRule(_Rule):
             return True, f"no {self.described}"
         return False, f"forbidden {self.described} happened: {_calls(found)}"
 
+    def linked(self, log: Sequence[LogEntry], reader: CallReader | None) -> list[int]:
+        """The forbidden calls."""
+        return [entry.index for entry in self.pattern.find(log, reader)]
 
-class _StateRule(_Rule):
+
+class _StateRule(Rule):
     cost = 1
 
-    def __init__(self, check: Check, state: StateCheck) -> None:
+    def __init__(self, check: Check, state: StateCheck, start: datetime) -> None:
         super().__init__(check)
         self.state = state
         self.value = compile_matcher(state.value) if "value" in state.model_fields_set else None
@@ -627,7 +703,7 @@ class _Texts:
     """When each call in ``read`` was made."""
 
 
-class _JudgeRule(_Rule):
+class _JudgeRule(Rule):
     cost = 2
 
     def __init__(self, check: Check, judge: JudgeCheck, start: datetime) -> None:
@@ -694,12 +770,16 @@ class _JudgeRule(_Rule):
             shown = []
             for text, at in zip(candidates[:_EXPLAINED], sent, strict=False):
                 with written_at(at):
-                    shown.append(
-                        f"{explaining.quote(text)}: {explaining.explain(self.fallback, text, context.start)}"
-                    )
+                    shown.append(f"{quote(text)}: {explaining.explain(self.fallback, text, context.start)}")
             more = f" and {len(candidates) - _EXPLAINED} more" if len(candidates) > _EXPLAINED else ""
             detail += ": " + " / ".join(shown) + more
         return passed, detail
+
+    def linked(self, log: Sequence[LogEntry], reader: CallReader | None) -> list[int]:
+        """The matching calls that carry a text to judge."""
+        pattern, field = self.pattern.own, self.judge.field
+        found = pattern.find(log, reader)
+        return [e.index for e in found if isinstance(pattern.arguments(e, reader).get(field), str)]
 
     def _holds(self, text: str, sent: datetime, start: datetime) -> bool:
         """Whether the fallback accepts ``text`` read as of ``sent`` (a text in parts: as of its first)."""
@@ -707,15 +787,8 @@ class _JudgeRule(_Rule):
             return self.fallback.test(text, start)
 
 
-def _rule(check: Check, start: datetime) -> _Rule:
-    if check.action is not None:
-        return _ActionRule(check, check.action, start)
-    if check.no_action is not None:
-        return _NoActionRule(check, check.no_action, start)
-    if check.state is not None:
-        return _StateRule(check, check.state)
-    assert check.judge is not None
-    return _JudgeRule(check, check.judge, start)
+def _rule(check: Check, start: datetime) -> Rule:
+    return CHECK_FORMS[check.form].rule(check, check.body, start)
 
 
 class CompiledGoals:
@@ -752,13 +825,6 @@ def compiled_goals(scenario: Scenario) -> CompiledGoals:
     of one that ends when met, evaluates the same checks.
     """
     return scenario.derived(CompiledGoals, lambda: CompiledGoals(scenario))
-
-
-def _on_the_assistant(check: Check) -> bool:
-    """Whether ``check`` is about who did the work (a judge check reads the text, not who wrote it)."""
-    if check.action is not None:
-        return check.action.actor == "assistant"
-    return check.state is not None and check.state.by == "assistant"
 
 
 _EXPLAINED = 3
@@ -897,3 +963,93 @@ def lookup(data: Any, path: str) -> Any:
         else:
             return MISSING
     return value
+
+
+@dataclass(frozen=True, slots=True)
+class CheckForm:
+    """One form of check, by its key in a scenario file: what it is written as, what it compiles to and
+    what the loader asks of it. Every part of PARE that handles checks as such reads :data:`CHECK_FORMS`.
+    """
+
+    key: str
+    """Its key in a check (``action``); :class:`~pare.scenarios.model.Check` has a field of that name."""
+    model: type[BaseModel]
+    """What it is written as (the type of that field)."""
+    rule: Callable[[Check, Any, datetime], Rule]
+    """Its compiled rule, ``rule(check, body, start)`` (``body``: the check's part of this form)."""
+    positive: Callable[[Any], bool]
+    """Whether a check of this form demands that something be there (a goal needs one such check)."""
+    needs_assistant: Callable[[Any], bool]
+    """Whether a positive check of this form can hold only through the assistant's own work (a scenario
+    needs one such check)."""
+    about_the_assistant: Callable[[Any], bool] = lambda body: False
+    """Whether the check is about who did the work, so that it is asked again crediting the user's work
+    to the assistant (``user_made``); a judge check reads a text, not who wrote it."""
+
+
+CHECK_FORMS: dict[str, CheckForm] = {}
+"""Every form of check by its key, in the order :class:`~pare.scenarios.model.Check` declares them."""
+
+
+def register_check_form(form: CheckForm) -> None:
+    """Make ``form`` a form of check: its rule compiles and judges the checks of that key.
+
+    Raises ``ValueError`` when the key is taken or is not a field of :class:`~pare.scenarios.model.Check`
+    of the form's model (the field is what lets a scenario file write it).
+    """
+    if form.key in CHECK_FORMS:
+        raise ValueError(f"check form '{form.key}' is already registered")
+    declared = Check.model_fields.get(form.key) if form.key in CHECK_FORM_KEYS else None
+    if declared is None or form.model not in typing.get_args(declared.annotation):
+        raise ValueError(f"a check form needs its field on Check: '{form.key}: {form.model.__name__} | None'")
+    CHECK_FORMS[form.key] = form
+
+
+def _at_least_one(count: int | Count | None) -> bool:
+    """Whether a check's ``count`` (default: at least one) wants at least one."""
+    if count is None:
+        return True
+    return (count if isinstance(count, int) else (as_count(count, count).min or 0)) >= 1
+
+
+def _assistants(pattern: ActionPattern) -> bool:
+    return pattern.actor == "assistant"
+
+
+def _by_the_assistant(state: StateCheck) -> bool:
+    return state.by == "assistant"
+
+
+for _form in (
+    CheckForm(
+        "action",
+        ActionCheck,
+        _ActionRule,
+        positive=lambda action: _at_least_one(action.count),
+        needs_assistant=_assistants,
+        about_the_assistant=_assistants,
+    ),
+    CheckForm(
+        "no_action",
+        ActionPattern,
+        _NoActionRule,
+        positive=lambda pattern: False,
+        needs_assistant=lambda pattern: False,
+    ),
+    CheckForm(
+        "state",
+        StateCheck,
+        _StateRule,
+        positive=lambda state: "value" in state.model_fields_set or _at_least_one(state.count),
+        needs_assistant=_by_the_assistant,
+        about_the_assistant=_by_the_assistant,
+    ),
+    CheckForm(
+        "judge",
+        JudgeCheck,
+        _JudgeRule,
+        positive=lambda judge: True,  # a text that meets its criterion must be there
+        needs_assistant=lambda judge: _assistants(judge.action),
+    ),
+):
+    register_check_form(_form)

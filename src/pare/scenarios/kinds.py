@@ -19,19 +19,20 @@ from pydantic import BaseModel
 
 from pare.errors import did_you_mean
 from pare.scenarios.annotations import strip_optional
-from pare.scenarios.matchers import NUMBER_OPERATORS, OPERATORS, TEXT_OPERATORS, TIME_OPERATORS
+from pare.scenarios.matchers import OPERATORS, Reads
 
 Kind = Literal["text", "number", "bool", "time", "list", "record", "any"]
 """What a field holds, as far as matchers are concerned."""
 
 _SCALARS: tuple[Kind, ...] = ("text", "number", "bool", "time")
-_ALLOWED: dict[str, frozenset[Kind]] = {
-    **{name: frozenset({"text", "list", "record", "any", "time"}) for name in TEXT_OPERATORS},
-    **{name: frozenset({"number", "text", "any"}) for name in NUMBER_OPERATORS},
-    **{name: frozenset({"time", "text", "any"}) for name in TIME_OPERATORS},
-    "same_set": frozenset({"list", "any"}),
+_APPLIES_TO: dict[Reads, frozenset[Kind]] = {
+    "text": frozenset({"text", "list", "record", "any", "time"}),
+    "number": frozenset({"number", "text", "any"}),
+    "time": frozenset({"time", "text", "any"}),
+    "list": frozenset({"list", "any"}),
 }
-"""Operators that apply only to some kinds (the rest, such as equals and present, apply to anything)."""
+"""The kinds of fields an operator applies to, by what it reads (``Operator.reads``); those that compare
+values or run other matchers (equals, present, not) apply to anything."""
 _NOUNS: dict[Kind, str] = {
     "text": "text",
     "number": "a number",
@@ -94,11 +95,11 @@ def matcher_problems(raw: Any, annotation: Any) -> Iterator[tuple[tuple[str, ...
         return
     for key, value in raw.items():
         name = str(key)
-        allowed = _ALLOWED.get(name)
+        operator = OPERATORS.get(name)
+        if operator is None:
+            continue  # a mapping that mixes operators and fields: the matcher does not compile
+        allowed = _APPLIES_TO.get(operator.reads)
         if allowed is not None and kind not in allowed:
             yield (name,), f"'{name}' cannot apply here: this field holds {_NOUNS[kind]}"
-        if name == "not":
-            yield from matcher_problems(value, annotation)
-        elif name == "any_of" and isinstance(value, list):
-            for item in value:
-                yield from matcher_problems(item, annotation)
+        for nested in operator.nested(value) if operator.nested is not None else ():
+            yield from matcher_problems(nested, annotation)

@@ -21,6 +21,7 @@ from pydantic import (
     BaseModel,
     ConfigDict,
     Field,
+    GetJsonSchemaHandler,
     SerializerFunctionWrapHandler,
     TypeAdapter,
     WithJsonSchema,
@@ -28,10 +29,13 @@ from pydantic import (
     model_serializer,
     model_validator,
 )
+from pydantic.json_schema import JsonSchemaValue
+from pydantic_core import CoreSchema
 
 from pare.apps.registry import phone_apps
 from pare.errors import did_you_mean
-from pare.scenarios.matchers import OPERATORS, MatcherError, compile_matcher
+from pare.scenarios.matchers import MatcherError, compile_matcher
+from pare.scenarios.operator_docs import matcher_description
 from pare.scenarios.times import TimeFormatError, parse_duration, parse_time
 from pare.scenarios.told import CHANNELS, Channel
 from pare.sim.log import AssistantMode, ToolKind
@@ -55,12 +59,17 @@ MAX_SCENARIO_ID_LENGTH = 100
 allow 255 bytes a name; the library's longest is under 60."""
 _REF = re.compile(r"^\$\{([A-Za-z0-9_-]+)(?:\.([A-Za-z0-9_.\[\]-]+))?\}$")
 
-_MATCHER_SCHEMA: dict[str, Any] = {
-    "description": "A value (equal to it), a mapping of operators that must all hold ("
-    + "; ".join(f"{name}: {text}" for name, text in OPERATORS.items())
-    + "), or a mapping of field names to matchers.",
-}
-Matcher = Annotated[Any, WithJsonSchema(_MATCHER_SCHEMA)]
+
+class _MatcherSchema:
+    """A matcher's JSON Schema: its description, naming the operators registered when it is made."""
+
+    def __get_pydantic_json_schema__(
+        self, core: CoreSchema, handler: GetJsonSchemaHandler
+    ) -> JsonSchemaValue:
+        return {"description": matcher_description()}
+
+
+Matcher = Annotated[Any, _MatcherSchema()]
 TimeText = Annotated[
     str,
     WithJsonSchema(
@@ -452,6 +461,9 @@ def _checked_facts(value: list[str]) -> list[str]:
 class Check(_Strict):
     """One check; exactly one of its forms is given."""
 
+    # A form is a field here (its key in a scenario file, and its model) and a CheckForm registered under
+    # the same key in pare.scenarios.checks (its rule). The docstring is the schema's description.
+
     action: ActionCheck | None = Field(default=None, description="An action that must have happened.")
     no_action: ActionPattern | None = Field(
         default=None, description="An action that must not have happened."
@@ -462,22 +474,29 @@ class Check(_Strict):
 
     @model_validator(mode="after")
     def _exactly_one(self) -> Check:
-        given = [
-            name for name in ("action", "no_action", "state", "judge") if getattr(self, name) is not None
-        ]
+        given = [name for name in CHECK_FORM_KEYS if getattr(self, name) is not None]
         if len(given) != 1:
             raise ValueError(
-                "a check has exactly one of action, no_action, state, judge"
+                f"a check has exactly one of {', '.join(CHECK_FORM_KEYS)}"
                 + (f"; this one has {given}" if given else "")
             )
         return self
 
     @property
     def form(self) -> str:
-        """Which form the check takes: ``action``, ``no_action``, ``state`` or ``judge``."""
-        return next(
-            name for name in ("action", "no_action", "state", "judge") if getattr(self, name) is not None
-        )
+        """Which form the check takes (its key): ``action``, ``no_action``, ``state`` or ``judge``."""
+        return next(name for name in CHECK_FORM_KEYS if getattr(self, name) is not None)
+
+    @property
+    def body(self) -> BaseModel:
+        """The check's part of its form (``self.action`` for an action check, ...)."""
+        body: BaseModel = getattr(self, self.form)
+        return body
+
+
+CHECK_FORM_KEYS: tuple[str, ...] = tuple(name for name in Check.model_fields if name != "description")
+"""The forms of check, by their keys: the fields of :class:`Check` but its description. Each form's rule
+is registered in :data:`pare.scenarios.checks.CHECK_FORMS`."""
 
 
 class Goal(_Strict):

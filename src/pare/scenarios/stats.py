@@ -14,7 +14,7 @@ from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from pare.scenarios.matchers import OPERATORS, TEXT_OPERATORS
+from pare.scenarios.matchers import OPERATORS
 from pare.scenarios.model import TAGS, Check, Goal, Scenario
 
 LIBRARY_SIZE = 150
@@ -62,14 +62,13 @@ def _reads_text(raw: Any) -> bool:
     if not isinstance(raw, Mapping):
         return False
     for key, value in raw.items():
-        if key in TEXT_OPERATORS:
-            return True
-        if key == "not" and _reads_text(value):
-            return True
-        if key == "any_of" and isinstance(value, list) and any(_reads_text(item) for item in value):
-            return True
-        if key not in OPERATORS:
+        operator = OPERATORS.get(key)
+        if operator is None:
             return False
+        if operator.reads == "text":
+            return True
+        if operator.nested is not None and any(_reads_text(item) for item in operator.nested(value)):
+            return True
     return False
 
 

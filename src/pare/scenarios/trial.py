@@ -11,7 +11,8 @@ from datetime import datetime
 from typing import Any
 
 from pare.scenarios import meaning
-from pare.scenarios.explain import explain, quote
+from pare.scenarios.excerpts import quote
+from pare.scenarios.explain import explain
 from pare.scenarios.kinds import matcher_problems
 from pare.scenarios.loader import ScenarioError
 from pare.scenarios.matchers import Matcher, MatcherError, compile_matcher

@@ -20,6 +20,7 @@ from pare.apps.registry import CORE_APPS, get_app_class
 from pare.apps.tools import ToolSpec, describe_argument_errors
 from pare.errors import did_you_mean
 from pare.scenarios.annotations import item_type, model_fields
+from pare.scenarios.checks import CHECK_FORMS
 from pare.scenarios.item_text import TEXT_FIELDS, has_text_fields
 from pare.scenarios.kinds import matcher_problems
 from pare.scenarios.model import (
@@ -33,7 +34,6 @@ from pare.scenarios.model import (
     Scenario,
     StateCheck,
     UserStep,
-    as_count,
     reference,
 )
 from pare.scenarios.seed import Location, SeedError, original_location, prepare_seed
@@ -669,30 +669,13 @@ def _parameters(specs: Iterable[ToolSpec]) -> dict[str, Any]:
 
 def is_positive(check: Check) -> bool:
     """Whether ``check`` demands that something be there (not only that something be absent)."""
-    if check.no_action is not None:
-        return False
-    if check.action is not None:
-        count = check.action.count
-    elif check.state is not None:
-        if "value" in check.state.model_fields_set:
-            return True
-        count = check.state.count
-    else:
-        return True  # a judge check demands a text that meets its criterion
-    if count is None:
-        return True
-    return (count if isinstance(count, int) else (as_count(count, count).min or 0)) >= 1
+    return CHECK_FORMS[check.form].positive(check.body)
 
 
 def needs_assistant(check: Check) -> bool:
     """Whether ``check`` can only hold through the assistant's own work."""
-    if not is_positive(check):
-        return False
-    if check.action is not None:
-        return check.action.actor == "assistant"
-    if check.judge is not None:
-        return check.judge.action.actor == "assistant"
-    return check.state is not None and check.state.by == "assistant"
+    form = CHECK_FORMS[check.form]
+    return form.positive(check.body) and form.needs_assistant(check.body)
 
 
 def _collect_ids(data: Any, into: set[str]) -> None:

@@ -1,12 +1,13 @@
-"""Which log entries decided each check, matched again with the scenario's own patterns.
+"""Which log entries decided each check, asked again of the scenario's own checks.
 
 A check's sentence names the entries it found only when it failed on them (a judge check names the texts
-it read); to link every verdict to its entries the viewer matches the check's action pattern against the
-trajectory's log once more, and evaluates each state check's ``where`` once more to link the calls that
-made the very items it found (the final state is the scenario's start with the episode's state diff
-applied). That needs the very scenario the episode ran: the library's copy is used only when its content
-hash is the one the episode recorded. Otherwise (a scenario file given by path, or changed since) the
-page falls back to what the sentence and the attribution tell.
+it read); to link every verdict to its entries the viewer asks each check's rule (its form's, see
+:data:`pare.scenarios.checks.CHECK_FORMS`) which entries of the trajectory's log decided it, and where in
+the final state a state check found what it counted, to link the calls that made the very items it found
+(the final state is the scenario's start with the episode's state diff applied). That needs the very
+scenario the episode ran: the library's copy is used only when its content hash is the one the episode
+recorded. Otherwise (a scenario file given by path, or changed since) the page falls back to what the
+sentence and the attribution tell.
 """
 
 from __future__ import annotations
@@ -20,12 +21,9 @@ import jsonpatch
 from pare.errors import UserInputError
 from pare.results.run_folder import scenario_hash
 from pare.scenarios.build import build_environment
-from pare.scenarios.checks import state_check_places
-from pare.scenarios.file_identity import FileIdentity
+from pare.scenarios.checks import linked_entries, state_check_places
 from pare.scenarios.library import get_scenario
-from pare.scenarios.model import ActionPattern, Scenario
-from pare.scenarios.patterns import CompiledPattern
-from pare.scenarios.reading import CallReader
+from pare.scenarios.model import Scenario
 from pare.sim.log import LogEntry
 from pare.viewer._credit import Credits
 from pare.viewer._episode import episode_log
@@ -46,33 +44,15 @@ def library_scenario(scenario_id: str, wanted_hash: str) -> Scenario | None:
 def matched_entries(
     scenario: Scenario, log: list[dict[str, Any]], final: Mapping[str, Any] | None = None
 ) -> dict[CheckKey, list[int]]:
-    """For each action, forbidden-action and judge check: the entries its pattern matches (for a judge
-    check, those with a text to read; for an action check that found none, the calls of the tool it
-    wanted). State checks are left out. The episode's ``final`` state, when known, tells whom each call
-    told and which files it carried (patterns with ``to`` match nothing without it).
+    """For each check that reads the action log: the entries that decided it, as its form's rule says
+    (:func:`pare.scenarios.checks.linked_entries`). State checks are left out (:func:`state_entries`).
+    The episode's ``final`` state, when known, tells whom each call told and which files it carried.
     """
     try:
         entries = [_entry(item) for item in log]
     except (KeyError, TypeError, ValueError):  # a log this PARE cannot read back: no precise links
         return {}
-    reader = None if final is None else CallReader.of_state(lambda: final, FileIdentity.of(scenario))
-    found: dict[CheckKey, list[int]] = {}
-    for goal in scenario.goals:
-        for index, check in enumerate(goal.checks):
-            pattern: ActionPattern | None = check.action or check.no_action
-            if check.judge is not None:
-                pattern = check.judge.action
-            if pattern is None:
-                continue
-            compiled = CompiledPattern.of(pattern, scenario.start)
-            hits = compiled.find(entries, reader)
-            if check.judge is not None:  # the judge reads only the calls that carry a text
-                field = check.judge.field
-                hits = [e for e in hits if isinstance(compiled.arguments(e, reader).get(field), str)]
-            if not hits and check.action is not None:
-                hits = [entry for entry in entries if compiled.matches_call(entry)]
-            found[(goal.id, index)] = [entry.index for entry in hits]
-    return found
+    return linked_entries(scenario, entries, final)
 
 
 def state_entries(

@@ -1,0 +1,550 @@
+"""The built-in matcher operators: one :class:`~pare.scenarios.matchers.Operator` record each.
+
+A record says what the operator is written with, when it holds (the scenario guide's table and the
+schema's description are made from these two), how its written value is checked and compiled, and how it
+tests a value. :mod:`pare.scenarios.matchers` compiles and runs matchers from the records; importing
+:mod:`pare.scenarios` registers these.
+
+A new operator is one more record here (or a :func:`~pare.scenarios.matchers.register_operator` call
+anywhere), then ``python scripts/operator_table.py`` to write its row into the guide.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Callable, Mapping, Sequence
+from datetime import UTC, date, datetime, time
+from functools import lru_cache, partial
+from typing import Any
+
+from pare.scenarios import meaning
+from pare.scenarios.matchers import (
+    Check,
+    Chosen,
+    Matcher,
+    MatcherError,
+    Operator,
+    compile_matcher,
+    reading_moment,
+    register_operator,
+)
+from pare.scenarios.text_reasons import (
+    clock_label,
+    declines_label,
+    moment_label,
+    pieces_label,
+    regex_label,
+    why_declines_differs,
+    why_none_contained,
+    why_not_affirmed,
+    why_not_contained,
+    why_not_found,
+    why_not_mentioned,
+)
+from pare.scenarios.times import TimeFormatError, is_relative_time, parse_time
+
+
+def _not(matcher: Matcher, value: Any, start: datetime) -> bool:
+    return not matcher.test(value, start)
+
+
+def _any_of(matchers: tuple[Matcher, ...], value: Any, start: datetime) -> bool:
+    return any(matcher.test(value, start) for matcher in matchers)
+
+
+def _present(wanted: bool, value: Any, start: datetime) -> bool:
+    return (value is not None) is wanted
+
+
+def _contains(pieces: tuple[str, ...], value: Any, start: datetime) -> bool:
+    texts = _word_texts(value)
+    for piece in pieces:  # loops, not all() and any(): they run for every text of every item checked
+        found = meaning.word_finder(piece).found
+        for text in texts:
+            if found(text):
+                break
+        else:
+            return False
+    return True
+
+
+def _contains_any(pieces: tuple[str, ...], value: Any, start: datetime) -> bool:
+    texts = _word_texts(value)
+    for piece in pieces:
+        found = meaning.word_finder(piece).found
+        for text in texts:
+            if found(text):
+                return True
+    return False
+
+
+def _word_texts(value: Any) -> list[str]:
+    """The texts a value's words are sought in, read once for all the pieces sought: a list's items
+    (nested lists too), each alone.
+    """
+    if type(value) is str:  # the usual case, without the walk
+        return [meaning.normalise_quotes(value)]
+    return [meaning.normalise_quotes(_text(item)) for item in _leaves(value)]
+
+
+def _reader(read: Callable[[str, Any, datetime], bool]) -> Check:
+    """The test of an operator that reads each item's text with ``read(text, expected, start)``."""
+
+    def test(expected: Any, value: Any, start: datetime) -> bool:
+        return any(read(_text(item), expected, start) for item in _items(value))
+
+    return test
+
+
+def _regex(pattern: re.Pattern[str], value: Any, start: datetime) -> bool:
+    return any(pattern.search(_text(item)) is not None for item in _items(value))
+
+
+def _one_of(options: tuple[Chosen, ...], value: Any, start: datetime) -> bool:
+    return any(check(prepared, value, start) for check, prepared in options)
+
+
+def _same_set(wanted: set[Any], value: Any, start: datetime) -> bool:
+    return isinstance(value, Sequence) and not isinstance(value, str) and _as_set(value) == wanted
+
+
+def _at_least(bound: float, value: Any, start: datetime) -> bool:
+    number = _number(value)
+    return number is not None and number >= bound
+
+
+def _at_most(bound: float, value: Any, start: datetime) -> bool:
+    number = _number(value)
+    return number is not None and number <= bound
+
+
+def _after(expected: str | datetime, value: Any, start: datetime) -> bool:
+    moment = _time(value, start)
+    return moment is not None and moment > _parse_time(expected, start)
+
+
+def _from(expected: str | datetime, value: Any, start: datetime) -> bool:
+    moment = _time(value, start)
+    return moment is not None and moment >= _parse_time(expected, start)
+
+
+def _before(expected: str | datetime, value: Any, start: datetime) -> bool:
+    moment = _time(value, start)
+    return moment is not None and moment < _parse_time(expected, start)
+
+
+def _by(expected: str | datetime, value: Any, start: datetime) -> bool:
+    moment = _time(value, start)
+    return moment is not None and moment <= _parse_time(expected, start)
+
+
+def _items(value: Any) -> list[Any]:
+    return value if isinstance(value, list) else [value]
+
+
+def _leaves(value: Any) -> list[Any]:
+    """The items of a list and of the lists in it; anything else alone."""
+    if not isinstance(value, list):
+        return [value]
+    return [leaf for item in value for leaf in _leaves(item)]
+
+
+def item_texts(value: Any, operator: str) -> list[str]:
+    """The texts the text operator ``operator`` reads in ``value``, one per item it tries (to explain a
+    verdict): a list's items, and for ``contains`` and ``contains_any`` the items of nested lists too.
+    """
+    items = _leaves(value) if operator in ("contains", "contains_any") else _items(value)
+    return [_text(item) for item in items]
+
+
+def _text(value: Any) -> str:
+    """Text to search in: a mapping's values only (never its field names, so 'content' does not
+    contain 'tent'), a list's items, anything else as written.
+    """
+    if isinstance(value, str):
+        return value
+    if isinstance(value, Mapping):
+        return " ".join(_text(item) for item in value.values())
+    if isinstance(value, list):
+        return " ".join(_text(item) for item in value)
+    return str(value)
+
+
+def _clock(value: Any) -> time:
+    """A clock time for ``mentions_clock``: ``"18:15"``, or any time (its clock time is taken)."""
+    if isinstance(value, str):
+        found = re.fullmatch(r"\s*(\d{1,2}):(\d{2})\s*", value)
+        if found and int(found.group(1)) < 24 and int(found.group(2)) < 60:
+            return time(int(found.group(1)), int(found.group(2)))
+    if isinstance(value, str | datetime):
+        try:
+            return parse_time(value, datetime(2000, 1, 1, tzinfo=UTC)).time()
+        except TimeFormatError:
+            pass
+    raise MatcherError(f"'mentions_clock' needs a clock time such as '18:15' or a time, got {value!r}")
+
+
+def _read_affirms(text: str, pieces: tuple[str, ...], start: datetime) -> bool:
+    return all(meaning.affirms(text, piece) for piece in pieces)
+
+
+def _read_declines(text: str, wanted: bool, start: datetime) -> bool:
+    return meaning.declines(text) is wanted
+
+
+def _read_day(text: str, expected: Any, start: datetime) -> bool:
+    return meaning.mentions_day(text, parse_time(expected, start).date(), reading_moment(start))
+
+
+def _read_clock(text: str, expected: time, start: datetime) -> bool:
+    return meaning.mentions_clock(text, expected, reading_moment(start))
+
+
+def _read_moment(text: str, expected: Any, start: datetime) -> bool:
+    return meaning.mentions_moment(text, parse_time(expected, start), reading_moment(start))
+
+
+def _as_set(values: Sequence[Any]) -> set[Any]:
+    return {v.strip().casefold() if isinstance(v, str) else repr(v) for v in values}
+
+
+def _number(value: Any) -> float | None:
+    if isinstance(value, bool):
+        return None
+    if isinstance(value, int | float):
+        return float(value)
+    if isinstance(value, str):
+        try:
+            number = float(value)
+        except ValueError:
+            return None
+        return number if math.isfinite(number) else None
+    return None
+
+
+_parse_time = lru_cache(maxsize=16384)(parse_time)
+""":func:`~pare.scenarios.times.parse_time`, remembered: the same scenario times and state values are
+compared in every evaluation (a time that cannot be read is not remembered: it raises again)."""
+
+
+def _time(value: Any, start: datetime) -> datetime | None:
+    if type(value) is not str:  # a time in the state is text: told apart without two isinstance calls
+        if isinstance(value, datetime):
+            return value if value.tzinfo else value.replace(tzinfo=UTC)
+        if not isinstance(value, str):
+            return None
+    try:
+        return _parse_time(value, start)
+    except TimeFormatError:
+        return None
+
+
+@lru_cache(maxsize=4096)
+def _looks_like_time(text: str) -> bool:
+    if is_relative_time(text):
+        return True
+    return bool(re.match(r"^\d{4}-\d{2}-\d{2}[T ]\d{2}:\d{2}", text.strip()))
+
+
+def _equals_check(expected: Any) -> Chosen:
+    """``equals``: times compare as times (whatever their format), numbers as numbers."""
+    if isinstance(expected, datetime):
+        # YAML reads an unquoted 2024-12-14T14:00:00Z as a datetime; the state holds text
+        return Chosen(_same_moment, (expected, expected if expected.tzinfo else expected.replace(tzinfo=UTC)))
+    if isinstance(expected, str) and _looks_like_time(expected):
+        return Chosen(_same_time, expected)
+    if isinstance(expected, int | float) and not isinstance(expected, bool):
+        return Chosen(_same_number, float(expected))
+    return Chosen(_same, expected)
+
+
+def _same(expected: Any, value: Any, start: datetime) -> bool:
+    return bool(expected == value)
+
+
+def _same_number(wanted: float, value: Any, start: datetime) -> bool:
+    number = _number(value)
+    return number is not None and number == wanted
+
+
+def _same_moment(expected: tuple[datetime, datetime], value: Any, start: datetime) -> bool:
+    written, moment = expected
+    if isinstance(value, str | datetime):
+        right = _time(value, start)
+        return right is not None and right == moment
+    return bool(written == value)
+
+
+def _same_time(expected: str, value: Any, start: datetime) -> bool:
+    if type(value) is str or isinstance(value, str | datetime):
+        left, right = _time(expected, start), _time(value, start)
+        if left is not None and right is not None:
+            return left == right
+    return bool(expected == value)
+
+
+# -- what operators are written with ---------------------------------------------------------------------
+def _pieces(name: str, value: Any) -> tuple[str, ...]:
+    """Words sought in text: a string or a list of non-empty strings (numbers too), casefolded."""
+    pieces = value if isinstance(value, list) else [value]
+    if name == "contains_any" and not isinstance(value, list):
+        raise MatcherError("'contains_any' needs a list of strings")
+    if not pieces or not all(
+        isinstance(p, str | int | float) and not isinstance(p, bool) and str(p).strip("* ") for p in pieces
+    ):
+        raise MatcherError(f"'{name}' needs a string or a list of non-empty strings, got {value!r}")
+    return tuple(str(piece).casefold() for piece in pieces)
+
+
+def _flag(name: str, value: Any) -> bool:
+    if not isinstance(value, bool):
+        raise MatcherError(f"'{name}' needs true or false, got {value!r}")
+    return value
+
+
+def _pattern(value: Any) -> re.Pattern[str]:
+    if not isinstance(value, str):
+        raise MatcherError(f"'regex' needs a string, got {value!r}")
+    try:
+        return re.compile(value, re.IGNORECASE)
+    except re.error as error:
+        raise MatcherError(f"'regex' {value!r} is not a valid regular expression: {error}") from None
+
+
+def _listed(name: str, value: Any) -> tuple[Any, ...]:
+    if not isinstance(value, list):
+        raise MatcherError(f"'{name}' needs a list, got {value!r}")
+    return tuple(value)
+
+
+def _bound(name: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise MatcherError(f"'{name}' needs a number, got {value!r}")
+    return float(value)
+
+
+def _moment(name: str, value: Any) -> str | datetime:
+    """A time as written (absolute, or relative to the start), checked: it is read at each test."""
+    if not isinstance(value, str | datetime):
+        raise MatcherError(f"'{name}' needs a time, got {value!r}")
+    try:
+        parse_time(value, datetime(2000, 1, 1, tzinfo=UTC))
+    except TimeFormatError as error:
+        raise MatcherError(f"'{name}': {error}") from None
+    return value
+
+
+def _day(value: Any) -> str | datetime:
+    """A day for ``mentions_day``: a day alone (``day+3``, a date) is read at 00:00, a time as its day."""
+    if isinstance(value, str) and _DAY_ONLY.fullmatch(value):
+        value = f"{value.strip()} 00:00"  # a day alone: its clock time does not matter
+    if isinstance(value, date) and not isinstance(value, datetime):
+        value = f"{value.isoformat()} 00:00"  # YAML reads an unquoted 2025-07-05 as a date: a day alone
+    return _moment("mentions_day", value)
+
+
+def _matchers(value: Any) -> tuple[Matcher, ...]:
+    if not isinstance(value, list) or not value:
+        raise MatcherError("'any_of' needs a non-empty list of matchers")
+    return tuple(compile_matcher(item) for item in value)
+
+
+def _one(value: Any) -> Sequence[Any]:
+    return [value]
+
+
+def _alternatives(value: Any) -> Sequence[Any]:
+    return value if isinstance(value, list) else []
+
+
+_DAY_ONLY = re.compile(r"\s*day\s*([+-]\s*\d+)?\s*")
+_TIME_WRITTEN = "a time, absolute or relative to the start"
+
+
+# -- the operators ---------------------------------------------------------------------------------------
+for _operator in (
+    Operator(
+        "equals",
+        "a value",
+        "is equal to it (times compare as times, whatever their format)",
+        _same,
+        prepare=_equals_check,
+        refuses_none=False,
+    ),
+    Operator(
+        "contains",
+        "a string or a list of strings",
+        "contains the string, or every string of the list, as whole words, case-insensitively ('wed' is "
+        "not found in 'reviewed'; a '*' at a piece's end lets the word go on: 'view*'); of a list value, "
+        "some element does",
+        _contains,
+        partial(_pieces, "contains"),
+        reads="text",
+        explain=why_not_contained,
+        label=partial(pieces_label, "contains"),
+    ),
+    Operator(
+        "contains_any",
+        "a list of strings",
+        "contains at least one of the strings, as whole words, case-insensitively",
+        _contains_any,
+        partial(_pieces, "contains_any"),
+        reads="text",
+        explain=why_none_contained,
+        label=partial(pieces_label, "contains_any"),
+    ),
+    Operator(
+        "affirms",
+        "a string or a list of strings",
+        "mentions every string in a clause without negation ('Thursday works' affirms thursday; "
+        "'Thursday does not work' does not)",
+        _reader(_read_affirms),
+        partial(_pieces, "affirms"),
+        reads="text",
+        explain=why_not_affirmed,
+        label=partial(pieces_label, "affirms"),
+    ),
+    Operator(
+        "declines",
+        "true or false",
+        "refuses, cancels or says something does not work, read as a whole ('Can't, sorry', 'No thanks', "
+        "'I'll pass', 'no need, I have a taxi'), for true; does not, for false. Turning one option down "
+        "and taking up another in a later clause ('12:00 won't work, so could I have 14:00?') is a "
+        "counter-offer, not a refusal",
+        _reader(_read_declines),
+        partial(_flag, "declines"),
+        reads="text",
+        explain=why_declines_differs,
+        label=declines_label,
+    ),
+    Operator(
+        "mentions_day",
+        "a day ('day+3', a date) or a time (its day)",
+        "names that day: 'Thu', '20 March', 'tomorrow', '20/03'; mentions in negated clauses do not count",
+        _reader(_read_day),
+        _day,
+        reads="text",
+        reads_days=True,
+        explain=why_not_mentioned,
+        label=partial(moment_label, "mentions_day"),
+    ),
+    Operator(
+        "mentions_clock",
+        "a clock time ('18:15') or a time (its clock time)",
+        "names that clock time: '6:15pm', '18.15', '18h15', 'at 6'",
+        _reader(_read_clock),
+        _clock,
+        reads="text",
+        reads_days=True,
+        explain=why_not_mentioned,
+        label=clock_label,
+    ),
+    Operator(
+        "mentions_time",
+        "a time",
+        "names that day together with that clock time, in one sentence or as the text's only day and only "
+        "time: 'Thursday at 6.15pm'",
+        _reader(_read_moment),
+        partial(_moment, "mentions_time"),
+        reads="text",
+        reads_days=True,
+        explain=why_not_mentioned,
+        label=partial(moment_label, "mentions_time"),
+    ),
+    Operator(
+        "regex",
+        "a regular expression",
+        "matches the regular expression somewhere (case-insensitive; raw text, no word rules)",
+        _regex,
+        _pattern,
+        reads="text",
+        explain=why_not_found,
+        label=regex_label,
+    ),
+    Operator(
+        "one_of",
+        "a list of values",
+        "equals one of the values",
+        _one_of,
+        partial(_listed, "one_of"),
+        prepare=lambda options: tuple(_equals_check(option) for option in options),
+    ),
+    Operator(
+        "same_set",
+        "a list",
+        "is a list with the same elements in any order (text compared case-insensitively)",
+        _same_set,
+        partial(_listed, "same_set"),
+        prepare=_as_set,
+        reads="list",
+    ),
+    Operator(
+        "min", "a number", "is a number at least this", _at_least, partial(_bound, "min"), reads="number"
+    ),
+    Operator("max", "a number", "is a number at most this", _at_most, partial(_bound, "max"), reads="number"),
+    Operator(
+        "after",
+        _TIME_WRITTEN,
+        "is a time strictly after it: the bound itself fails",
+        _after,
+        partial(_moment, "after"),
+        reads="time",
+    ),
+    Operator(
+        "from",
+        _TIME_WRITTEN,
+        "is a time at or after it: the bound itself holds",
+        _from,
+        partial(_moment, "from"),
+        reads="time",
+    ),
+    Operator(
+        "before",
+        _TIME_WRITTEN,
+        "is a time strictly before it: the bound itself fails",
+        _before,
+        partial(_moment, "before"),
+        reads="time",
+    ),
+    Operator(
+        "by",
+        _TIME_WRITTEN,
+        "is a time at or before it: the bound itself holds",
+        _by,
+        partial(_moment, "by"),
+        reads="time",
+    ),
+    Operator(
+        "present",
+        "true or false",
+        "is given (true) or is missing or null (false)",
+        _present,
+        partial(_flag, "present"),
+        refuses_none=False,
+    ),
+    Operator(
+        "not",
+        "a matcher",
+        "does not match it",
+        _not,
+        compile_matcher,
+        reads="matchers",
+        refuses_none=False,
+        nested=_one,
+        describe=lambda matcher: f"not ({matcher.describe()})",
+    ),
+    Operator(
+        "any_of",
+        "a list of matchers",
+        "matches at least one of them (`{any_of: [{present: false}, {equals: user-laura}]}`: missing or "
+        "Laura)",
+        _any_of,
+        _matchers,
+        reads="matchers",
+        refuses_none=False,
+        nested=_alternatives,
+        describe=lambda matchers: "any of (" + " | ".join(m.describe() for m in matchers) + ")",
+    ),
+):
+    register_operator(_operator)
