@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import asyncio
 from collections.abc import Iterator, Sequence
 from datetime import datetime
 from typing import Any
@@ -10,8 +11,8 @@ import pytest
 
 from pare.bench import run_episode
 from pare.errors import ModelRequestError
-from pare.scenarios import OracleAssistant, OracleUser, evaluate
-from pare.scenarios.checks import JudgeVerdict, goals_met
+from pare.scenarios import OracleAssistant, OracleUser
+from pare.scenarios.checks import JudgeVerdict, aevaluate, goals_met
 from pare.scenarios.matchers import Operator, register_operator, unregister_operator
 from tests.scenarios.helpers import base, parse
 
@@ -61,7 +62,7 @@ def test_a_check_that_raises_fails_with_its_exception_and_the_episode_is_kept(br
 
 
 def _judge_raising(error: Exception) -> Any:
-    def judge(criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
+    async def judge(criterion: str, text: str, facts: Sequence[str] = ()) -> JudgeVerdict:
         raise error
 
     return judge
@@ -70,8 +71,10 @@ def _judge_raising(error: Exception) -> Any:
 def test_a_judge_that_raises_fails_its_check() -> None:
     scenario = _scenario_with(JUDGED)
     result = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
-    outcome = evaluate(
-        scenario, result.env.log.entries, result.env.snapshot(), judge=_judge_raising(KeyError("verdict"))
+    outcome = asyncio.run(
+        aevaluate(
+            scenario, result.env.log.entries, result.env.snapshot(), judge=_judge_raising(KeyError("verdict"))
+        )
     )
     (judged,) = outcome.goals[1].checks
     assert not judged.passed and judged.detail == "the check raised KeyError: 'verdict'"
@@ -83,4 +86,6 @@ def test_a_model_providers_refusal_is_not_a_verdict() -> None:
     result = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
     refused = ModelRequestError("the judge's key was refused", kind="authentication")
     with pytest.raises(ModelRequestError):
-        evaluate(scenario, result.env.log.entries, result.env.snapshot(), judge=_judge_raising(refused))
+        asyncio.run(
+            aevaluate(scenario, result.env.log.entries, result.env.snapshot(), judge=_judge_raising(refused))
+        )

@@ -88,15 +88,20 @@ class JudgeAnswers:
     evaluated (:func:`aevaluate`): evaluating is synchronous, asking a model is not.
     """
 
-    def __init__(self, verdicts: Mapping[Question, JudgeVerdict] | None = None) -> None:
+    def __init__(self, verdicts: Mapping[Question, JudgeVerdict | Exception] | None = None) -> None:
         self._verdicts = dict(verdicts or {})
 
     def verdict(self, criterion: str, text: str, facts: Sequence[str]) -> JudgeVerdict:
-        """The verdict asked for ``text`` (a question never asked is a mistake of the caller's)."""
+        """The verdict asked for ``text`` (a question never asked is a mistake of the caller's). A judge
+        that raised on it raises again here, inside the check, which then fails saying what it raised.
+        """
         try:
-            return self._verdicts[(criterion, text, tuple(facts))]
+            found = self._verdicts[(criterion, text, tuple(facts))]
         except KeyError:
             raise LookupError(f"the judge was never asked about {text[:60]!r} for: {criterion}") from None
+        if isinstance(found, Exception):
+            raise found
+        return found
 
 
 @dataclass(frozen=True, slots=True)
@@ -231,7 +236,16 @@ async def _ask(
     context = _Context(
         scenario.start, log, view, Attribution(), None, CallReader.of_state(view.whole, compiled.files)
     )
-    asked: dict[Question, asyncio.Task[JudgeVerdict]] = {}
+    asked: dict[Question, asyncio.Task[JudgeVerdict | Exception]] = {}
+
+    async def answer(question: Question) -> JudgeVerdict | Exception:
+        try:
+            return await judge(*question)
+        except (RunFailure, UserInputError):  # a provider or a configuration: no verdict on the episode
+            raise
+        except Exception as error:  # the judge's own bug: the checks that asked it fail, saying so
+            return error
+
     try:
         async with asyncio.TaskGroup() as group:  # one failing call cancels the others
 
@@ -240,8 +254,9 @@ async def _ask(
                 for _, text in rule.texts(context).candidates:
                     question = (check.criterion, text, tuple(check.facts))
                     if question not in asked:
-                        asked[question] = group.create_task(judge(*question))
-                    if (await asked[question]).passed:
+                        asked[question] = group.create_task(answer(question))
+                    said = await asked[question]
+                    if isinstance(said, Exception) or said.passed:
                         return
 
             for rule in rules:
@@ -279,7 +294,7 @@ def evaluate(
         for index, rule in enumerate(rules):
             passed, detail = _verdict(rule, context)
             user_made = not passed and rule.on_the_assistant and _verdict(rule, credited, explain=False)[0]
-            judged = rule.judged(context)
+            judged = _judged(rule, context)
             results.append(
                 CheckResult(goal.id, index, rule.form, passed, detail, rule.description, user_made, judged)
             )
@@ -358,6 +373,16 @@ def _verdict(rule: Rule, context: _Context, *, explain: bool = True) -> tuple[bo
         raise
     except Exception as error:  # the check's own failure: its verdict says what it was
         return False, f"{CHECK_RAISED}{type(error).__name__}: {error}"
+
+
+def _judged(rule: Rule, context: _Context) -> tuple[JudgedText, ...]:
+    """What the judge read for ``rule``; nothing when the judge raised (the check's verdict says so)."""
+    try:
+        return rule.judged(context)
+    except (RunFailure, UserInputError):
+        raise
+    except Exception:  # already the check's failure, in its verdict
+        return ()
 
 
 CHECK_RAISED = "the check raised "
