@@ -19,7 +19,11 @@ from pare.sim.budget import DEFAULT_BUDGET, TurnBudget
 
 # values that could trip a filling-in: markup, a hole's own marker, whitespace at the edges
 AWKWARD = "  {{ goal }} {% if x %}\x00hole:goal\x00 \n"
-BUDGETS = (DEFAULT_BUDGET, TurnBudget(max_turns=4, user_steps=2, proposal_ttl_turns=1))
+BUDGETS = (
+    DEFAULT_BUDGET,
+    TurnBudget(max_turns=4, user_steps=2, proposal_ttl_turns=1),
+    TurnBudget(proposal_ttl_turns=None, user_prompt="paper"),  # the paper protocol: its wording, no expiry
+)
 
 
 def _direct(role: str, env: Environment, native_tools: bool, **context: Any) -> str:
@@ -55,7 +59,7 @@ def test_user_prompts_are_the_templates_rendered(
                     native_tools,
                     start=prompts._start(env),
                     budget=budget,
-                    notification_policy=prompts._user_notifications(env),
+                    notification_policy=prompts._user_notifications(env, budget),
                     persona=persona,
                     goal=goal,
                 )
