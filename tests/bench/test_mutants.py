@@ -153,6 +153,12 @@ def test_a_proposal_before_the_fact_that_justifies_it_is_killed() -> None:
     assert played.outcome == "killed" and played.detail.startswith("check failed: pickup_matches_arrival[0]")
 
 
+def test_a_proposal_whose_event_comes_first_anyway_is_stillborn() -> None:
+    # Priya answers a minute after the question: proposing "at once" after it already follows her answer
+    played = _played(_library()["flatmate_away_restock_order"])["early_proposal:2"]
+    assert played.outcome == "stillborn" and "priya_reply" in played.detail
+
+
 def test_a_reply_as_a_new_email_a_renamed_file_and_dates_written_another_way_pass() -> None:
     scenario = _library()["accountant_asks_for_last_three_payslips"]
     played = _played(scenario)

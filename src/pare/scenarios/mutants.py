@@ -25,6 +25,7 @@ import re
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from datetime import datetime, timedelta
+from functools import cached_property
 from typing import Any, Literal
 
 from pare.scenarios import mutant_seed as seed_reading
@@ -79,6 +80,9 @@ class Mutant:
     what: str
     """What was changed, for reports."""
     solution: Solution
+    waits_for: tuple[str, str] | None = None
+    """For a proposal moved earlier: the event it no longer waits for and the proposal's text, so that a
+    run where the event came first anyway (nothing moved) is told apart."""
 
     @property
     def is_rewrite(self) -> bool:
@@ -104,6 +108,7 @@ class _Edit:
     where: str
     what: str
     interventions: tuple[Intervention, ...]
+    waits_for: tuple[str, str] | None = None
 
 
 Operator = Callable[["_Oracle"], Iterator[_Edit]]
@@ -120,7 +125,7 @@ def _generate(scenario: Scenario, names: tuple[str, ...], expect: Expect) -> lis
                 continue
             seen.add(name)
             solution = Solution(name, tuple(scenario.oracle.user), edit.interventions)
-            found.append(Mutant(name, operator, expect, edit.what, solution))
+            found.append(Mutant(name, operator, expect, edit.what, solution, edit.waits_for))
             if len(seen) == PER_OPERATOR:
                 break
     return found
@@ -153,15 +158,7 @@ class _Oracle:
         """Every string the actions of the oracle and of the passing variants give: the items (and files)
         a right solution is about; the others are distractors."""
 
-        self.world_texts = tuple(
-            dict.fromkeys(
-                [
-                    *seed_reading.texts(scenario.seed),
-                    *(t for e in scenario.events for t in seed_reading.texts(e.args)),
-                ]
-            )
-        )
-        """The texts of the seed and of the events: where the world offers slots."""
+        self._app_seeds: dict[str, tuple[Mapping[str, Any], dict[str, set[str]]]] = {}
         self.own_address = str(scenario.seed.get("email", {}).get("user_email", "")).lower()
         seeded = scenario.seed.get("email", {}).get("emails", []) or []
         self.emails_with_event: dict[str, tuple[Mapping[str, Any], str | None]] = {
@@ -172,6 +169,23 @@ class _Oracle:
             if event.tool == "email__receive_email":
                 self.emails_with_event[str(event.args.get("email_id"))] = (event.args, event.id)
         self.emails = {email_id: email for email_id, (email, _) in self.emails_with_event.items()}
+
+    @cached_property
+    def world_texts(self) -> tuple[str, ...]:
+        """The texts of the seed and of the events that name a number: where the world offers slots."""
+        scenario = self.scenario
+        found = [
+            *seed_reading.texts(scenario.seed),
+            *(t for e in scenario.events for t in seed_reading.texts(e.args)),
+        ]
+        return tuple(text for text in dict.fromkeys(found) if any(char.isdigit() for char in text))
+
+    def app_seed(self, app: str) -> tuple[Mapping[str, Any], dict[str, set[str]]]:
+        """``app``'s seed and where each of its strings is kept (read once per app)."""
+        if app not in self._app_seeds:
+            seed = self.scenario.seed.get(app, {})
+            self._app_seeds[app] = (seed, seed_reading.places(seed))
+        return self._app_seeds[app]
 
     def rng(self, name: str) -> random.Random:
         """The generator for the choice a mutant called ``name`` makes: the same on every run."""
@@ -362,13 +376,12 @@ def _distractors(oracle: _Oracle, action: OracleAction) -> Iterator[tuple[str, l
     distractors of its kind, items of the same app's seed that no right solution touches; those kept where
     the item is, if any (a saved flat for a saved flat: removing a flat that is not saved changes nothing).
     """
-    seed = oracle.scenario.seed.get(action.tool.partition("__")[0], {})
-    places = seed_reading.places(seed)
+    _, places = oracle.app_seed(action.tool.partition("__")[0])
     for key in sorted(action.args):
         value = action.args[key]
         if not key.endswith("_id") or key in _PEOPLE_ARGS or not isinstance(value, str):
             continue
-        ids = seed_reading.ids(seed, key)
+        ids = {text for text, where in places.items() if any(place.endswith(f".{key}") for place in where)}
         if value not in ids:  # an item the story brings later: where its kind is kept is not in the seed
             continue
         others = sorted(ids - oracle.used)
@@ -517,7 +530,9 @@ def _similar_item(oracle: _Oracle) -> Iterator[_Edit]:
 
 def _early_proposal(oracle: _Oracle) -> Iterator[_Edit]:
     """An intervention that waits for an event (the message that asks, the news that makes it needed)
-    proposed at once instead, before the fact that justifies it has arrived.
+    proposed at once instead, before the fact that justifies it has arrived. Where the event comes before
+    the assistant's next turn anyway (a reply a minute after the question), the proposal is not earlier
+    after all: the gate counts such a mutant as stillborn.
     """
     start = oracle.scenario.start
     events = {event.id: event for event in oracle.scenario.events}
@@ -530,7 +545,7 @@ def _early_proposal(oracle: _Oracle) -> Iterator[_Edit]:
         early = intervention.model_copy(update={"when": None})
         what = f"intervention {i + 1} proposed at once, before event '{event.id}'"
         changed = (*oracle.interventions[:i], early, *oracle.interventions[i + 1 :])
-        yield _Edit(f"{i + 1}", what, changed)
+        yield _Edit(f"{i + 1}", what, changed, (event.id, intervention.proposal))
 
 
 # -- the rewrites -------------------------------------------------------------------------------------
@@ -834,7 +849,11 @@ def _delete_readd(oracle: _Oracle) -> Iterator[_Edit]:
             else {k: v for k, v in action.args.items() if k != id_key and v is not None}
         )
         accepted = add_spec.function_schema()["function"]["parameters"]["properties"]
-        kept = {k: v for k, v in {**item, **updates}.items() if v not in (None, "", [], {})}
+        kept = {
+            k: v
+            for k, v in {**item, **updates}.items()
+            if v not in (None, "", [], {}, False) and not k.endswith("_at")  # a new item's own times
+        }
         if kept.get("attendees") or set(kept) - set(accepted) - {id_key}:
             continue  # a new item would invite people again, or lose what the add cannot set (sharing)
         fields = {k: v for k, v in kept.items() if k in accepted}
