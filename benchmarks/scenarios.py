@@ -1,6 +1,9 @@
 """Scenario library timings: loading and validating every file, and the self-test gate per scenario.
 
-    python benchmarks/scenarios.py [--repeat 5] [PATHS ...]
+    python benchmarks/scenarios.py [--repeat 5] [--mutants] [PATHS ...]
+
+With ``--mutants`` the gate also plays every scenario's generated mutants and rewrites, as ``pare scenarios
+check --mutants`` does, and the line says how many it played.
 
 The oracle runs and the gate use the cyclic collector as ``pare run`` and ``pare scenarios check`` do
 (:mod:`pare.bench.collector`). Prints numbers only; no assertion. Times are the median of ``--repeat``
@@ -33,6 +36,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("paths", nargs="*", help="scenario files or directories (default: the library)")
     parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--mutants", action="store_true", help="the gate plays mutants and rewrites too")
     options = parser.parse_args()
     paths = options.paths or None
 
@@ -55,15 +59,18 @@ def main() -> None:
 
     per_scenario: list[tuple[float, str]] = []
     episodes: list[int] = []
+    played_mutants: list[int] = []
 
     def gate() -> None:
         per_scenario.clear()
         episodes.clear()
+        played_mutants.clear()
         for scenario in scenarios:
-            verdict = check_scenario(scenario)
+            verdict = check_scenario(scenario, mutants=options.mutants)
             assert verdict.ok, verdict.breaches()
             per_scenario.append((verdict.seconds, scenario.id))
-            episodes.append(len(verdict.runs))
+            episodes.append(len(verdict.runs) + len(verdict.mutants))
+            played_mutants.append(len(verdict.mutants))
             del verdict
             settle()  # as `pare scenarios check` does after each scenario
 
@@ -71,8 +78,10 @@ def main() -> None:
         gate_time = median_seconds(gate, options.repeat)
     each = gate_time / count * 1000
     played = sum(episodes)
+    with_mutants = f", {sum(played_mutants)} of them mutants and rewrites" if options.mutants else ""
     print(
-        f"self-test gate ({played} episodes, {played / count:.1f} per scenario with its variants): "
+        f"self-test gate ({played} episodes{with_mutants}, {played / count:.1f} per scenario with its "
+        "variants): "
         f"{gate_time * 1000:.1f} ms ({each:.2f} ms per scenario, "
         f"{gate_time / played * 1000:.2f} ms per episode)"
     )

@@ -11,7 +11,7 @@ from pare.bench.selftest import MutantVerdict, ScenarioVerdict, check_scenario
 from pare.scenarios.library import load_scenarios
 from pare.scenarios.loader import ScenarioError
 from pare.scenarios.model import Scenario
-from pare.scenarios.mutants import mutants, rewrites
+from pare.scenarios.mutants import _other_date_forms, mutants, rewrites
 from tests.scenarios.helpers import base, parse
 
 
@@ -66,6 +66,7 @@ def test_wrong_person_day_hour_and_left_out_action_are_killed_and_rewrites_pass(
         "drop_action:1.2": "killed",
         "reorder:1.1": "passed",
         "time_phrasing:1.1:content": "passed",
+        "time_phrasing:1.1:content:words": "passed",
         "split_message:1.1": "passed",
     }
     assert played["drop_action:1.2"].detail.startswith("check failed: ")
@@ -79,6 +80,8 @@ def test_rewrites_say_the_same_thing_another_way() -> None:
     assert [a.tool for a in reordered] == [a.tool for a in reversed(oracle)]
     phrased = by_name["time_phrasing:1.1:content"].solution.interventions[0].actions[0].args["content"]
     assert "Wednesday 5pm-7pm" in phrased and "at 5:15pm" in phrased and "17:" not in phrased
+    said = by_name["time_phrasing:1.1:content:words"].solution.interventions[0].actions[0].args["content"]
+    assert "5pm-7pm" in said and "at 5.15 in the afternoon" in said  # a range keeps the short form
     halves = by_name["split_message:1.1"].solution.interventions[0].actions[:2]
     assert [a.tool for a in halves] == ["messaging__send_message"] * 2
     assert " ".join(a.args["content"] for a in halves) == oracle[0].args["content"]
@@ -120,6 +123,91 @@ def test_an_email_kept_as_a_draft_is_killed() -> None:
     sent = next(a for a in scenario.oracle.interventions[0].actions if a.tool == "email__send_email")
     assert saved.args == sent.args
     assert _played(scenario)[draft.name].outcome == "killed"
+
+
+def _by_name(scenario_id: str, operator: str) -> dict[str, Any]:
+    scenario = _library()[scenario_id]
+    return {m.name: m for m in [*mutants(scenario), *rewrites(scenario)] if m.operator == operator}
+
+
+def test_the_other_offered_slot_is_taken_and_killed() -> None:
+    # the practice offers two new times; the mutant books the one the oracle did not
+    [(name, slot)] = _by_name("dentist_moves_checkup", "other_slot").items()
+    assert name == "other_slot:1.1" and "Wed 05 Mar 17:15" in slot.what
+    assert _played(_library()["dentist_moves_checkup"])[name].outcome == "killed"
+
+
+def test_the_most_alike_distractor_is_chosen_and_killed() -> None:
+    scenario = _library()["air_purifier_filter_substitute_within_spec"]
+    [(name, similar)] = _by_name(scenario.id, "similar_item").items()
+    assert similar.what.endswith("ff-26-h13 -> ff-30-h13, the most alike in the seed")
+    assert _played(scenario)[name].outcome == "killed"
+
+
+def test_a_proposal_before_the_fact_that_justifies_it_is_killed() -> None:
+    scenario = _library()["train_delay_push_station_pickup_later"]
+    early = _by_name(scenario.id, "early_proposal")["early_proposal:1"]
+    assert early.solution.interventions[0].when is None
+    played = _played(scenario)["early_proposal:1"]
+    # killed by the check that the pickup is rebooked only once the 45-minute delay is known
+    assert played.outcome == "killed" and played.detail.startswith("check failed: pickup_matches_arrival[0]")
+
+
+def test_a_proposal_whose_event_comes_first_anyway_is_stillborn() -> None:
+    # Priya answers a minute after the question: proposing "at once" after it already follows her answer
+    played = _played(_library()["flatmate_away_restock_order"])["early_proposal:2"]
+    assert played.outcome == "stillborn" and "priya_reply" in played.detail
+
+
+def test_a_reply_as_a_new_email_a_renamed_file_and_dates_written_another_way_pass() -> None:
+    scenario = _library()["accountant_asks_for_last_three_payslips"]
+    played = _played(scenario)
+    new = _by_name(scenario.id, "reply_as_new")["reply_as_new:1.1"]
+    [sent] = [a for a in new.solution.interventions[0].actions if a.tool == "email__send_email"]
+    assert sent.args["recipients"] == ["rhona@fergusonblake.example"] and sent.args["subject"].startswith(
+        "Re: "
+    )
+    renamed = _by_name(scenario.id, "rename_file")["rename_file:1.1"]
+    copies = [
+        a.args["destination"]
+        for a in renamed.solution.interventions[0].actions
+        if a.tool == "files__copy_file"
+    ]
+    assert len(copies) == 3 and all("/attachment-" in path for path in copies)
+    for name in ("reply_as_new:1.1", "rename_file:1.1", "date_phrasing:1.1:content"):
+        assert played[name].outcome == "passed", (name, played[name])
+
+
+def test_an_update_done_as_delete_and_add_passes_and_an_event_with_attendees_is_left_alone() -> None:
+    scenario = _library()["dry_cleaner_ready_thursday_pickup_reminder"]
+    readd = _by_name(scenario.id, "delete_readd")["delete_readd:1.1"]
+    assert [a.tool for a in readd.solution.interventions[0].actions][-2:] == [
+        "reminder__delete_reminder",
+        "reminder__add_reminder",
+    ]
+    assert _played(scenario)["delete_readd:1.1"].outcome == "passed"
+    # re-adding a meeting would invite its attendees again: not the same solution
+    assert not _by_name("dentist_moves_checkup", "delete_readd")
+
+
+def test_a_new_email_sent_as_a_reply_on_the_same_subject_passes() -> None:
+    scenario = _library()["bounced_email_typo_resend_to_contact"]
+    [(name, reply)] = _by_name(scenario.id, "new_as_reply").items()
+    assert reply.solution.interventions[0].actions[1].args["email_id"] == "email-401"
+    assert _played(scenario)[name].outcome == "passed"
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("Due 2026-06-04, see you then.", "Due 4 June 2026, see you then."),
+        ("On 4 June at the hall", "On June 4th at the hall"),
+        ("By June 21 please", "By 21 June please"),
+        ("No date here", "No date here"),
+    ],
+)
+def test_dates_are_written_in_another_common_form(text: str, expected: str) -> None:
+    assert _other_date_forms(text) == expected
 
 
 # -- a scenario whose checks leave the day open ----------------------------------------------------

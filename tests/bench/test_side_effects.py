@@ -320,3 +320,24 @@ def test_editing_an_item_does_not_license_deleting_it_but_deleting_and_re_adding
     another = Change("notes", "notes", "added", "", "Holiday", order=6)
     assert envelope.unexpected([deleted, re_added, another]) == [another]
     assert envelope.unexpected([edited]) == []
+
+
+def test_a_copy_of_a_users_file_is_no_side_effect_but_a_new_file_is() -> None:
+    scenario = LIBRARY["accountant_asks_for_last_three_payslips"]
+    source = "/Documents/Tax/self_assessment_2023-24_summary.txt"
+    copied = play(
+        scenario,
+        over_eager(
+            scenario, {"tool": "files__copy_file", "args": {"source": source, "destination": "/a.txt"}}
+        ),
+    )
+    assert copied.success, [change.describe() for change in copied.outcome.side_effects]
+    written = play(
+        scenario,
+        over_eager(
+            scenario, {"tool": "files__write_file", "args": {"path": "/a.txt", "content": "my notes"}}
+        ),
+    )
+    assert [change.describe() for change in written.outcome.side_effects] == [
+        "new item in files.files: 'my notes'"
+    ]

@@ -119,8 +119,9 @@ class RunVerdict:
 MutantOutcome = Literal["killed", "declared", "survived", "stillborn", "passed", "failed"]
 """A mutant's verdict (killed: the checks failed it; declared: it passed and the scenario says why that is
 right; survived: it passed and nothing says why; stillborn: it passed because the app refused a call the
-oracle makes successfully, so the mutant changed nothing, and it is not counted), or a rewrite's (passed,
-as it must, or failed)."""
+oracle makes successfully, or, for a proposal moved earlier, because the event it no longer waits for came
+first anyway, so the mutant changed nothing, and it is not counted), or a rewrite's (passed, as it must,
+or failed)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -284,10 +285,22 @@ def _mutant_verdicts(
             verdict = "killed"
         elif refused := _refused_calls(result):
             verdict, why = "stillborn", f"the app refused {refused[0]}"
+        elif mutant.waits_for is not None and _came_first(result, *mutant.waits_for):
+            verdict, why = "stillborn", f"event '{mutant.waits_for[0]}' came before the proposal anyway"
         else:
             reason = scenario.equivalent_mutants.get(mutant.name)
             verdict, why = ("survived", "") if reason is None else ("declared", reason)
         yield MutantVerdict(mutant.name, mutant.expect, mutant.what, verdict, why)
+
+
+def _came_first(result: EpisodeResult, event_id: str, proposal: str) -> bool:
+    """Whether event ``event_id`` fired in ``result`` before the assistant made ``proposal``."""
+    for entry in result.env.log:
+        if entry.event_id == event_id:
+            return True
+        if entry.actor == "assistant" and entry.args.get("content") == proposal:
+            return False
+    return False
 
 
 def _refused_calls(result: EpisodeResult) -> list[str]:

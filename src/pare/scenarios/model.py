@@ -791,9 +791,21 @@ MUTANT_OPERATORS = (
     "swap_item",
     "change_number",
     "swap_file",
+    "other_slot",
+    "similar_item",
+    "early_proposal",
 )
 """The operators of :mod:`pare.scenarios.mutants` whose mutants the checks must fail."""
-REWRITE_OPERATORS = ("reorder", "time_phrasing", "split_message")
+REWRITE_OPERATORS = (
+    "reorder",
+    "time_phrasing",
+    "date_phrasing",
+    "split_message",
+    "reply_as_new",
+    "new_as_reply",
+    "delete_readd",
+    "rename_file",
+)
 """The operators of :mod:`pare.scenarios.mutants` whose rewrites the checks must pass."""
 
 

@@ -25,10 +25,10 @@ import re
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from datetime import datetime, timedelta
+from functools import cached_property
 from typing import Any, Literal
 
-from pare.apps.files import normalize_path
-from pare.errors import ToolError
+from pare.scenarios import mutant_seed as seed_reading
 from pare.scenarios.model import (
     MUTANT_OPERATORS,
     REWRITE_OPERATORS,
@@ -37,6 +37,7 @@ from pare.scenarios.model import (
     Scenario,
     Solution,
 )
+from pare.scenarios.times import TimeFormatError, parse_time
 from pare.scenarios.validation import ToolCatalog
 
 PER_OPERATOR = 3
@@ -44,7 +45,6 @@ PER_OPERATOR = 3
 Enough to show what an operator finds; the gate stays fast on the whole library."""
 
 _DAY = re.compile(r"^day(?:([+-])(\d+))?\s+(\d{1,2}):(\d{2})(?::(\d{2}))?$")
-_EMAIL = re.compile(r"[\w.+-]+@[\w-]+(?:\.[\w-]+)+")
 _CLOCK = re.compile(r"(?<![\d:.])([01]?\d|2[0-3]):([0-5]\d)(?![\d:])(?!\s*(?:[aApP]\.?[mM]))")
 _SENTENCE_END = re.compile(r"(?<=[.!?])\s+(?=\S)")
 _PEOPLE_ARGS = frozenset({"user_id", "user_ids", "recipients", "attendees", "cc", "bcc", "to"})
@@ -80,6 +80,9 @@ class Mutant:
     what: str
     """What was changed, for reports."""
     solution: Solution
+    waits_for: tuple[str, str] | None = None
+    """For a proposal moved earlier: the event it no longer waits for and the proposal's text, so that a
+    run where the event came first anyway (nothing moved) is told apart."""
 
     @property
     def is_rewrite(self) -> bool:
@@ -105,6 +108,7 @@ class _Edit:
     where: str
     what: str
     interventions: tuple[Intervention, ...]
+    waits_for: tuple[str, str] | None = None
 
 
 Operator = Callable[["_Oracle"], Iterator[_Edit]]
@@ -121,7 +125,7 @@ def _generate(scenario: Scenario, names: tuple[str, ...], expect: Expect) -> lis
                 continue
             seen.add(name)
             solution = Solution(name, tuple(scenario.oracle.user), edit.interventions)
-            found.append(Mutant(name, operator, expect, edit.what, solution))
+            found.append(Mutant(name, operator, expect, edit.what, solution, edit.waits_for))
             if len(seen) == PER_OPERATOR:
                 break
     return found
@@ -133,7 +137,7 @@ class _Oracle:
     def __init__(self, scenario: Scenario) -> None:
         self.scenario = scenario
         self.interventions = tuple(scenario.oracle.interventions)
-        catalog = ToolCatalog(scenario.all_apps)
+        self.catalog = catalog = ToolCatalog(scenario.all_apps)
         self.writes = [
             (i, j, action)
             for i, intervention in enumerate(self.interventions)
@@ -141,8 +145,8 @@ class _Oracle:
             if (spec := catalog.flat.get(action.tool)) is not None and spec.kind == "write"
         ]
         """The assistant's writes, with their intervention's and their own index."""
-        self.people = _people(scenario.seed)
-        self.files = _files(scenario.seed)
+        self.people = seed_reading.people(scenario.seed)
+        self.files = seed_reading.files(scenario.seed)
         passing = [None, *(variant.id for variant in scenario.variants if variant.expect == "pass")]
         self.used = frozenset(
             text
@@ -153,6 +157,35 @@ class _Oracle:
         )
         """Every string the actions of the oracle and of the passing variants give: the items (and files)
         a right solution is about; the others are distractors."""
+
+        self._app_seeds: dict[str, tuple[Mapping[str, Any], dict[str, set[str]]]] = {}
+        self.own_address = str(scenario.seed.get("email", {}).get("user_email", "")).lower()
+        seeded = scenario.seed.get("email", {}).get("emails", []) or []
+        self.emails_with_event: dict[str, tuple[Mapping[str, Any], str | None]] = {
+            str(email.get("email_id")): (email, None) for email in seeded if isinstance(email, Mapping)
+        }
+        """The emails known before the run, each with the event that brings it (``None``: the seed's)."""
+        for event in scenario.events:
+            if event.tool == "email__receive_email":
+                self.emails_with_event[str(event.args.get("email_id"))] = (event.args, event.id)
+        self.emails = {email_id: email for email_id, (email, _) in self.emails_with_event.items()}
+
+    @cached_property
+    def world_texts(self) -> tuple[str, ...]:
+        """The texts of the seed and of the events that name a number: where the world offers slots."""
+        scenario = self.scenario
+        found = [
+            *seed_reading.texts(scenario.seed),
+            *(t for e in scenario.events for t in seed_reading.texts(e.args)),
+        ]
+        return tuple(text for text in dict.fromkeys(found) if any(char.isdigit() for char in text))
+
+    def app_seed(self, app: str) -> tuple[Mapping[str, Any], dict[str, set[str]]]:
+        """``app``'s seed and where each of its strings is kept (read once per app)."""
+        if app not in self._app_seeds:
+            seed = self.scenario.seed.get(app, {})
+            self._app_seeds[app] = (seed, seed_reading.places(seed))
+        return self._app_seeds[app]
 
     def rng(self, name: str) -> random.Random:
         """The generator for the choice a mutant called ``name`` makes: the same on every run."""
@@ -193,15 +226,10 @@ def _send_as_draft(oracle: _Oracle) -> Iterator[_Edit]:
     """An email saved as a draft instead of sent: a new email, or a reply to an email of the seed or of an
     event (the draft addressed to its sender, with its subject).
     """
-    known = [
-        *(oracle.scenario.seed.get("email", {}).get("emails", []) or []),
-        *(event.args for event in oracle.scenario.events if event.tool == "email__receive_email"),
-    ]
-    emails = {str(email.get("email_id")): email for email in known if isinstance(email, Mapping)}
     for i, j, action in oracle.writes:
         args = dict(action.args)
         if action.tool == "email__reply_to_email":
-            replied = emails.get(str(args.pop("email_id", "")))
+            replied = oracle.emails.get(str(args.pop("email_id", "")))
             if replied is None:
                 continue
             args = {
@@ -339,52 +367,27 @@ def _other_items(
     """For each argument of ``action`` naming a seed item by its id: the argument and another item's id of
     the same kind in the same app's seed, chosen by the mutant's generator.
     """
-    seed = oracle.scenario.seed.get(action.tool.partition("__")[0], {})
-    places = _places(seed)
+    for key, others in _distractors(oracle, action):
+        yield key, oracle.rng(f"{operator}:{_where(i, j, key)}").choice(others)
+
+
+def _distractors(oracle: _Oracle, action: OracleAction) -> Iterator[tuple[str, list[str]]]:
+    """For each argument of ``action`` naming a seed item by its id: the argument and the ids of the
+    distractors of its kind, items of the same app's seed that no right solution touches; those kept where
+    the item is, if any (a saved flat for a saved flat: removing a flat that is not saved changes nothing).
+    """
+    _, places = oracle.app_seed(action.tool.partition("__")[0])
     for key in sorted(action.args):
         value = action.args[key]
         if not key.endswith("_id") or key in _PEOPLE_ARGS or not isinstance(value, str):
             continue
-        ids = _ids(seed, key)
+        ids = {text for text, where in places.items() if any(place.endswith(f".{key}") for place in where)}
         if value not in ids:  # an item the story brings later: where its kind is kept is not in the seed
             continue
-        # a distractor: no right solution's item; one found where the item is, if any (a saved flat for a
-        # saved flat: removing a flat that is not saved changes nothing)
         others = sorted(ids - oracle.used)
         alike = [other for other in others if places[other] >= places[value]]
         if others:
-            yield key, oracle.rng(f"{operator}:{_where(i, j, key)}").choice(alike or others)
-
-
-def _ids(data: Any, key: str) -> set[str]:
-    """Every string under ``key`` anywhere in ``data``."""
-    found: set[str] = set()
-    if isinstance(data, Mapping):
-        for name, item in data.items():
-            if name == key and isinstance(item, str):
-                found.add(item)
-            else:
-                found |= _ids(item, key)
-    elif isinstance(data, list):
-        for item in data:
-            found |= _ids(item, key)
-    return found
-
-
-def _places(data: Any, path: str = "") -> dict[str, set[str]]:
-    """Each string in ``data`` with the places it is found at (paths, a list's items all at ``*``)."""
-    found: dict[str, set[str]] = {}
-    children: list[tuple[str, Any]] = []
-    if isinstance(data, Mapping):
-        children = [(f"{path}.{name}", item) for name, item in data.items()]
-    elif isinstance(data, list):
-        children = [(f"{path}[*]", item) for item in data]
-    elif isinstance(data, str):
-        found[data] = {path}
-    for place, item in children:
-        for text, where in _places(item, place).items():
-            found.setdefault(text, set()).update(where)
-    return found
+            yield key, alike or others
 
 
 def _change_number(oracle: _Oracle) -> Iterator[_Edit]:
@@ -408,9 +411,17 @@ def _swap_file(oracle: _Oracle) -> Iterator[_Edit]:
     """
     for i, j, action, key, values, position in _listed(oracle, _ATTACHMENT_ARGS):
         path = values[position]
-        if not isinstance(path, str) or _is_reference(path) or _normal(path) not in oracle.files:
+        if (
+            not isinstance(path, str)
+            or _is_reference(path)
+            or seed_reading.normal_path(path) not in oracle.files
+        ):
             continue
-        attached = {oracle.files[_normal(p)] for p in values if _normal(str(p)) in oracle.files}
+        attached = {
+            oracle.files[seed_reading.normal_path(p)]
+            for p in values
+            if seed_reading.normal_path(str(p)) in oracle.files
+        }
         # another content: a copy of the same file under another path is the same file
         others = sorted(other for other, content in oracle.files.items() if content not in attached)
         same_kind = [p for p in others if p.rpartition(".")[2] == path.rpartition(".")[2]]
@@ -420,6 +431,121 @@ def _swap_file(oracle: _Oracle) -> Iterator[_Edit]:
         other = oracle.rng(f"swap_file:{where}").choice(same_kind or others)
         what = f"{action.tool} {key}: {path} -> {other}"
         yield _Edit(where, what, oracle.replaced(i, j, [_swapped(action, key, position, other)]))
+
+
+def _other_slot(oracle: _Oracle) -> Iterator[_Edit]:
+    """The time a write gives moved to another slot the world offers: when a text of the seed or of an
+    event names the oracle's time among others ("Tuesday 14:00 or Thursday at 10"), one of the others; when
+    it names only clock times, another of them on the same day. The start and its end move together.
+    """
+    start = oracle.scenario.start
+    used = {moment for text in oracle.used if (moment := _moment(text, start)) is not None}
+    for i, j, action in oracle.writes:
+        found = _first_time(action.args, start)
+        if found is None:
+            continue
+        moment = found
+        others = {slot for slot in _slots_beside(oracle, moment) if slot not in used}
+        others -= {moment + timedelta(days=1), moment + timedelta(hours=1)}  # shift_time's own
+        if not others:
+            continue
+        other = oracle.rng(f"other_slot:{_where(i, j)}").choice(sorted(others))
+        shifted, changed = _shifted(action.args, other - moment)
+        label = f"{other:%a %d %b %H:%M}"
+        what = f"{action.tool} {', '.join(changed)} moved to another offered slot, {label}"
+        yield _Edit(_where(i, j), what, oracle.replaced(i, j, [_with_args(action, shifted)]))
+
+
+def _slots_beside(oracle: _Oracle, moment: datetime) -> set[datetime]:
+    """The other slots offered by the world's texts that offer ``moment``; failing those, its day at the
+    other clock times of the texts that name its clock time.
+    """
+    slots: set[datetime] = set()
+    clocks: set[tuple[int, int]] = set()
+    for text in oracle.world_texts:
+        offered = seed_reading.offered_slots(text, oracle.scenario.start)
+        if moment in {slot for slot, _ in offered}:
+            slots |= {slot for slot, single in offered if single and slot != moment}
+        named = seed_reading.offered_clocks(text, oracle.scenario.start)
+        if (moment.hour, moment.minute) in named:
+            clocks |= {clock for clock in named if clock != (moment.hour, moment.minute)}
+    if slots:
+        return slots
+    return {moment.replace(hour=hour, minute=minute) for hour, minute in clocks}
+
+
+def _first_time(args: Mapping[str, Any], start: datetime) -> datetime | None:
+    """The time a write is about: its start (or due time, or ride time) when it gives several."""
+    times = [(key, moment) for key, text in _flat_strings(args) if (moment := _moment(text, start))]
+    if not times:
+        return None
+    starting = [moment for key, moment in times if "start" in key or "due" in key or "ride" in key]
+    return (starting or [moment for _, moment in times])[0]
+
+
+def _flat_strings(value: Any, key: str = "") -> Iterator[tuple[str, str]]:
+    """Each string of ``value`` with the key it is under, nested mappings read through."""
+    if isinstance(value, str):
+        yield key, value
+    elif isinstance(value, Mapping):
+        for name in sorted(value):
+            yield from _flat_strings(value[name], str(name))
+
+
+def _moment(text: str, start: datetime) -> datetime | None:
+    """``text`` as the moment it names (``day+2 09:00``, an ISO time with its clock), or ``None``."""
+    if _later(text, timedelta()) is None or len(text.strip()) == 10:
+        return None
+    try:
+        return parse_time(text, start)
+    except TimeFormatError:
+        return None
+
+
+def _similar_item(oracle: _Oracle) -> Iterator[_Edit]:
+    """A write done on the distractor most like the item asked (the same product in another size, the
+    flat next door): of the seed's items of the same kind that no right solution touches, the one whose
+    description shares the most words with the item's.
+    """
+    for i, j, action in oracle.writes:
+        seed = oracle.scenario.seed.get(action.tool.partition("__")[0], {})
+        for key, others in _distractors(oracle, action):
+            value = action.args[key]
+            own = seed_reading.description_words(seed, key, value)
+            alike = {
+                other: seed_reading.likeness(own, seed_reading.description_words(seed, key, other))
+                for other in others
+            }
+            best = max(alike.values(), default=0.0)
+            if best <= 0:
+                continue
+            nearest = sorted(other for other, score in alike.items() if score == best)
+            other = oracle.rng(f"similar_item:{_where(i, j, key)}").choice(nearest)
+            if other == oracle.rng(f"swap_item:{_where(i, j, key)}").choice(others):
+                continue  # the distractor swap_item already chose: the same mutant again
+            args = {**action.args, key: other}
+            what = f"{action.tool} {key}: {value} -> {other}, the most alike in the seed"
+            yield _Edit(_where(i, j, key), what, oracle.replaced(i, j, [_with_args(action, args)]))
+
+
+def _early_proposal(oracle: _Oracle) -> Iterator[_Edit]:
+    """An intervention that waits for an event (the message that asks, the news that makes it needed)
+    proposed at once instead, before the fact that justifies it has arrived. Where the event comes before
+    the assistant's next turn anyway (a reply a minute after the question), the proposal is not earlier
+    after all: the gate counts such a mutant as stillborn.
+    """
+    start = oracle.scenario.start
+    events = {event.id: event for event in oracle.scenario.events}
+    for i, intervention in enumerate(oracle.interventions):
+        event = events.get(intervention.when.event or "") if intervention.when else None
+        if event is None:
+            continue
+        if event.at is not None and parse_time(event.at, start) <= start:
+            continue  # the fact is there from the start: proposing at once is what the oracle does
+        early = intervention.model_copy(update={"when": None})
+        what = f"intervention {i + 1} proposed at once, before event '{event.id}'"
+        changed = (*oracle.interventions[:i], early, *oracle.interventions[i + 1 :])
+        yield _Edit(f"{i + 1}", what, changed, (event.id, intervention.proposal))
 
 
 # -- the rewrites -------------------------------------------------------------------------------------
@@ -460,22 +586,32 @@ def _strings(value: Any) -> set[str]:
     return set()
 
 
-def _time_phrasing(oracle: _Oracle) -> Iterator[_Edit]:
-    """The clock times in a sent or written text in the 12-hour form: 09:30 as 9:30am, 18:00 as 6pm."""
+_TEXT_FIELDS = (*_SPLIT_FIELDS, "description", "title", "subject", "notes")
+
+
+def _texts_of(oracle: _Oracle) -> Iterator[tuple[int, int, OracleAction, str, str]]:
+    """Each text a write gives: ``(i, j, action, key, text)``."""
     for i, j, action in oracle.writes:
         for key in sorted(action.args):
             value = action.args[key]
-            if key not in (*_SPLIT_FIELDS, "description", "title", "subject", "notes") or not isinstance(
-                value, str
-            ):
-                continue
-            rephrased = _CLOCK.sub(_twelve_hour, value)
+            if key in _TEXT_FIELDS and isinstance(value, str):
+                yield i, j, action, key, value
+
+
+def _time_phrasing(oracle: _Oracle) -> Iterator[_Edit]:
+    """The clock times in a sent or written text in the 12-hour form (09:30 as 9:30am, 18:00 as 6pm), then
+    in words (9.30 in the morning, 6 in the evening; a range stays in the 12-hour form).
+    """
+    for form, phrase in (("", _twelve_hour), ("words", _in_words)):
+        for i, j, action, key, value in _texts_of(oracle):
+            rephrased = _CLOCK.sub(phrase, value)
             if rephrased != value:
                 args = {**action.args, key: rephrased}
                 what = f"{action.tool} {key} with its times as " + ", ".join(
-                    _twelve_hour(m) for m in _CLOCK.finditer(value)
+                    phrase(m) for m in _CLOCK.finditer(value)
                 )
-                yield _Edit(_where(i, j, key), what, oracle.replaced(i, j, [_with_args(action, args)]))
+                where = _where(i, j, key, *([form] if form else []))
+                yield _Edit(where, what, oracle.replaced(i, j, [_with_args(action, args)]))
 
 
 def _twelve_hour(match: re.Match[str]) -> str:
@@ -483,6 +619,95 @@ def _twelve_hour(match: re.Match[str]) -> str:
     suffix = "am" if hour < 12 else "pm"
     clock = hour % 12 or 12
     return f"{clock}{suffix}" if minute == 0 else f"{clock}:{minute:02d}{suffix}"
+
+
+def _in_words(match: re.Match[str]) -> str:
+    """A clock time as said: "6 in the evening", "9.30 in the morning", "12 noon"."""
+    text = match.string
+    if text[match.end() : match.end() + 2].lstrip()[:1] in ("-", "\u2013") or text[
+        max(0, match.start() - 2) : match.start()
+    ].rstrip()[-1:] in ("-", "\u2013"):
+        return _twelve_hour(match)  # one end of a range: "5pm-7pm" reads better than words
+    hour, minute = int(match.group(1)), int(match.group(2))
+    if (hour, minute) == (12, 0):
+        return "12 noon"
+    part = (
+        "at night"
+        if hour < 5 or hour >= 22
+        else "in the morning"
+        if hour < 12
+        else "in the afternoon"
+        if hour < 18
+        else "in the evening"
+    )
+    clock = hour % 12 or 12
+    return f"{clock} {part}" if minute == 0 else f"{clock}.{minute:02d} {part}"
+
+
+_MONTHS = (
+    "January",
+    "February",
+    "March",
+    "April",
+    "May",
+    "June",
+    "July",
+    "August",
+    "September",
+    "October",
+    "November",
+    "December",
+)
+_MONTH = "|".join(_MONTHS)
+_ISO_DATE = re.compile(r"(?<![\d-])(\d{4})-(\d{2})-(\d{2})(?![\d-])")
+_DAY_MONTH = re.compile(rf"\b(\d{{1,2}})(?:st|nd|rd|th)?\s+({_MONTH})\b")
+_MONTH_DAY = re.compile(rf"\b({_MONTH})\s+(\d{{1,2}})(?:st|nd|rd|th)?\b(?!:)")
+
+
+def _date_phrasing(oracle: _Oracle) -> Iterator[_Edit]:
+    """The dates in a sent or written text in another common form: 2026-06-04 as 4 June 2026, 4 June as
+    June 4th, June 4 as 4 June.
+    """
+    for i, j, action, key, value in _texts_of(oracle):
+        rephrased = _other_date_forms(value)
+        if rephrased != value:
+            args = {**action.args, key: rephrased}
+            what = f"{action.tool} {key} with its dates written another way"
+            yield _Edit(_where(i, j, key), what, oracle.replaced(i, j, [_with_args(action, args)]))
+
+
+def _other_date_forms(text: str) -> str:
+    def iso(match: re.Match[str]) -> str:
+        year, month, day = (int(part) for part in match.groups())
+        if not 1 <= month <= 12 or not 1 <= day <= 31:
+            return match.group(0)
+        return f"{day} {_MONTHS[month - 1]} {year}"
+
+    def day_month(match: re.Match[str]) -> str:
+        day = int(match.group(1))
+        return f"{match.group(2)} {day}{_ordinal(day)}"
+
+    def month_day(match: re.Match[str]) -> str:
+        return f"{int(match.group(2))} {match.group(1)}"
+
+    # one pass per form, each on the text the one before left: a date is rewritten once
+    marked = _ISO_DATE.sub(lambda m: "\0" + iso(m) + "\0", text)
+    pieces = marked.split("\0")
+    out = []
+    for index, piece in enumerate(pieces):
+        if index % 2:  # an ISO date just rewritten
+            out.append(piece)
+        elif _DAY_MONTH.search(piece):
+            out.append(_DAY_MONTH.sub(day_month, piece))
+        else:
+            out.append(_MONTH_DAY.sub(month_day, piece))
+    return "".join(out)
+
+
+def _ordinal(day: int) -> str:
+    if 10 <= day % 100 <= 20:
+        return "th"
+    return {1: "st", 2: "nd", 3: "rd"}.get(day % 10, "th")
 
 
 def _split_message(oracle: _Oracle) -> Iterator[_Edit]:
@@ -515,6 +740,159 @@ def _halves(text: str) -> tuple[str, str] | None:
     return stripped[:cut].strip(), stripped[cut:].strip()
 
 
+def _reply_as_new(oracle: _Oracle) -> Iterator[_Edit]:
+    """A reply sent as a new email to the same person, with the reply's subject ("Re: ...")."""
+    for i, j, action in oracle.writes:
+        if action.tool != "email__reply_to_email":
+            continue
+        replied = oracle.emails.get(str(action.args.get("email_id", "")))
+        if replied is None:
+            continue
+        sender = str(replied.get("sender", ""))
+        recipients = (
+            [str(r) for r in replied.get("recipients", []) or []]
+            if sender.lower() == oracle.own_address
+            else [sender]
+        )
+        subject = str(replied.get("subject", ""))
+        args = {
+            "recipients": recipients,
+            "subject": subject if subject.lower().startswith("re:") else f"Re: {subject}",
+            **{k: v for k, v in action.args.items() if k != "email_id"},
+        }
+        what = f"the reply to {action.args['email_id']} sent as a new email to {', '.join(recipients)}"
+        new = OracleAction(tool="email__send_email", args=args)
+        yield _Edit(_where(i, j), what, oracle.replaced(i, j, [new]))
+
+
+def _new_as_reply(oracle: _Oracle) -> Iterator[_Edit]:
+    """A new email to one person sent as a reply to their email on the same subject (of the seed, or the
+    one the intervention waits for): the subject becomes "Re: ...", the text and files are the same.
+    """
+    for i, j, action in oracle.writes:
+        recipients = action.args.get("recipients")
+        if action.tool != "email__send_email" or action.args.get("cc") or not isinstance(recipients, list):
+            continue
+        if len(recipients) != 1 or not isinstance(recipients[0], str):
+            continue
+        when = oracle.interventions[i].when
+        arrived = {None, when.event if when else None}
+        theirs = [
+            (email_id, email)
+            for email_id, (email, event) in oracle.emails_with_event.items()
+            if event in arrived and str(email.get("sender", "")).lower() == recipients[0].lower()
+        ]
+        words = _words(f"{action.args.get('subject', '')} {action.args.get('content', '')}")
+        scored = [
+            (len(words & _words(str(email.get("subject", "")))), email_id) for email_id, email in theirs
+        ]
+        best = max(scored, default=(0, ""))
+        if best[0] == 0:
+            continue
+        args = {"email_id": best[1], "content": action.args.get("content", "")}
+        if action.args.get("attachments"):
+            args["attachments"] = action.args["attachments"]
+        what = f"the new email to {recipients[0]} sent as a reply to {best[1]}"
+        new = OracleAction(tool="email__reply_to_email", args=args)
+        yield _Edit(_where(i, j), what, oracle.replaced(i, j, [new]))
+
+
+def _words(text: str) -> set[str]:
+    return {word for word in re.findall(r"[a-z0-9]+", text.lower()) if len(word) > 2 and word != "re"}
+
+
+_READD: dict[str, tuple[str, str, str, str | None]] = {
+    "calendar__edit_calendar_event": (
+        "event_id",
+        "calendar__delete_calendar_event",
+        "calendar__add_calendar_event",
+        "updates",
+    ),
+    "reminder__update_reminder": (
+        "reminder_id",
+        "reminder__delete_reminder",
+        "reminder__add_reminder",
+        "updates",
+    ),
+    "contacts__edit_contact": (
+        "contact_id",
+        "contacts__delete_contact",
+        "contacts__add_new_contact",
+        "updates",
+    ),
+    "notes__update_note": ("note_id", "notes__delete_note", "notes__create_note", None),
+}
+"""Updates that can be done as a delete and a new item: the id argument, the delete and the add tool, and
+the argument holding the changed fields (``None``: the other arguments)."""
+
+
+def _delete_readd(oracle: _Oracle) -> Iterator[_Edit]:
+    """An item of the seed updated by deleting it and adding it again with the changes: the same event,
+    reminder, contact or note under a new id. Only an item the add tool can make again whole: not an event
+    with attendees (they would be invited again), not one with a field the add cannot set.
+    """
+    for i, j, action in oracle.writes:
+        if action.tool not in _READD:
+            continue
+        id_key, delete, add, updates_key = _READD[action.tool]
+        item_id = action.args.get(id_key)
+        add_spec = oracle.catalog.flat.get(add)
+        if not isinstance(item_id, str) or add_spec is None or delete not in oracle.catalog.flat:
+            continue
+        app = action.tool.partition("__")[0]
+        item = seed_reading.record(oracle.scenario.seed.get(app, {}), id_key, item_id)
+        if item is None:  # an item the story brings later: its fields are not known here
+            continue
+        updates = (
+            action.args.get(updates_key, {})
+            if updates_key
+            else {k: v for k, v in action.args.items() if k != id_key and v is not None}
+        )
+        accepted = add_spec.function_schema()["function"]["parameters"]["properties"]
+        kept = {
+            k: v
+            for k, v in {**item, **updates}.items()
+            if v not in (None, "", [], {}, False) and not k.endswith("_at")  # a new item's own times
+        }
+        if kept.get("attendees") or set(kept) - set(accepted) - {id_key}:
+            continue  # a new item would invite people again, or lose what the add cannot set (sharing)
+        fields = {k: v for k, v in kept.items() if k in accepted}
+        actions = [OracleAction(tool=delete, args={id_key: item_id}), OracleAction(tool=add, args=fields)]
+        what = f"{action.tool} on {item_id} done as {delete} and {add}"
+        yield _Edit(_where(i, j), what, oracle.replaced(i, j, actions))
+
+
+def _rename_file(oracle: _Oracle) -> Iterator[_Edit]:
+    """The attached files copied under other names (``/Documents/attachment-1.pdf``) and the copies
+    attached: the same files under names that say nothing. The copies stay: the checks read an attached
+    file by the content the Files app keeps under its path.
+    """
+    if "files__copy_file" not in oracle.catalog.flat:
+        return
+    for i, j, action in oracle.writes:
+        before: list[OracleAction] = []
+        args = dict(action.args)
+        for key in sorted(_ATTACHMENT_ARGS & set(args)):
+            value = args[key]
+            paths = value if isinstance(value, list) else [value]
+            renamed = []
+            for path in paths:
+                if not isinstance(path, str) or seed_reading.normal_path(path) not in oracle.files:
+                    renamed.append(path)
+                    continue
+                folder, _, name = seed_reading.normal_path(path).rpartition("/")
+                extension = name.rpartition(".")[2] if "." in name else ""
+                copy = f"{folder}/attachment-{len(before) + 1}" + (f".{extension}" if extension else "")
+                before.append(
+                    OracleAction(tool="files__copy_file", args={"source": path, "destination": copy})
+                )
+                renamed.append(copy)
+            args[key] = renamed if isinstance(value, list) else renamed[0]
+        if before:
+            what = f"{action.tool} with its files attached as copies under other names"
+            yield _Edit(_where(i, j), what, oracle.replaced(i, j, [*before, _with_args(action, args)]))
+
+
 _OPERATORS: dict[str, Operator] = {
     "swap_person": _swap_person,
     "shift_time": _shift_time,
@@ -524,48 +902,15 @@ _OPERATORS: dict[str, Operator] = {
     "swap_item": _swap_item,
     "change_number": _change_number,
     "swap_file": _swap_file,
+    "other_slot": _other_slot,
+    "similar_item": _similar_item,
+    "early_proposal": _early_proposal,
     "reorder": _reorder,
     "time_phrasing": _time_phrasing,
     "split_message": _split_message,
+    "reply_as_new": _reply_as_new,
+    "new_as_reply": _new_as_reply,
+    "delete_readd": _delete_readd,
+    "rename_file": _rename_file,
+    "date_phrasing": _date_phrasing,
 }
-
-
-# -- the seed, read -----------------------------------------------------------------------------------
-def _people(seed: Mapping[str, Mapping[str, Any]]) -> list[frozenset[str]]:
-    """The people of the seed, in three forms each a pool: email addresses, messaging user ids, and full
-    names (of contacts and messaging users). The user is in none of them.
-    """
-    email = seed.get("email", {})
-    own = {str(email.get("user_email", "")).lower()}
-    addresses = {found for found in _EMAIL.findall(repr(seed)) if found.lower() not in own}
-    messaging = seed.get("messaging", {})
-    users = messaging.get("users", {}) if isinstance(messaging.get("users"), Mapping) else {}
-    me = messaging.get("current_user_id")
-    ids = {str(user) for user in users if user != me}
-    names = {str(name) for user, name in users.items() if user != me}
-    for contact in seed.get("contacts", {}).get("contacts", []) or []:
-        if (
-            isinstance(contact, Mapping)
-            and contact.get("first_name")
-            and contact.get("contact_id") != "contact-me"
-        ):
-            names.add(f"{contact['first_name']} {contact.get('last_name') or ''}".strip())
-    return [frozenset(pool) for pool in (addresses, ids, names) if pool]
-
-
-def _files(seed: Mapping[str, Mapping[str, Any]]) -> dict[str, str]:
-    """The seed's files: each normalised path with its content."""
-    files = seed.get("files", {}).get("files", {})
-    if not isinstance(files, Mapping):
-        return {}
-    return {
-        _normal(path): str(entry.get("content", "") if isinstance(entry, Mapping) else entry)
-        for path, entry in files.items()
-    }
-
-
-def _normal(path: str) -> str:
-    try:
-        return normalize_path(path)
-    except ToolError:  # a path the phone would refuse is simply no seed file
-        return path

@@ -7,7 +7,9 @@ named at the level of its shape, so that two runs of the same solution name the 
 ids, timestamps and wording differ:
 
 * ``added``: a new item in a collection (``calendar.events``); for collections of plain values (a cart
-  keyed by item id, the saved apartments' ids) and for orders, also which entry (the item bought);
+  keyed by item id, the saved apartments' ids) and for orders, also which entry (the item bought). A new
+  file holding the content of a file that was there at the start is no change: a copy (made to attach a
+  file under another name) adds nothing and reaches nobody;
 * ``changed`` / ``removed``: an existing item, by its key (``ev-dentist``); one allowance, since deleting
   and re-adding an item is a way of changing it;
 * ``sent``: a person an email, a message or a calendar invitation went to, by name where the contacts or
@@ -385,6 +387,8 @@ class _Collection:
         elif (app, field) == ("messaging", "conversations"):
             messages = item.get("messages") or [None]  # a group by its title, else the first message
             yield from self.sent(self.members(item), _label(item) or _label(messages[0]) or key, order)
+        elif (app, field) == ("files", "files") and self._copies_a_file(item):
+            return  # a copy of a file the user had (renamed to attach it) tells nobody anything new
         elif (app, field) == ("shopping", "orders"):
             for line in item.get("items") or []:
                 if isinstance(line, Mapping):
@@ -393,6 +397,12 @@ class _Collection:
             yield self.change("added", "", _label(item), order)
             if (app, field) == ("calendar", "events"):
                 yield from self.sent(item.get("attendees") or [], _label(item), order)
+
+    def _copies_a_file(self, item: Mapping[str, Any]) -> bool:
+        """Whether ``item`` (a new file) holds the content of a file that was there at the start."""
+        before = _keyed(self.before) or {}
+        content = item.get("content")
+        return any(isinstance(old, Mapping) and old.get("content") == content for old in before.values())
 
     def changed(self, key: str, item: Any, order: int) -> Iterator[Change]:
         if (self.app, self.field) == ("messaging", "conversations") and isinstance(item, Mapping):
