@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from pare.bench.runconfig import build_config, read_config_file
+from pare.bench.runner import select_scenarios
 from pare.bench.sweep import load_sweep, point_configs
 from pare.cli import main as pare
 from pare.results.run_folder import load_run
@@ -60,3 +61,10 @@ def test_the_example_assistant_runs_from_its_folder(
     assert loaded.label == "my_assistant:make"
     assert len(loaded.records) == 5 and all(record.complete for record in loaded.records)
     assert all(record.proposals and record.proposals[0].decision == "accept" for record in loaded.records)
+
+
+def test_the_user_model_ablation_plays_the_ablation_split() -> None:
+    spec, base = load_sweep(EXAMPLES / "sweep-user-models.yaml")
+    configs = point_configs(spec, base)
+    assert {config.scenarios.split for _, config in configs} == {"ablation"}
+    assert len(select_scenarios(configs[0][1])) == 50
