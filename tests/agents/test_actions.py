@@ -555,9 +555,11 @@ def test_format_action_round_trips_any_thought_or_refuses_it(tool: str, thought:
     ],
 )
 def test_pathological_answers_are_handled_in_linear_time(text: str) -> None:
+    # Not a speed test (benchmarks/ measure speed): a pattern that backtracks on these inputs would take
+    # hours, so a bound far above any machine's load tells a catastrophe from a slow machine.
     started = time.perf_counter()
     read_or_refuse(text)
-    assert time.perf_counter() - started < 1.0
+    assert time.perf_counter() - started < 30.0
 
 
 def test_arguments_given_as_a_json_string_get_no_lone_surrogate() -> None:

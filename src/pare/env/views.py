@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass, field
+from datetime import datetime
 from typing import Any
 
 from pare.apps.tools import ToolSpec
@@ -174,13 +175,27 @@ class TurnMark:
 
 
 def time_line(time: str, turn: TurnMark | None) -> str:
-    """The first line of an observation: the turn, then the current time and why it jumped if it did."""
-    line = f"Current time: {time}"
+    """The first line of an observation: the turn, then the current time and why it jumped if it did.
+
+    The time is written as the tools take it (``YYYY-MM-DD HH:MM``) after its weekday: a model reading
+    "on Thursday" in a message needs the day of the week, and copies times into calls in their format.
+    """
+    line = f"Current time: {readable_time(time)}"
     if turn is None:
         return line
     if turn.clock_jump:
         line += f" ({turn.clock_jump})"
     return f"Turn {turn.turn} of {turn.of}. {line}"
+
+
+def readable_time(time: str) -> str:
+    """``2025-03-03T09:05:00+00:00`` as ``Monday 2025-03-03 09:05`` (seconds only when there are some)."""
+    try:
+        moment = datetime.fromisoformat(time)
+    except ValueError:  # not a time this module wrote: shown as it is
+        return time
+    clock = "%H:%M:%S" if moment.second else "%H:%M"
+    return moment.strftime(f"%A %Y-%m-%d {clock}")
 
 
 def _proposal_clock(turns_left: int) -> str:
