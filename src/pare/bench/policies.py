@@ -376,7 +376,7 @@ def _check_built(role: PolicyRole, name: str, policy: Any) -> None:
             return
         if callable(policy):
             return
-        what = "a judge: a callable judge(criterion, text, facts) -> JudgeVerdict"
+        what = "a judge: an async callable, await judge(criterion, text, facts) -> JudgeVerdict"
     else:
         kind, what = wanted[role]
         if isinstance(policy, kind):

@@ -154,7 +154,7 @@ class Policies(BaseModel):
 
     user: str | None = Field(default=None, description="The user: model, oracle, slow, busy, silent, or M:F.")
     assistant: str | None = Field(
-        default=None, description="The assistant: model, oracle, silent, unrelated, or MODULE:FACTORY."
+        default=None, description="The assistant: model, oracle, a baseline (silent, ...), or MODULE:FACTORY."
     )
     judge: str | None = Field(
         default=None, description="The judge of free-text checks: model, deterministic, or MODULE:FACTORY."

@@ -64,7 +64,8 @@ AssistantPolicyName = Annotated[
     str | None,
     typer.Option(
         "--assistant-policy",
-        help="Who plays the assistant: model, oracle, silent, unrelated, or your own as MODULE:FACTORY "
+        help="Who plays the assistant: model, oracle, silent, unrelated, the baselines generic_offer, "
+        "propose_only and random, or your own as MODULE:FACTORY "
         "(a function taking a pare.bench.PolicyContext and returning an AssistantPolicy).",
         show_default=False,
     ),
