@@ -13,6 +13,7 @@ from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
+from pare.agents.models.ledger import StepUsage
 from pare.env import AssistantObservation, Environment, ToolResult, UserView
 from pare.sim.budget import DEFAULT_BUDGET as DEFAULT_BUDGET  # re-exported: the actors are told it
 from pare.sim.budget import TurnBudget as TurnBudget
@@ -36,7 +37,7 @@ class Action:
     error: str | None = None
     """Set when the actor could not produce a valid action (a model's answers stayed malformed); the
     loop records the step as failed without calling the environment."""
-    usage: dict[str, Any] | None = None
+    usage: StepUsage | None = None
     """For model-backed actors: calls, prompt / completion / cached tokens, cost and format errors of the
     model calls behind this action."""
     reasoning: str | None = None
@@ -49,7 +50,7 @@ class Action:
             "args": self.args,
             "raw": self.raw,
             "error": self.error,
-            "usage": self.usage,
+            "usage": None if self.usage is None else self.usage.model_dump(mode="json"),
         }
         if self.reasoning is not None:
             data["reasoning"] = self.reasoning
