@@ -43,19 +43,6 @@ class Action:
     reasoning: str | None = None
     """A thinking model's reasoning behind ``raw`` (which holds its answer only), when it gave any."""
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready form (``reasoning`` only when there is some: other trajectories stay as they were)."""
-        data: dict[str, Any] = {
-            "tool": self.tool,
-            "args": self.args,
-            "raw": self.raw,
-            "error": self.error,
-            "usage": None if self.usage is None else self.usage.model_dump(mode="json"),
-        }
-        if self.reasoning is not None:
-            data["reasoning"] = self.reasoning
-        return data
-
 
 @dataclass(frozen=True, slots=True)
 class Task:

@@ -135,21 +135,6 @@ class Step:
     view: dict[str, Any] | None = None
     """For a user step, the phone as the user saw it before acting (:func:`view_record`)."""
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready form (``view`` only for user steps: older trajectories have none)."""
-        data: dict[str, Any] = {
-            "turn": self.turn,
-            "actor": self.actor,
-            "mode": self.mode,
-            "action": self.action.to_dict(),
-            "ok": self.ok,
-            "observation": self.observation,
-            "log_index": self.log_index,
-        }
-        if self.view is not None:
-            data["view"] = self.view
-        return data
-
 
 def view_record(view: UserView) -> dict[str, Any]:
     """What a trajectory keeps of the user's view: the app and screen, what changed on it, the
@@ -264,8 +249,9 @@ class EpisodeResult:
                 }
                 for proposal in env.agent_ui.state.proposals
             ],
-            "steps": [step.to_dict() for step in self.steps],
-            "log": [entry.to_dict() for entry in env.log],
+            # read by attribute: no JSON-ready copy of every step and entry made only to be read again
+            "steps": self.steps,
+            "log": env.log.entries,
             "attribution": env.attribution.to_dict(),
             "outcome": self.outcome.to_dict(),
             "state_diff": self.state_diff,
@@ -273,7 +259,7 @@ class EpisodeResult:
             "after_last_turn": None if self.after_last_turn is None else self.after_last_turn.to_dict(),
             "closing": self.closing,
         }
-        return Trajectory.model_validate(data)
+        return Trajectory.model_validate(data, from_attributes=True)
 
     def to_dict(self) -> dict[str, Any]:
         """The trajectory's JSON form (:meth:`trajectory`, without saying which run it is)."""
