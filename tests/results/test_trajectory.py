@@ -13,6 +13,7 @@ from pathlib import Path
 
 import pytest
 
+from pare.agents.policy import SilentAssistant
 from pare.bench.episode import EpisodeSettings, run_episode
 from pare.errors import UserInputError
 from pare.results.records import summarize
@@ -27,12 +28,15 @@ from pare.results.trajectory import (
     write_trajectory,
 )
 from pare.scenarios.build import build_environment
+from pare.scenarios.checks import evaluate
 from pare.scenarios.library import get_scenario
 from pare.scenarios.oracle import OracleAssistant, OracleUser
+from pare.scenarios.side_effects import assistant_changes
 from pare.sim.log import LogEntry
 from pare.viewer import Catalog, Site
 from tests.bench.test_episode import Answering, Proposer
 from tests.scenarios.helpers import base, parse
+from tests.viewer.runs import WORLD_SCENARIO
 
 FORMAT_1 = Path(__file__).parent / "format1"
 SCENARIO = "dentist_moves_checkup"
@@ -78,6 +82,39 @@ def test_the_final_state_is_the_start_with_the_diff_and_checks_the_start() -> No
     changed["calendar"]["events"].clear()
     with pytest.raises(ValueError, match="not the data this episode started from"):
         final_state(trajectory, changed)
+
+
+@pytest.mark.parametrize(
+    ("scenario_id", "by_hand"),
+    [(SCENARIO, False), ("partner_rent_ceiling_prunes_saved_flats", False), (WORLD_SCENARIO, True)],
+)
+def test_the_checks_evaluated_again_on_the_stored_trajectory_give_its_verdict(
+    scenario_id: str, by_hand: bool
+) -> None:
+    """What re-grading needs is kept: the log, the whole attribution (who had a hand in each place, what
+    was removed) and the final state as start + diff give the episode's own verdict and side effects."""
+    scenario = get_scenario(scenario_id)
+    if by_hand:  # the user does the work by hand: the verdict turns on who had a hand in what
+        settings = EpisodeSettings(max_turns=EpisodeSettings().max_turns + len(scenario.by_hand().user))
+        result = run_episode(scenario, OracleUser(scenario, scenario.by_hand()), SilentAssistant(), settings)
+    else:
+        result = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
+    trajectory = parse_trajectory(write_trajectory(result.trajectory()))
+    start = build_environment(scenario).snapshot()
+    final = final_state(trajectory, start)
+    attribution = trajectory.attribution_state()
+    again = evaluate(scenario, trajectory.log_entries(), final, attribution=attribution)
+    env = result.env
+    played = evaluate(scenario, env.log.entries, env.snapshot(), attribution=env.attribution)
+    assert again == played and again.success == (not by_hand) and again.user_did_work == by_hand
+    assert assistant_changes(start, final, attribution) == result.changes
+
+
+def test_a_format_1_file_cannot_give_the_whole_attribution() -> None:
+    trajectory = read_trajectory(_format_1("oracle"))
+    assert trajectory.marks and trajectory.removals is None
+    with pytest.raises(ValueError, match="whole attribution"):
+        trajectory.attribution_state()
 
 
 def test_an_expired_proposal_keeps_the_turn_it_expired_in() -> None:

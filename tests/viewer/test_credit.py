@@ -17,7 +17,7 @@ from pare.agents.policy import SilentAssistant
 from pare.bench.episode import EpisodeSettings, run_episode
 from pare.bench.state_diff import state_changes
 from pare.env.attribution import Attribution
-from pare.results.trajectory import LogRecord, MarkRecord, Trajectory
+from pare.results.trajectory import LogRecord, PlaceRecord, Trajectory, attribution_records
 from pare.scenarios.library import get_scenario
 from pare.scenarios.oracle import OracleAssistant, OracleUser
 from pare.viewer import Catalog, Site, build_episode
@@ -164,8 +164,9 @@ def _log(*calls: tuple[str, str, str, dict[str, Any]]) -> list[LogRecord]:
     ]  # fmt: skip
 
 
-def _marks(attribution: Attribution) -> dict[str, MarkRecord]:
-    return {place: MarkRecord.model_validate(mark) for place, mark in attribution.to_dict().items()}
+def _marks(attribution: Attribution) -> dict[str, PlaceRecord]:
+    places, _ = attribution_records(attribution)
+    return {record.dotted: record for record in places}
 
 
 def test_list_items_known_only_by_position_are_credited_to_who_changed_them() -> None:

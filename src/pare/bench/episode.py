@@ -42,7 +42,7 @@ from pare.bench.envelope import expected_envelope
 from pare.bench.state_diff import state_changes
 from pare.env import AssistantObservation, EnvConfig, Environment, ToolResult, TurnMark, UserView
 from pare.errors import ModelRequestError
-from pare.results.trajectory import TRAJECTORY_FORMAT, Trajectory, state_hash
+from pare.results.trajectory import TRAJECTORY_FORMAT, Trajectory, attribution_records, state_hash
 from pare.scenarios.build import build_environment
 from pare.scenarios.checks import Judge, Outcome, evaluate, goals_met
 from pare.scenarios.model import Scenario
@@ -228,6 +228,7 @@ class EpisodeResult:
         ``scenario_hash`` say which episode of which run it is).
         """
         env = self.env
+        places, removals = attribution_records(env.attribution)
         data: dict[str, Any] = {
             "format": TRAJECTORY_FORMAT,
             "label": label,
@@ -252,7 +253,8 @@ class EpisodeResult:
             # read by attribute: no JSON-ready copy of every step and entry made only to be read again
             "steps": self.steps,
             "log": env.log.entries,
-            "attribution": env.attribution.to_dict(),
+            "attribution": places,
+            "removals": removals,
             "outcome": self.outcome.to_dict(),
             "state_diff": self.state_diff,
             "start_state_hash": self.start_state_hash,

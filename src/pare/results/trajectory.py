@@ -5,21 +5,24 @@ One file per complete episode (``trajectories/<scenario>/run-<r>.json`` in a run
 is the :class:`Trajectory` model, versioned by its ``format``:
 
 * **format 2** (this one): the steps (each user step with the phone as the user saw it), the action log,
-  the attribution, the verdict, the state diff from start to end, the proposals with what became of them
-  (and the turn an expired one expired in), the content hash of the apps' data at the start, the replies
-  delivered after the last turn and each model-backed actor's closing observation;
-* **format 1** (files written before): no proposals (only the ids of the expired ones) and no start hash;
-  user steps without the phone's view in the oldest files. It is upgraded on read (:func:`upgrade_format_1`):
-  what it lacks stays unknown (``expired_at`` and ``start_state_hash`` are ``None``), nothing is invented.
+  the whole attribution (each place's creator, last changer and every actor that had a hand in it, and
+  what was removed), the verdict, the state diff from start to end, the proposals with what became of
+  them (and the turn an expired one expired in), the content hash of the apps' data at the start, the
+  replies delivered after the last turn and each model-backed actor's closing observation;
+* **format 1** (files written before): no proposals (only the ids of the expired ones), no start hash,
+  the attribution's marks by dotted place without who else had a hand and what was removed; user steps
+  without the phone's view in the oldest files. It is upgraded on read (:func:`upgrade_format_1`): what
+  it lacks stays unknown (``expired_at``, ``start_state_hash``, ``hands``, ``removals`` are ``None``).
 
 A file of a newer format than this PARE knows is refused, named, with the format it has. Within a
 format, the verdicts' parts (goals, checks, side effects) may carry fields this reader does not know;
 they are kept as they are.
 
-What re-grading needs besides the log and the attribution is the apps' final state. It is not stored:
-it is the start (rebuilt from the scenario) with the state diff applied, and :func:`final_state` checks
-that the start rebuilt is the one the episode started from (``start_state_hash``). Storing it would add
-about half again to an oracle trajectory (docs/architecture.md, "The trajectory").
+Re-grading evaluates the checks again on the log, the attribution (:meth:`Trajectory.attribution_state`)
+and the apps' final state. The final state is not stored: it is the start (rebuilt from the scenario)
+with the state diff applied, and :func:`final_state` checks that the start rebuilt is the one the
+episode started from (``start_state_hash``). Storing it would add about half again to an oracle
+trajectory (docs/architecture.md, "The trajectory").
 """
 
 from __future__ import annotations
@@ -40,6 +43,7 @@ from pydantic_core import PydanticSerializationError, to_json
 from pare.agents.models.ledger import StepUsage
 from pare.agents.policy import SEND_MESSAGE
 from pare.apps.agent_ui import ProposalStatus
+from pare.env.attribution import Attribution, Mark
 from pare.errors import UserInputError
 from pare.sim.log import Actor, AssistantMode, LogEntry, ToolKind
 from pare.yaml_source import UnreadableFile, read_text_file
@@ -154,13 +158,32 @@ class LogRecord(_Part):
         return found if isinstance(found, str) else None
 
 
-class MarkRecord(_Part):
-    """Who made one place of the apps' data (``pare.env.attribution.Mark``)."""
+class PlaceRecord(_Part):
+    """Who made one place of the apps' data (``pare.env.attribution.Mark``) and who had a hand in it."""
 
+    place: tuple[str, ...] = Field(min_length=1, description="The place's path, items by their identity.")
     created_by: Actor | None = None
     changed_by: Actor
     created_at: int | None = None
     changed_at: int
+    hands: dict[Actor, int] | None = Field(
+        default=None,
+        description="Every actor that created or changed it (or anything in it), with its latest call; "
+        "``None`` in format-1 files, which did not keep it.",
+    )
+
+    @property
+    def dotted(self) -> str:
+        """The place as one string, ``calendar.events.ev-3`` (how format 1 named it)."""
+        return ".".join(self.place)
+
+
+class RemovalRecord(_Part):
+    """A place an attributed actor removed: the last remover and its call."""
+
+    place: tuple[str, ...] = Field(min_length=1)
+    actor: Actor
+    at: int
 
 
 class CheckRecord(_Verdict):
@@ -248,8 +271,11 @@ class Trajectory(_Part):
     proposals: list[ProposalMade] = Field(default_factory=list)
     steps: list[StepRecord]
     log: list[LogRecord] = Field(default_factory=list)
-    attribution: dict[str, MarkRecord] = Field(
-        default_factory=dict, description="Who made each place of the apps' data, by its dotted place."
+    attribution: list[PlaceRecord] = Field(
+        default_factory=list, description="Who made each place of the apps' data, in the order made."
+    )
+    removals: list[RemovalRecord] | None = Field(
+        default=None, description="What the user or the assistant removed (``None``: a format-1 file)."
     )
     outcome: OutcomeRecord
     state_diff: list[dict[str, Any]] | None = Field(
@@ -267,6 +293,28 @@ class Trajectory(_Part):
         """The log's entries by their own index (what steps, checks and attribution name)."""
         return {record.index: record for record in self.log}
 
+    @cached_property
+    def marks(self) -> dict[str, PlaceRecord]:
+        """The attribution by dotted place (what the viewer matches the state diff's paths against)."""
+        return {record.dotted: record for record in self.attribution}
+
+    def attribution_state(self) -> Attribution:
+        """The episode's attribution as the checks read it (re-grading evaluates them on it).
+
+        Raises:
+            ValueError: The file does not keep it whole (format 1: no hands, no removals).
+        """
+        if self.removals is None or any(record.hands is None for record in self.attribution):
+            raise ValueError("the trajectory does not keep the whole attribution (written before format 2)")
+        return Attribution.restored(
+            {
+                record.place: Mark(record.created_by, record.changed_by, record.created_at, record.changed_at)
+                for record in self.attribution
+            },
+            {record.place: record.hands or {} for record in self.attribution},
+            {record.place: (record.actor, record.at) for record in self.removals},
+        )
+
     def log_entries(self) -> list[LogEntry]:
         """The action log as the kernel's entries, in order (what checks and patterns read)."""
         return [record.entry() for record in self.log]
@@ -274,6 +322,29 @@ class Trajectory(_Part):
     def expired_at(self) -> dict[str, int]:
         """The turn each expired proposal expired in (those whose turn is known)."""
         return {p.proposal_id: p.expired_at for p in self.proposals if p.expired_at is not None}
+
+
+def attribution_records(attribution: Attribution) -> tuple[list[PlaceRecord], list[RemovalRecord]]:
+    """The trajectory's form of an episode's attribution: its places and what was removed, in the order
+    the episode made them (deterministic, and what :meth:`Trajectory.attribution_state` restores, so the
+    side effects found again come in the same order).
+    """
+    places = [
+        PlaceRecord(
+            place=place,
+            created_by=mark.created_by,
+            changed_by=mark.changed_by,
+            created_at=mark.created_at,
+            changed_at=mark.changed_at,
+            hands=dict(attribution.hands_of(place)),
+        )
+        for place, mark in attribution.marks().items()
+    ]
+    removals = [
+        RemovalRecord(place=place, actor=actor, at=index)
+        for place, (actor, index) in attribution.removals().items()
+    ]
+    return places, removals
 
 
 def state_hash(state: Mapping[str, Any]) -> str:
@@ -376,6 +447,12 @@ def upgrade_format_1(data: dict[str, Any]) -> dict[str, Any]:
     """
     upgraded = {key: value for key, value in data.items() if key != "expired_proposals"}
     upgraded["format"] = 2
+    marks = data.get("attribution")
+    if isinstance(marks, dict):  # by dotted place; an id with a dot in it cannot be told apart here
+        upgraded["attribution"] = [
+            {"place": place.split("."), **mark} if isinstance(mark, dict) else mark
+            for place, mark in marks.items()
+        ]
     expired = data.get("expired_proposals") or []
     upgraded["proposals"] = _format_1_proposals(data, expired if isinstance(expired, list) else [])
     return upgraded

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from pare.env.attribution import ATTRIBUTED_ACTORS, CONTROL_APPS, item_key
-from pare.results.trajectory import LogRecord, MarkRecord
+from pare.results.trajectory import LogRecord, PlaceRecord
 
 WORLD = "the world"
 _NAMES_DEPTH = 4
@@ -63,7 +63,7 @@ class _Call:
 class Credits:
     """Credits the state diff's operations of one episode from its action log and attribution."""
 
-    def __init__(self, log: Iterable[LogRecord], attribution: Mapping[str, MarkRecord]) -> None:
+    def __init__(self, log: Iterable[LogRecord], attribution: Mapping[str, PlaceRecord]) -> None:
         self._marks = attribution
         self._calls = [call for entry in log if (call := _call(entry)) is not None]
         self._by_index = {call.index: call for call in self._calls}
@@ -113,7 +113,7 @@ class Credits:
         return sorted(found)
 
     def _appeared(
-        self, parts: list[str], own: str, positional: bool, mark: MarkRecord | None
+        self, parts: list[str], own: str, positional: bool, mark: PlaceRecord | None
     ) -> list[Credit]:
         changed = _index(mark, "changed_at")
         if mark is not None and _index(mark, "created_at") is not None:
@@ -130,7 +130,9 @@ class Credits:
             return self._credits(other, self._last(own, ("other",)))
         return []
 
-    def _changed(self, parts: list[str], own: str, positional: bool, mark: MarkRecord | None) -> list[Credit]:
+    def _changed(
+        self, parts: list[str], own: str, positional: bool, mark: PlaceRecord | None
+    ) -> list[Credit]:
         if (changed := _index(mark, "changed_at")) is not None:
             return self._credits(changed)
         if positional:
@@ -155,7 +157,7 @@ class Credits:
                     return self._credits(last)
         return []
 
-    def _mark(self, place: list[str]) -> MarkRecord | None:
+    def _mark(self, place: list[str]) -> PlaceRecord | None:
         """The mark of ``place``; a list position inside it (an order's items, by position) stands for
         any item there, and the latest such mark is taken.
         """
@@ -197,7 +199,7 @@ def pointer_parts(pointer: str) -> list[str]:
     return [part.replace("~1", "/").replace("~0", "~") for part in pointer.split("/")[1:]]
 
 
-def _index(mark: MarkRecord | None, key: str) -> int | None:
+def _index(mark: PlaceRecord | None, key: str) -> int | None:
     if mark is None:
         return None
     return mark.created_at if key == "created_at" else mark.changed_at

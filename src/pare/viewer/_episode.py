@@ -192,7 +192,7 @@ def build_episode(
     by_id = {proposal.proposal_id: proposal for proposal in proposals}
     steps = _steps(trajectory, by_id)
     outcome = trajectory.outcome
-    credits = Credits(trajectory.log, trajectory.attribution)
+    credits = Credits(trajectory.log, trajectory.marks)
     goals = [_goal(goal, entries, credits, matched or {}) for goal in outcome.goals]
     usage: dict[str, Usage] = {}
     for step in steps:

@@ -79,7 +79,7 @@ def state_entries(
     final = final if final is not None else final_state(scenario, trajectory)
     if final is None:
         return {}
-    credits = Credits(trajectory.log, trajectory.attribution)
+    credits = Credits(trajectory.log, trajectory.marks)
     return {
         key: sorted({index for place in places for index in credits.made(place)})
         for key, places in state_check_places(scenario, final).items()
