@@ -204,3 +204,16 @@ def test_check_results_keep_fields_this_reader_does_not_know() -> None:
     assert (
         json.loads(write_trajectory(trajectory))["outcome"]["goals"][0]["checks"][0]["judge_answer"] == "YES"
     )
+
+
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), "a lone \ud800 surrogate"])
+def test_a_value_no_json_file_can_hold_is_refused_not_rewritten(value: object) -> None:
+    trajectory = _played()
+    step = trajectory.steps[0].model_copy(
+        update={"action": trajectory.steps[0].action.model_copy(update={"args": {"x": value}})}
+    )
+    with pytest.raises(ValueError, match="cannot be written as JSON"):
+        write_trajectory(trajectory.model_copy(update={"steps": [step, *trajectory.steps[1:]]}))
+    # a text that only mentions them is written as it is
+    step = step.model_copy(update={"action": step.action.model_copy(update={"args": {"x": "NaN Infinity"}})})
+    assert parse_trajectory(write_trajectory(trajectory.model_copy(update={"steps": [step]}))).steps == [step]

@@ -58,16 +58,18 @@ ANSWERS: dict[str, Literal["accept", "reject"]] = {"accept_proposal": "accept", 
 """The user's tools that answer a proposal, and the answer each gives."""
 
 
+# NaN and infinity are written as the constants JSON does not have, so that :func:`write_trajectory` finds
+# them (a value no JSON file can hold fails its episode, rather than becoming ``null`` unseen).
 class _Part(BaseModel):
     """A part of the trajectory this PARE writes in full: a field it does not know is damage."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False, ser_json_inf_nan="constants")
 
 
 class _Verdict(BaseModel):
     """A part of the verdict: its checks may gain fields within a format, kept as they are."""
 
-    model_config = ConfigDict(extra="allow", frozen=True, allow_inf_nan=False)
+    model_config = ConfigDict(extra="allow", frozen=True, allow_inf_nan=False, ser_json_inf_nan="constants")
 
 
 class ActionRecord(_Part):
@@ -378,16 +380,22 @@ def final_state(trajectory: Trajectory, start: Mapping[str, Any]) -> dict[str, A
 
 # -- writing ----------------------------------------------------------------------------------------------
 def write_trajectory(trajectory: Trajectory) -> str:
-    """The file's text: compact JSON in valid UTF-8, the same bytes for the same trajectory.
+    """The file's text: strict, compact JSON in valid UTF-8, the same bytes for the same trajectory.
 
     Raises:
-        ValueError: A value no JSON file can hold (a lone surrogate): a bug upstream.
+        ValueError: A value no JSON file can hold (NaN, infinity, a lone surrogate): a bug upstream.
     """
     try:
         text = trajectory.model_dump_json(by_alias=True)
     except PydanticSerializationError as error:
         raise ValueError(f"the trajectory cannot be written as JSON: {error}") from None
+    if "NaN" in text or "Infinity" in text:  # rare in any text: only then is the whole file parsed
+        json.loads(text, parse_constant=_not_json)
     return text
+
+
+def _not_json(constant: str) -> None:
+    raise ValueError(f"the trajectory cannot be written as JSON: it holds {constant}, which JSON has not")
 
 
 # -- reading ----------------------------------------------------------------------------------------------
