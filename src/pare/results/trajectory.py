@@ -21,8 +21,8 @@ they are kept as they are.
 Re-grading evaluates the checks again on the log, the attribution (:meth:`Trajectory.attribution_state`)
 and the apps' final state. The final state is not stored: it is the start (rebuilt from the scenario)
 with the state diff applied, and :func:`final_state` checks that the start rebuilt is the one the
-episode started from (``start_state_hash``). Storing it would add about half again to an oracle
-trajectory (docs/architecture.md, "The trajectory").
+episode started from (``start_state_hash``). Storing it would make every trajectory much larger for
+what the scenario and the diff already give (docs/architecture.md, "The trajectory").
 """
 
 from __future__ import annotations
@@ -350,8 +350,8 @@ def attribution_records(attribution: Attribution) -> tuple[list[PlaceRecord], li
 
 
 def state_hash(state: Mapping[str, Any]) -> str:
-    """A content hash of the apps' data, in the order PARE's snapshot gives it (the same code and data give
-    the same order; sorting the keys would cost three times as much on every episode stored).
+    """A content hash of the apps' data, in the order PARE's snapshot gives it: the same code and data give
+    the same order, and this runs for every episode stored, where sorting every key would not be cheap.
     """
     return hashlib.sha256(to_json(state, fallback=str)).hexdigest()[:32]
 
