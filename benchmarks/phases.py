@@ -4,10 +4,11 @@
 
 Times ``pare run --split full --runs 4`` (the oracle plays both roles) from a fresh interpreter: importing
 the command line and the runner, loading the library, then each phase of the episodes (building the
-environment, playing the turns, evaluating the goals, snapshots and the state diff, turning the result
-into JSON, writing to the store), each phase's total over every episode and its share of the run. Phases
-are measured by wrapping the functions that do them, so the wrappers' own cost (well under 1%) is in the
-figures. Nested phases are listed under the phase they run in. Prints numbers only; no assertion.
+environment, playing the turns, evaluating the goals, snapshots and the state diff, building the typed
+trajectory and writing its text, writing to the store), each phase's total over every episode and its
+share of the run. Phases are measured by wrapping the functions that do them, so the wrappers' own cost
+(well under 1%) is in the figures. Nested phases are listed under the phase they run in. Prints numbers
+only; no assertion.
 """
 
 from __future__ import annotations
@@ -18,7 +19,6 @@ import contextlib
 import functools
 import inspect
 import io
-import json
 import sys
 import tempfile
 import time
@@ -82,28 +82,12 @@ PHASES: list[tuple[str, str | None]] = [
     ("evaluate the goals (end-when-met ones too)", "episodes (play_episode)"),
     ("snapshots", "episodes (play_episode)"),
     ("state diff", "episodes (play_episode)"),
-    ("result to dict", "episodes (play_episode)"),
+    ("the typed trajectory", "episodes (play_episode)"),
     ("trajectory to JSON text", "episodes (play_episode)"),
     ("summarise the record", "episodes (play_episode)"),
     ("store.append (write record and trajectory)", None),
     ("print the summary (metrics read back)", None),
 ]
-
-
-class _TimedJson:
-    """The ``json`` module as the runner sees it, with ``dumps`` timed (the trajectory's text)."""
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(json, name)
-
-    @staticmethod
-    def dumps(*args: Any, **kwargs: Any) -> str:
-        start = time.perf_counter()
-        try:
-            return json.dumps(*args, **kwargs)
-        finally:
-            totals["trajectory to JSON text"] += time.perf_counter() - start
-            calls["trajectory to JSON text"] += 1
 
 
 def instrument() -> None:
@@ -115,13 +99,13 @@ def instrument() -> None:
     timed(episode_module, "evaluate", "evaluate the goals (end-when-met ones too)")
     timed(env_module.Environment, "snapshot", "snapshots")
     timed(episode_module, "state_changes", "state diff")
-    timed(episode_module.EpisodeResult, "to_dict", "result to dict")
+    timed(episode_module.EpisodeResult, "trajectory", "the typed trajectory")
+    timed(runner_module, "write_trajectory", "trajectory to JSON text")
     timed(runner_module, "summarize", "summarise the record")
     timed(store_module.RunStore, "append", "store.append (write record and trajectory)")
     timed(store_module.RunStore, "open", "open the store")
     timed(runner_module, "plan_episodes", "plan the episodes")
     timed(run_cmd_module, "print_summary", "print the summary (metrics read back)")
-    runner_module.json = _TimedJson()  # type: ignore[assignment]
 
 
 def main() -> None:

@@ -101,8 +101,8 @@ def test_proposal_acceptance_execution_and_checks(
     modes = [(s.turn, s.mode, s.action.tool) for s in result.steps if s.actor == "assistant"]
     assert (4, "execute", "email__reply_to_email") in modes
     first = next(s for s in result.steps if s.actor == "assistant")
-    assert first.action.usage is not None and first.action.usage["calls"] == 2  # one malformed answer
-    assert first.action.usage["format_errors"][0].startswith("Your answer had no Action: section")
+    assert first.action.usage is not None and first.action.usage.calls == 2  # one malformed answer
+    assert first.action.usage.format_errors[0].startswith("Your answer had no Action: section")
     assert "had no Action: section" in assistant_server_requests(servers)[1]["messages"][-1]["content"]
     user_server, assistant_server = servers
     # the prompts went out: system prompts of each role, the user's screen, the assistant's observation

@@ -28,7 +28,7 @@ def test_malformed_answers_are_retried_then_the_step_fails_without_touching_the_
     first = result.steps[0]
     assert first.actor == "user" and not first.ok and first.log_index is None
     assert first.action.error is not None and "No valid action after 3 answers" in first.action.error
-    assert first.action.usage is not None and len(first.action.usage["format_errors"]) == 3
+    assert first.action.usage is not None and len(first.action.usage.format_errors) == 3
     assert not [entry for entry in result.env.log.entries if entry.actor == "user" and entry.turn == 1]
 
 

@@ -118,7 +118,7 @@ def test_a_thinking_model_plays_the_episode_as_without_thinking(backend: str, st
         assert action["usage"]["format_errors"] == [] and action["usage"]["calls"] == 1
         assert action["reasoning"] == THINKING  # kept in the trajectory...
         assert action["raw"] == plain_step["action"]["raw"]  # ...apart from the answer
-        assert "reasoning" not in plain_step["action"]
+        assert plain_step["action"]["reasoning"] is None
         # the reasoning's tokens count as completion tokens
         assert action["usage"]["completion_tokens"] > plain_step["action"]["usage"]["completion_tokens"]
 
@@ -168,8 +168,8 @@ def test_an_answer_that_is_only_thinking_gets_a_format_error_for_the_model(
     action = asyncio.run(conversation.decide())
 
     assert action.tool == "system__wait" and action.error is None
-    assert action.usage is not None and action.usage["calls"] == 2
-    (error,) = action.usage["format_errors"]
+    assert action.usage is not None and action.usage.calls == 2
+    (error,) = action.usage.format_errors
     assert "only your reasoning" in error and "no Action: section" in error
     retry = model.sent[1]
     assert [m.role for m in retry[-2:]] == ["assistant", "user"]

@@ -27,6 +27,7 @@ from pare.agents.prompts import execute_system_prompt, observe_system_prompt, us
 from pare.bench.store import CACHE_FILE
 from pare.cli import main
 from pare.results.run_folder import EPISODES, load_run, read_records
+from pare.results.trajectory import read_trajectory
 from pare.scenarios import build_environment, get_scenario
 from pare.testing import PROPOSAL, ChatServer, Reply, Responder, conversation_role, failure, proactive_play
 from tests.agents.conftest import NetworkBlocked
@@ -150,8 +151,8 @@ def test_a_model_backed_run_completes(tmp_path: Path, servers: Servers) -> None:
         assert {p.decision for p in record.proposals} == {"accept"}
         assert {p.resolution for p in record.proposals} == {"accepted"}
         assert record.trajectory is not None
-        trajectory = json.loads((out / record.trajectory).read_text(encoding="utf-8"))
-        assert (trajectory["scenario_id"], trajectory["run"]) == record.key
+        trajectory = read_trajectory(out / record.trajectory)
+        assert (trajectory.scenario_id, trajectory.run) == record.key
     # every call the records count reached its role's server, with the key and the model configured
     assert servers.user.request_count == calls["user"]
     assert servers.assistant.request_count == calls["observe"] + calls["execute"]

@@ -7,7 +7,6 @@ the cache must reproduce them.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any
 
@@ -16,17 +15,18 @@ import pytest
 from pare.bench.store import CACHE_FILE
 from pare.cli import main
 from pare.results.run_folder import load_run
+from pare.results.trajectory import Trajectory, parse_trajectory
 from pare.testing import ChatServer, proactive_play, thinking
 from pare.testing.chat_server import THINKING
 from tests.bench.test_run_models import KEY, KEY_VARIABLE, Servers, command, trajectories
 
 
-def steps_without_usage(trajectory: dict[str, Any]) -> list[dict[str, Any]]:
+def steps_without_usage(trajectory: Trajectory) -> list[dict[str, Any]]:
     """Each step's actor, action and result, without the model's text and usage."""
-    kept = ("turn", "actor", "mode", "ok", "observation", "log_index")
+    kept = {"turn", "actor", "mode", "ok", "observation", "log_index"}
     return [
-        {**{key: s[key] for key in kept}, "tool": s["action"]["tool"], "args": s["action"]["args"]}
-        for s in trajectory["steps"]
+        {**step.model_dump(include=kept), "tool": step.action.tool, "args": step.action.args}
+        for step in trajectory.steps
     ]
 
 
@@ -53,13 +53,14 @@ def test_a_run_with_thinking_models_goes_as_without_and_keeps_the_reasoning(
     assert recorded.keys() == without.keys() and recorded
     assert trajectories(replayed) == recorded
     for name, data in recorded.items():
-        trajectory, baseline = json.loads(data), json.loads(without[name])
+        trajectory, baseline = parse_trajectory(data, name), parse_trajectory(without[name], name)
         assert steps_without_usage(trajectory) == steps_without_usage(baseline)
-        assert trajectory["outcome"] == baseline["outcome"]
-        model_actions = [s["action"] for s in trajectory["steps"] if s["action"]["usage"] is not None]
+        assert trajectory.outcome == baseline.outcome
+        model_actions = [s.action for s in trajectory.steps if s.action.usage is not None]
         assert model_actions
         for action in model_actions:
-            assert action["reasoning"] == THINKING and action["usage"]["format_errors"] == []
+            assert action.reasoning == THINKING
+            assert action.usage is not None and not action.usage.format_errors
     for record in load_run(thought).records:
         assert record.complete and record.proposals
         assert {p.decision for p in record.proposals} == {"accept"}

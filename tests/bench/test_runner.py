@@ -24,6 +24,7 @@ from pare.cli import main
 from pare.errors import ProviderUnavailable, UserInputError
 from pare.results.records import EpisodeRecord
 from pare.results.run_folder import EPISODES, MANIFEST, load_run, read_records
+from pare.results.trajectory import read_trajectory
 from pare.scenarios import library
 from tests.scenarios.helpers import base, to_yaml
 
@@ -48,9 +49,9 @@ def test_oracle_run_records_every_episode(tmp_path: Path) -> None:
     assert len(loaded.records) == 6 and all(r.complete and r.success for r in loaded.records)
     assert loaded.planned == [(s, r) for s in sorted(SMOKE) for r in (1, 2)]
     for record in loaded.records:
-        trajectory = json.loads((tmp_path / "run" / str(record.trajectory)).read_text())
-        assert trajectory["scenario_id"] == record.scenario_id and trajectory["run"] == record.run
-        assert trajectory["outcome"]["success"] is True
+        trajectory = read_trajectory(tmp_path / "run" / str(record.trajectory))
+        assert trajectory.scenario_id == record.scenario_id and trajectory.run == record.run
+        assert trajectory.outcome.success is True
         assert record.proposals and record.proposals[0].decision == "accept"
     manifest = loaded.manifest
     assert manifest["label"] == "oracle"

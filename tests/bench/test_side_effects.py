@@ -139,7 +139,7 @@ def test_one_unasked_write_fails_the_episode_and_is_named(
     assert len(texts) == 1 and texts[0].startswith(named), texts
     outcome = result.to_dict()["outcome"]
     assert outcome["success"] is False and outcome["side_effects"][0]["text"] == texts[0]
-    assert summarize(result)["side_effects"] == 1
+    assert summarize(result.trajectory())["side_effects"] == 1
 
 
 def test_the_oracle_and_a_declared_correct_alternative_have_no_side_effects() -> None:

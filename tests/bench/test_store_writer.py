@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import io
-import json
 from pathlib import Path
 from typing import Any
 
@@ -17,6 +16,7 @@ from pare.cli import main
 from pare.errors import UserInputError
 from pare.results.records import EpisodeRecord
 from pare.results.run_folder import EPISODES, load_run, read_records
+from pare.results.trajectory import read_trajectory
 from pare.scenarios import library
 
 SMOKE = ["dentist_moves_checkup", "five_a_side_kickoff_moved", "dad_printer_ink_from_note"]
@@ -54,7 +54,7 @@ class CheckingProgress:
 
     def finished(self, record: EpisodeRecord) -> None:
         assert record.key in _keys_in(self.folder / EPISODES), "reported before its line was written"
-        assert json.loads((self.folder / str(record.trajectory)).read_text())["run"] == record.run
+        assert read_trajectory(self.folder / str(record.trajectory)).run == record.run
         self.reported.append(record)
 
     def stopped(self) -> None:
@@ -111,7 +111,7 @@ def test_an_error_in_the_writer_stops_the_run_with_its_message_and_a_resume_comp
     stored = read_records(folder / EPISODES)
     assert len(stored) < 9 and all(r.scenario_id != "five_a_side_kickoff_moved" for r in stored)
     for record in stored:  # each line names a whole trajectory
-        assert json.loads((folder / str(record.trajectory)).read_text())["run"] == record.run
+        assert read_trajectory(folder / str(record.trajectory)).run == record.run
     reported = [r.key for r in progress.reported]  # what was reported finished is stored
     assert reported == [r.key for r in stored][: len(reported)]
 

@@ -67,7 +67,7 @@ def test_the_trajectory_records_what_arrived_after_the_last_turn() -> None:
 def test_no_after_last_turn_record_when_nothing_was_set_in_motion() -> None:
     scenario = parse(base())
     result = play(scenario, EpisodeSettings())
-    assert result.after_last_turn is None and "after_last_turn" not in result.to_dict()
+    assert result.after_last_turn is None and result.to_dict()["after_last_turn"] is None
 
 
 def test_the_horizon_bounds_what_arrives_after_the_last_turn() -> None:

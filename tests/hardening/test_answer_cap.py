@@ -16,6 +16,7 @@ from pare.agents.models import ModelConfig
 from pare.agents.models.config import DEFAULT_MAX_ANSWER_CHARS
 from pare.cli import main
 from pare.errors import UserInputError
+from pare.results.trajectory import read_trajectory
 from pare.testing import ChatServer, Reply, completion, conversation_role, proactive_play
 from tests.hardening.conftest import KEY_VARIABLE
 
@@ -61,14 +62,10 @@ def test_a_runaway_answer_is_cut_and_a_format_error(tmp_path: Path, example_scen
     assert seen["huge"] >= 1
     record = json.loads((tmp_path / "run" / "episodes.jsonl").read_text(encoding="utf-8").splitlines()[0])
     assert sum(record["format_errors"].values()) >= seen["huge"], record["format_errors"]
-    trajectory = next((tmp_path / "run" / "trajectories").rglob("run-1.json")).read_text(encoding="utf-8")
-    errors = [
-        e
-        for step in json.loads(trajectory)["steps"]
-        for e in ((step.get("action") or {}).get("usage") or {}).get("format_errors", [])
-    ]
+    trajectory = read_trajectory(next((tmp_path / "run" / "trajectories").rglob("run-1.json")))
+    errors = [e for step in trajectory.steps if step.action.usage for e in step.action.usage.format_errors]
     assert any("characters long" in error and "was cut" in error for error in errors), errors
-    raws = [(step.get("action") or {}).get("raw") or "" for step in json.loads(trajectory)["steps"]]
+    raws = [step.action.raw or "" for step in trajectory.steps]
     assert max(len(raw) for raw in raws) <= DEFAULT_MAX_ANSWER_CHARS
     with sqlite3.connect(tmp_path / "run" / "model_calls.sqlite") as cache:
         stored = [json.loads(row[0]) for row in cache.execute("SELECT completion FROM completions")]

@@ -58,7 +58,7 @@ def damage(text: str, rng: random.Random) -> tuple[str, str]:
         return text[: rng.randrange(1, len(text))], kind
     data = json.loads(text)
     if kind == "format":
-        data["format"] = rng.choice([0, 2, 99, "1", None])
+        data["format"] = rng.choice([0, 3, 99, "1", None])
         return json.dumps(data), kind
     path = rng.choice(list(places(data)))
     parent = parent_of(data, path)

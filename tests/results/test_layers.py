@@ -9,6 +9,7 @@ import sys
 
 READERS = (
     "pare.results",
+    "pare.results.trajectory",
     "pare.results.records",
     "pare.results.run_folder",
     "pare.results.metrics",

@@ -53,7 +53,7 @@ class ProposeAt(AssistantPolicy):
 
 def _summary(user: list[str], at: set[int], **settings: int) -> dict[str, object]:
     result = run_episode(SCENARIO, ScriptedUser(user), ProposeAt(at), EpisodeSettings(**settings))
-    return summarize(result)
+    return summarize(result.trajectory())
 
 
 def test_direct_accept_and_direct_reject() -> None:

@@ -142,7 +142,7 @@ def test_the_users_own_work_is_not_the_assistants() -> None:
     reply = next(e for e in result.env.snapshot()["email"]["emails"].values() if e["folder"] == "SENT")
     mark = result.env.attribution.mark(("email", "emails", reply["email_id"]))
     assert mark is not None and mark.created_by == "user" and mark.changed_by == "user"
-    assert result.to_dict()["attribution"][f"email.emails.{reply['email_id']}"]["created_by"] == "user"
+    assert result.trajectory().marks[f"email.emails.{reply['email_id']}"].created_by == "user"
     oracle = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
     assert oracle.success and not oracle.outcome.user_did_work
 

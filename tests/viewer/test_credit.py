@@ -17,6 +17,7 @@ from pare.agents.policy import SilentAssistant
 from pare.bench.episode import EpisodeSettings, run_episode
 from pare.bench.state_diff import state_changes
 from pare.env.attribution import Attribution
+from pare.results.trajectory import LogRecord, PlaceRecord, Trajectory, attribution_records
 from pare.scenarios.library import get_scenario
 from pare.scenarios.oracle import OracleAssistant, OracleUser
 from pare.viewer import Catalog, Site, build_episode
@@ -30,23 +31,23 @@ _CELL = re.compile(r"<td[^>]*>(.*?)</td>", re.S)
 _TAG = re.compile(r"<[^>]+>")
 
 
-def _trajectory(folder: Path) -> dict[str, Any]:
+def _trajectory(folder: Path) -> Trajectory:
     configuration = Catalog.open([folder]).configurations[0]
     data = configuration.trajectory(configuration.records[(WORLD_SCENARIO, 1)])
     assert data is not None
     return data
 
 
-def _entry(data: dict[str, Any], **wanted: Any) -> int:
-    (index,) = [e["index"] for e in data["log"] if all(e.get(k) == v for k, v in wanted.items())]
+def _entry(data: Trajectory, **wanted: Any) -> int:
+    (index,) = [e.index for e in data.log if all(getattr(e, k) == v for k, v in wanted.items())]
     return int(index)
 
 
-def _path_of(data: dict[str, Any], key: str, value: str) -> str:
+def _path_of(data: Trajectory, key: str, value: str) -> str:
     """The state diff's path (without the app) of the item added with ``key: value``."""
     (path,) = [
         op["path"].split("/", 2)[2]
-        for op in data["state_diff"]
+        for op in data.state_diff or []
         if isinstance(op.get("value"), dict) and op["value"].get(key) == value
     ]
     return str(path)
@@ -114,7 +115,7 @@ def test_what_the_user_made_by_hand_is_credited_to_the_users_calls() -> None:
     steps = len(scenario.by_hand().user)
     settings = EpisodeSettings(max_turns=EpisodeSettings().max_turns + steps)
     result = run_episode(scenario, OracleUser(scenario, scenario.by_hand()), SilentAssistant(), settings)
-    data = result.to_dict()
+    data = result.trajectory()
     episode = build_episode(data, [])
     sent = _entry(data, actor="user", tool="send_message")
     saved = _entry(data, actor="user", tool="save")
@@ -128,7 +129,7 @@ def test_a_removed_item_is_credited_to_the_call_that_removed_it() -> None:
     scenario = get_scenario("five_a_side_kickoff_moved")
     solution = scenario.solution("delete_and_readd")
     result = run_episode(scenario, OracleUser(scenario, solution), OracleAssistant(scenario, solution))
-    data = result.to_dict()
+    data = result.trajectory()
     episode = build_episode(data, [])
     deleted = _entry(data, actor="assistant", tool="delete_calendar_event")
     (removed,) = [c for c in episode.changes or [] if c.op == "remove"]
@@ -151,13 +152,21 @@ def test_a_judge_check_links_the_texts_it_read(world_run: Path) -> None:
     assert re.findall(r'href="#(log-\d+)"', check) == [f"log-{wrote}"]
 
 
-def _log(*calls: tuple[str, str, str, dict[str, Any]]) -> list[dict[str, Any]]:
+def _log(*calls: tuple[str, str, str, dict[str, Any]]) -> list[LogRecord]:
     kinds = {"env": "env", "open_event": "ui"}
     return [
-        {"index": i, "actor": actor, "app": app, "tool": tool, "args": args, "ok": True,
-         "kind": kinds.get(actor, kinds.get(tool, "write")), "event_id": "party" if actor == "env" else None}
+        LogRecord.model_validate(
+            {"index": i, "turn": 1, "time": "2025-03-03T09:00:00", "actor": actor, "app": app, "tool": tool,
+             "args": args, "ok": True, "kind": kinds.get(actor, kinds.get(tool, "write")),
+             "event_id": "party" if actor == "env" else None}
+        )
         for i, (actor, app, tool, args) in enumerate(calls)
     ]  # fmt: skip
+
+
+def _marks(attribution: Attribution) -> dict[str, PlaceRecord]:
+    places, _ = attribution_records(attribution)
+    return {record.dotted: record for record in places}
 
 
 def test_list_items_known_only_by_position_are_credited_to_who_changed_them() -> None:
@@ -176,7 +185,7 @@ def test_list_items_known_only_by_position_are_credited_to_who_changed_them() ->
         ("assistant", "shopping", "update_item_quantity", {"order_id": "o1", "item_id": "i2"}),
         ("env", "shopping", "update_order_status", {"order_id": "o1", "status": "shipped"}),
     )
-    credits = Credits(log, attribution.to_dict())
+    credits = Credits(log, _marks(attribution))
     ops = {op["path"]: op for op in state_changes({"shopping": before}, {"shopping": shipped})}
     assert credits.of(ops["/shopping/orders/o1/items/1/quantity"]) == [Credit("assistant", 1)]
     assert credits.of(ops["/shopping/orders/o1/status"]) == [Credit("event", 2, "party")]
@@ -193,7 +202,7 @@ def test_a_list_shortened_by_a_removal_is_credited_to_the_write_not_to_a_later_r
         ("assistant", "calendar", "edit_calendar_event", {"event_id": "ev1", "updates": {"attendees": []}}),
         ("user", "calendar", "open_event", {"event_id": "ev1"}),
     )
-    credits = Credits(log, attribution.to_dict())
+    credits = Credits(log, _marks(attribution))
     ops = state_changes({"calendar": before}, {"calendar": after})
     assert [op["op"] for op in ops] == ["replace", "remove"]
     assert [credits.of(op) for op in ops] == [[Credit("assistant", 0)]] * 2
@@ -216,5 +225,6 @@ def test_a_state_check_links_the_calls_that_made_the_items_it_found(world_run: P
     goal = page.body.decode().split("<b>wednesday_plans_kept</b>", 1)[1].split('<div class="goal', 1)[0]
     first = goal.split('<li class="check', 2)[1]
     assert "physio" in first and "log-ref" not in first
-    data["state_diff"].insert(0, {"op": "remove", "path": "/calendar/events/no-such-event"})
+    assert data.state_diff is not None
+    data.state_diff.insert(0, {"op": "remove", "path": "/calendar/events/no-such-event"})
     assert state_entries(scenario, data) == {}  # not this scenario's start: the page falls back

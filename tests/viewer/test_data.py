@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 
 from pare.errors import UserInputError
+from pare.results.trajectory import parse_trajectory, write_trajectory
 from pare.viewer import Catalog, Site, build_episode, export_site, slug
 from pare.viewer._episode import ExecuteGroup, split_observation, thought_of
 from pare.viewer._evidence import final_state, library_scenario, matched_entries
@@ -131,7 +132,7 @@ def test_state_diff_and_check_evidence_link_to_the_log(runs: Runs) -> None:
     moved = [c for c in episode.changes if c.app == "calendar"]
     assert moved and all(c.credits and c.credits[-1].who == "assistant" for c in moved)
     made_by = moved[0].credits[-1].log_index
-    assert made_by is not None and episode.log[made_by]["actor"] == "assistant"
+    assert made_by is not None and data.entries[made_by].actor == "assistant"
     first_check = episode.goals[0].checks[0]
     assert first_check.passed and made_by in first_check.evidence
 
@@ -141,16 +142,17 @@ def test_steps_and_checks_find_their_entries_by_index_when_one_is_malformed(runs
     record = configuration.records[("dentist_moves_checkup", 1)]
     data = configuration.trajectory(record)
     assert data is not None
-    first = next(s["log_index"] for s in data["steps"] if s["actor"] == "assistant")
-    data["log"][first - 1] = "not an entry"  # every later entry moves up one place in the list
+    first = next(s.log_index for s in data.steps if s.actor == "assistant")
+    assert first is not None
+    data.log.pop(first - 1)  # every later entry moves up one place in the list
     episode = build_episode(data, list(record.proposals))
     steps = [s for t in episode.turns for s in [*t.user, *t.assistant] if not isinstance(s, ExecuteGroup)]
     for step in steps:
         if step.log_index is not None:
-            entry = next(e for e in episode.log if e["index"] == step.log_index)
-            assert entry["tool"] in step.tool and entry["actor"] == step.actor
+            entry = next(e for e in episode.log if e.index == step.log_index)
+            assert entry.tool in step.tool and entry.actor == step.actor
     assert any(s.log_index == first for s in steps)
-    indexes = {e["index"] for e in episode.log}
+    indexes = {e.index for e in episode.log}
     assert all(i in indexes for g in episode.goals for c in g.checks for i in c.evidence)
     assert any(c.evidence for g in episode.goals for c in g.checks)
 
@@ -162,11 +164,11 @@ def test_checks_link_the_entries_their_patterns_match(runs: Runs) -> None:
     assert data is not None
     scenario = library_scenario(record.scenario_id, record.scenario_hash)
     assert scenario is not None
-    matched = matched_entries(scenario, data["log"], final_state(scenario, data))  # whom each call told
+    matched = matched_entries(scenario, data, final_state(scenario, data))  # whom each call told
     episode = build_episode(data, list(record.proposals), matched)
-    assert not matched_entries(scenario, data["log"])[("practice_told", 0)]  # 'to' needs the final state
+    assert not matched_entries(scenario, data)[("practice_told", 0)]  # 'to' needs the final state
     (told,) = [g for g in episode.goals if g.id == "practice_told"]
-    replies = [e["index"] for e in data["log"] if e["tool"] == "reply_to_email" and e["actor"] == "assistant"]
+    replies = [e.index for e in data.log if e.tool == "reply_to_email" and e.actor == "assistant"]
     assert told.checks[0].form == "judge" and told.checks[0].evidence == replies
     assert library_scenario(record.scenario_id, "0" * 16) is None  # changed since: no precise links
     assert library_scenario("no_such_scenario", record.scenario_hash) is None
@@ -174,9 +176,9 @@ def test_checks_link_the_entries_their_patterns_match(runs: Runs) -> None:
 
 def test_trajectories_from_before_the_view_was_recorded_still_open(runs: Runs) -> None:
     record, data = _episode(runs)
-    for step in data["steps"]:
-        step.pop("view", None)
-    data.pop("state_diff")
+    data = data.model_copy(
+        update={"steps": [step.model_copy(update={"view": None}) for step in data.steps], "state_diff": None}
+    )
     episode = build_episode(data, list(record.proposals))
     phones = [s.phone for t in episode.turns for s in t.user]
     assert phones and all(p is not None and not p.recorded for p in phones)
@@ -234,10 +236,10 @@ def test_the_replies_after_the_last_turn_are_a_phase_of_their_own() -> None:
     scenario = parse(replying())
     data = run_episode(
         scenario, OracleUser(scenario), OracleAssistant(scenario), EpisodeSettings(max_turns=4)
-    ).to_dict()
-    episode = build_episode(json.loads(json.dumps(data)), [])
+    ).trajectory()
+    episode = build_episode(parse_trajectory(write_trajectory(data)), [])
     *played, after = episode.turns
     assert [turn.number for turn in played] == [1, 2, 3, 4] and not any(turn.after_last for turn in played)
     assert after.after_last and after.number == 5
-    assert [entry["event_id"] for entry in after.world] == ["ann_thanks", "ann_ps"]
+    assert [entry.event_id for entry in after.world] == ["ann_thanks", "ann_ps"]
     assert after.user == [] and after.assistant == []

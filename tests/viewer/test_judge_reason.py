@@ -49,8 +49,8 @@ def test_the_judges_reason_reaches_the_trajectory_and_the_page(tmp_path: Path) -
     record = configuration.records[("tiny_reply", 1)]
     trajectory = configuration.trajectory(record)
     assert trajectory is not None
-    (check,) = trajectory["outcome"]["goals"][0]["checks"]
-    assert not check["passed"] and check["detail"].endswith(f" | the judge: {REASON}")
+    (check,) = trajectory.outcome.goals[0].checks
+    assert not check.passed and check.detail.endswith(f" | the judge: {REASON}")
     page = Site(Catalog.open([tmp_path / "run"])).page("c/run/e/tiny_reply/run-1.html")
     assert page is not None
     text = html.unescape(page.body.decode())

@@ -7,6 +7,7 @@ import shutil
 from html import unescape
 from pathlib import Path
 
+from pare.results.trajectory import read_trajectory
 from pare.viewer import Catalog, Site, build_episode
 from tests.viewer.runs import Runs
 
@@ -25,7 +26,7 @@ def test_reasoning_is_shown_collapsed_beside_the_thought(runs: Runs, tmp_path: P
     user_steps[0]["action"]["reasoning"] = REASONING  # as a thinking model's step records it
     path.write_text(json.dumps(data), encoding="utf-8")
 
-    episode = build_episode(data, list(record.proposals))
+    episode = build_episode(read_trajectory(path), list(record.proposals))
     views = [s for t in episode.turns for s in t.user]
     assert views[0].reasoning == REASONING and views[0].thought  # the thought is still read from the answer
     assert all(s.reasoning is None for s in views[1:])

@@ -17,6 +17,7 @@ from typing import Any, Protocol
 
 from pare.agents.actions import parse_action, parse_tool_arguments
 from pare.agents.handover import Handover
+from pare.agents.models.ledger import StepUsage
 from pare.agents.models.reasoning import join_reasoning, split_reasoning
 from pare.agents.models.types import ChatMessage, Completion
 from pare.agents.policy import Action, AssistantPolicy, Ending, Task, UserPolicy
@@ -125,13 +126,13 @@ class Conversation:
         self.messages.append(ChatMessage(role="user", content=f"Error: {error}"))
 
 
-def _usage_summary(usage: dict[str, int], costs: list[float | None], errors: list[str]) -> dict[str, Any]:
+def _usage_summary(usage: dict[str, int], costs: list[float | None], errors: list[str]) -> StepUsage:
     known = [cost for cost in costs if cost is not None]
-    return {
+    return StepUsage(
         **usage,
-        "cost_usd": None if len(known) != len(costs) else round(sum(known), 10),
-        "format_errors": list(errors),
-    }
+        cost_usd=None if len(known) != len(costs) else round(sum(known), 10),
+        format_errors=tuple(errors),
+    )
 
 
 def _observation_text(previous: ToolResult | None, body: str = "") -> str:

@@ -13,6 +13,7 @@ from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
+from pare.agents.models.ledger import StepUsage
 from pare.env import AssistantObservation, Environment, ToolResult, UserView
 from pare.sim.budget import DEFAULT_BUDGET as DEFAULT_BUDGET  # re-exported: the actors are told it
 from pare.sim.budget import TurnBudget as TurnBudget
@@ -36,24 +37,11 @@ class Action:
     error: str | None = None
     """Set when the actor could not produce a valid action (a model's answers stayed malformed); the
     loop records the step as failed without calling the environment."""
-    usage: dict[str, Any] | None = None
+    usage: StepUsage | None = None
     """For model-backed actors: calls, prompt / completion / cached tokens, cost and format errors of the
     model calls behind this action."""
     reasoning: str | None = None
     """A thinking model's reasoning behind ``raw`` (which holds its answer only), when it gave any."""
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready form (``reasoning`` only when there is some: other trajectories stay as they were)."""
-        data: dict[str, Any] = {
-            "tool": self.tool,
-            "args": self.args,
-            "raw": self.raw,
-            "error": self.error,
-            "usage": self.usage,
-        }
-        if self.reasoning is not None:
-            data["reasoning"] = self.reasoning
-        return data
 
 
 @dataclass(frozen=True, slots=True)

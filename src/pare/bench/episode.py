@@ -43,6 +43,7 @@ from pare.bench.envelope import expected_envelope
 from pare.bench.state_diff import state_changes
 from pare.env import AssistantObservation, EnvConfig, Environment, ToolResult, TurnMark, UserView
 from pare.errors import ModelRequestError
+from pare.results.trajectory import TRAJECTORY_FORMAT, Trajectory, attribution_records, state_hash
 from pare.scenarios.build import EventReadings, build_environment
 from pare.scenarios.checks import Judge, Outcome, aevaluate, goals_met
 from pare.scenarios.model import Scenario
@@ -76,21 +77,6 @@ class Step:
     log_index: int | None
     view: dict[str, Any] | None = None
     """For a user step, the phone as the user saw it before acting (:func:`view_record`)."""
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready form (``view`` only for user steps: older trajectories have none)."""
-        data: dict[str, Any] = {
-            "turn": self.turn,
-            "actor": self.actor,
-            "mode": self.mode,
-            "action": self.action.to_dict(),
-            "ok": self.ok,
-            "observation": self.observation,
-            "log_index": self.log_index,
-        }
-        if self.view is not None:
-            data["view"] = self.view
-        return data
 
 
 def view_record(view: UserView) -> dict[str, Any]:
@@ -158,6 +144,10 @@ class EpisodeResult:
     expired_proposals: list[str] = field(default_factory=list)
     expired_at: dict[str, int] = field(default_factory=dict)
     """The turn in which each expired proposal expired (after the user's step of that turn)."""
+    proposed_at: dict[str, int] = field(default_factory=dict)
+    """The turn in which each proposal was made."""
+    start_state_hash: str | None = None
+    """The content hash of the apps' data at the start (:func:`~pare.results.trajectory.state_hash`)."""
     state_diff: list[dict[str, Any]] = field(default_factory=list)
     """The apps' data from start to end as JSON Patch operations."""
     after_last_turn: AfterLastTurn | None = None
@@ -174,28 +164,51 @@ class EpisodeResult:
         """Whether every goal was met."""
         return self.outcome.success
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready form: settings-independent facts, the steps, the log and the verdict
-        (``after_last_turn`` only when replies were set in motion by then, ``closing`` only for actors
-        that keep a conversation).
+    def trajectory(
+        self, *, label: str = "", run: int = 1, seed: int | None = None, scenario_hash: str = ""
+    ) -> Trajectory:
+        """The episode as its trajectory file keeps it (``label``, ``run``, ``seed`` and
+        ``scenario_hash`` say which episode of which run it is).
         """
+        env = self.env
+        places, removals = attribution_records(env.attribution)
         data: dict[str, Any] = {
+            "format": TRAJECTORY_FORMAT,
+            "label": label,
+            "run": run,
+            "seed": seed,
+            "scenario_hash": scenario_hash,
             "scenario_id": self.scenario_id,
             "user": self.user,
             "assistant": self.assistant,
             "turns": self.turns,
             "ended": self.ended,
-            "expired_proposals": self.expired_proposals,
-            "steps": [step.to_dict() for step in self.steps],
-            "log": [entry.to_dict() for entry in self.env.log],
-            "attribution": self.env.attribution.to_dict(),
+            "proposals": [
+                {
+                    "proposal_id": proposal.proposal_id,
+                    "turn": self.proposed_at.get(proposal.proposal_id, 0),
+                    "content": proposal.content,
+                    "status": proposal.status,
+                    "expired_at": self.expired_at.get(proposal.proposal_id),
+                }
+                for proposal in env.agent_ui.state.proposals
+            ],
+            # read by attribute: no JSON-ready copy of every step and entry made only to be read again
+            "steps": self.steps,
+            "log": env.log.entries,
+            "attribution": places,
+            "removals": removals,
             "outcome": self.outcome.to_dict(),
             "state_diff": self.state_diff,
+            "start_state_hash": self.start_state_hash,
+            "after_last_turn": None if self.after_last_turn is None else self.after_last_turn.to_dict(),
+            "closing": self.closing,
         }
-        if self.after_last_turn is not None:
-            data["after_last_turn"] = self.after_last_turn.to_dict()
-        if self.closing:
-            data["closing"] = dict(self.closing)
+        return Trajectory.model_validate(data, from_attributes=True)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The trajectory's JSON form (:meth:`trajectory`, without saying which run it is)."""
+        data: dict[str, Any] = self.trajectory().model_dump(mode="json", by_alias=True)
         return data
 
 
@@ -333,6 +346,8 @@ class _Episode:
             outcome=outcome,
             expired_proposals=self.expired,
             expired_at=self.expired_at,
+            proposed_at=self.proposed_at,
+            start_state_hash=state_hash(self.start_state),
             state_diff=state_changes(self.start_state, final),
             after_last_turn=after,
             changes=changes,

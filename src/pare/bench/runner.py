@@ -22,7 +22,6 @@ from __future__ import annotations
 import asyncio
 import dataclasses
 import heapq
-import json
 import math
 import time
 import traceback
@@ -50,6 +49,7 @@ from pare.bench.store import CACHE_FILE, RunStore
 from pare.errors import CacheMiss, RunFailure, UserInputError, first_error
 from pare.results.records import EpisodeRecord, Failure, FailureKind, summarize
 from pare.results.run_folder import scenario_hash, trajectory_path
+from pare.results.trajectory import write_trajectory
 from pare.scenarios.library import library, load_scenarios, select
 from pare.scenarios.model import Scenario
 
@@ -302,27 +302,21 @@ async def play_episode(
     except Exception as error:  # a bug in PARE: keep the run going, keep the evidence
         detail = "".join(traceback.format_exception(error, limit=-8)).strip()
         return failed_output(plan, "internal_error", detail, attempt)
-    trajectory = {
-        "format": 1,
-        "label": config.label(),
-        "run": plan.run,
-        "seed": plan.seed,
-        "scenario_hash": plan.scenario_hash,
-        **result.to_dict(),
-    }
     try:
-        # Strict JSON (no NaN or Infinity) in valid UTF-8: every file of the run stays readable.
-        text = json.dumps(trajectory, ensure_ascii=False, allow_nan=False, separators=(",", ":"))
-        text.encode("utf-8")  # the record's text comes from the same result, so it is checked too
+        trajectory = result.trajectory(
+            label=config.label(), run=plan.run, seed=plan.seed, scenario_hash=plan.scenario_hash
+        )
+        # Strict JSON in valid UTF-8: every file of the run stays readable.
+        text = write_trajectory(trajectory)
         record = EpisodeRecord(
             **_base_fields(plan),
             status="complete",
             attempts=attempt,
             trajectory=trajectory_path(plan.scenario.id, plan.run),
             wall_s=round(time.perf_counter() - started, 3),
-            **summarize(result, usage=ledger.roles()),
+            **summarize(trajectory, usage=ledger.roles()),
         )
-    except (ValueError, UnicodeEncodeError) as error:  # a bug in PARE: something let such a value through
+    except ValueError as error:  # a bug in PARE: something let such a value through
         detail = "".join(traceback.format_exception(error, limit=-8)).strip()
         return failed_output(plan, "internal_error", f"the episode cannot be stored: {detail}", attempt)
     return EpisodeOutput(record, text)

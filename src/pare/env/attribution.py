@@ -126,6 +126,28 @@ class Attribution:
         for place in removed_places(before, after, (app,)):
             self._removed[place] = (actor, entry_index)
 
+    @classmethod
+    def restored(
+        cls,
+        marks: Mapping[StatePath, Mark],
+        hands: Mapping[StatePath, Mapping[Actor, int]],
+        removed: Mapping[StatePath, tuple[Actor, int]],
+    ) -> Attribution:
+        """An episode's attribution as it was recorded (:meth:`marks`, :meth:`hands_of`, :meth:`removals`),
+        to evaluate its checks again without playing it.
+        """
+        attribution = cls()
+        attribution._marks = dict(marks)
+        attribution._hands = {place: dict(actors) for place, actors in hands.items()}
+        attribution._removed = dict(removed)
+        return attribution
+
+    def hands_of(self, place: StatePath) -> Mapping[Actor, int]:
+        """Every actor that created or changed ``place`` (or anything in it), with its latest call, however
+        long ago (:meth:`hands` keeps only those since what ``place`` holds now was made).
+        """
+        return self._hands.get(place, {})
+
     def removals(self) -> Mapping[StatePath, tuple[Actor, int]]:
         """Every place an attributed actor removed, with the last remover and its log entry (a place made
         again later stays listed: read it together with the final state).

@@ -10,6 +10,22 @@ from typing import Any
 from pare.apps.tools import ToolSpec
 from pare.sim.log import LogEntry
 
+ON_SCREEN = "\nOn screen: "
+"""What separates a user action's result from the screen it arrived on, in the text the user is shown."""
+
+
+def split_observation(text: str) -> tuple[str, Any]:
+    """An observation (:meth:`ToolResult.observation`) as (the result's text, what the screen arrived on
+    displays, or ``None`` when the action arrived on no new screen).
+    """
+    head, marker, tail = text.partition(ON_SCREEN)
+    if not marker:
+        return text, None
+    try:
+        return head, json.loads(tail)
+    except json.JSONDecodeError:
+        return head, tail
+
 
 @dataclass(frozen=True, slots=True)
 class ToolResult:
@@ -41,7 +57,7 @@ class ToolResult:
             return f"Error: {self.error}"
         text = self.value if isinstance(self.value, str) else json.dumps(self.value, ensure_ascii=False)
         if self.screen_display is not None:
-            text += f"\nOn screen: {json.dumps(self.screen_display, ensure_ascii=False)}"
+            text += ON_SCREEN + json.dumps(self.screen_display, ensure_ascii=False)
         return text
 
 

@@ -1,4 +1,5 @@
-"""One line per episode in a run's store: what the metrics need, derived once from the trajectory.
+"""One line per episode in a run's store: what the metrics need, derived once from the trajectory
+(:func:`summarize`, a pure function of :class:`~pare.results.trajectory.Trajectory`).
 
 A record is written when an episode finishes (``status: complete``) or when it could not be run for
 reasons outside the model's behaviour (``status: failed``: the provider stayed down, a replay cache
@@ -16,15 +17,13 @@ it: ``accepted``, ``rejected``, ``expired`` (unanswered for ``proposal_ttl_turns
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 from pare.agents.models.ledger import RoleUsage
 from pare.agents.policy import SEND_MESSAGE
-
-if TYPE_CHECKING:
-    from pare.bench.episode import EpisodeResult
+from pare.results.trajectory import ANSWERS, Trajectory
 
 RECORD_FORMAT = 1
 
@@ -35,7 +34,6 @@ FailureKind = Literal["provider_unavailable", "cache_miss", "internal_error"]
 
 DECISIONS: tuple[Decision, ...] = ("accept", "reject", "gather_context", "truncated")
 RESOLUTIONS: tuple[Resolution, ...] = ("accepted", "rejected", "expired", "truncated")
-ANSWERS: dict[str, Decision] = {"accept_proposal": "accept", "reject_proposal": "reject"}
 
 
 class ProposalRecord(BaseModel):
@@ -162,30 +160,30 @@ def role_of(actor: str, mode: str | None) -> str:
     return actor if actor == "user" else (mode or "observe")
 
 
-def classify_proposals(result: EpisodeResult) -> list[ProposalRecord]:
-    """The decision and resolution of every proposal of an episode, from its steps and final state."""
-    log = result.env.log
-    final = {p.proposal_id: p for p in result.env.agent_ui.state.proposals}
+def classify_proposals(trajectory: Trajectory) -> list[ProposalRecord]:
+    """The decision and resolution of every proposal of an episode, from its steps, its log and what
+    became of each proposal (a pure function of the trajectory).
+    """
+    made = {proposal.proposal_id: proposal for proposal in trajectory.proposals}
+    entries = trajectory.entries
+    steps = trajectory.steps
     records: list[ProposalRecord] = []
-    for position, step in enumerate(result.steps):
+    for position, step in enumerate(steps):
         if not (step.actor == "assistant" and step.mode == "observe" and step.action.tool == SEND_MESSAGE):
             continue
-        if not step.ok or step.log_index is None:
-            continue
-        entry = log[step.log_index]
-        proposal_id = entry.result.get("proposal_id") if isinstance(entry.result, dict) else None
-        if proposal_id is None or proposal_id not in final:
+        entry = entries.get(step.log_index) if step.ok and step.log_index is not None else None
+        proposal = made.get(entry.proposal_id or "") if entry is not None else None
+        if entry is None or proposal is None:
             continue
         decision: Decision = "truncated"
         answered_turn: int | None = None
         before_answer = 0
-        expired_turn = result.expired_at.get(proposal_id)
-        for later in result.steps[position + 1 :]:
+        for later in steps[position + 1 :]:
             if later.actor != "user":
                 continue
-            if expired_turn is not None and later.turn > expired_turn:
+            if proposal.expired_at is not None and later.turn > proposal.expired_at:
                 break  # it expired after the user's step of that turn: later steps were not about it
-            answer = _answer_of(result, later.log_index, proposal_id)
+            answer = _answer_of(trajectory, later.log_index, proposal.proposal_id)
             if answer is not None:
                 if decision == "truncated":  # the user's first step answered it
                     decision = answer
@@ -193,11 +191,10 @@ def classify_proposals(result: EpisodeResult) -> list[ProposalRecord]:
                 break
             decision = "gather_context"
             before_answer += 1
-        status = final[proposal_id].status
-        resolution: Resolution = "truncated" if status == "pending" else status
+        resolution: Resolution = "truncated" if proposal.status == "pending" else proposal.status
         records.append(
             ProposalRecord(
-                proposal_id=proposal_id,
+                proposal_id=proposal.proposal_id,
                 turn=step.turn,
                 content=str(entry.args.get("content", "")),
                 decision=decision,
@@ -209,49 +206,48 @@ def classify_proposals(result: EpisodeResult) -> list[ProposalRecord]:
     return records
 
 
-def _answer_of(result: EpisodeResult, log_index: int | None, proposal_id: str) -> Decision | None:
+def _answer_of(trajectory: Trajectory, log_index: int | None, proposal_id: str) -> Decision | None:
     """``accept`` / ``reject`` when the user step at ``log_index`` answered ``proposal_id``."""
-    if log_index is None:
+    entry = trajectory.entries.get(log_index) if log_index is not None else None
+    if entry is None or entry.app != "agent_ui" or entry.tool not in ANSWERS or not entry.ok:
         return None
-    entry = result.env.log[log_index]
-    if entry.app != "agent_ui" or entry.tool not in ANSWERS or not entry.ok:
-        return None
-    answered = entry.result.get("proposal_id") if isinstance(entry.result, dict) else None
-    return ANSWERS[entry.tool] if answered == proposal_id else None
+    return ANSWERS[entry.tool] if entry.proposal_id == proposal_id else None
 
 
-def summarize(result: EpisodeResult, *, usage: Mapping[str, RoleUsage] | None = None) -> dict[str, Any]:
-    """The fields of an :class:`EpisodeRecord` that come from a finished episode; ``usage`` is the model
-    usage per role (from the episode's ledger; none for actors without models).
+def summarize(trajectory: Trajectory, *, usage: Mapping[str, RoleUsage] | None = None) -> dict[str, Any]:
+    """The fields of an :class:`EpisodeRecord` that come from a finished episode's trajectory (a pure
+    function of it); ``usage`` is the model usage per role (from the episode's ledger; none for actors
+    without models).
     """
-    assistant_calls = [entry for entry in result.env.log if entry.actor == "assistant"]
+    assistant_calls = [entry for entry in trajectory.log if entry.actor == "assistant"]
     failed: dict[str, int] = {}
     format_errors: dict[str, int] = {}
-    for step in result.steps:
+    for step in trajectory.steps:
         role = role_of(step.actor, step.mode)
         if not step.ok:
             failed[role] = failed.get(role, 0) + 1
-        errors = len((step.action.usage or {}).get("format_errors", []))
+        errors = len(step.action.usage.format_errors) if step.action.usage is not None else 0
         if errors:
             format_errors[role] = format_errors.get(role, 0) + errors
+    outcome = trajectory.outcome
     return {
-        "success": result.outcome.success,
-        "goals": {goal.id: goal.passed for goal in result.outcome.goals},
-        "goal_rate": result.outcome.goal_rate,
-        "user_did_work": result.outcome.user_did_work,
-        "side_effects": len(result.outcome.side_effects),
-        "turns": result.turns,
-        "ended": result.ended,
+        "success": outcome.success,
+        "goals": {goal.id: goal.passed for goal in outcome.goals},
+        "goal_rate": outcome.goal_rate,
+        "user_did_work": outcome.user_did_work,
+        "side_effects": len(outcome.side_effects),
+        "turns": trajectory.turns,
+        "ended": trajectory.ended,
         "observe_turns": len(
-            {step.turn for step in result.steps if step.actor == "assistant" and step.mode == "observe"}
+            {step.turn for step in trajectory.steps if step.actor == "assistant" and step.mode == "observe"}
         ),
-        "proposals": classify_proposals(result),
+        "proposals": classify_proposals(trajectory),
         "read_actions": sum(entry.kind == "read" for entry in assistant_calls),
         "observe_read_actions": sum(
             entry.kind == "read" and entry.mode == "observe" for entry in assistant_calls
         ),
         "write_actions": sum(entry.kind == "write" for entry in assistant_calls),
-        "user_actions": sum(step.actor == "user" for step in result.steps),
+        "user_actions": sum(step.actor == "user" for step in trajectory.steps),
         "failed_steps": dict(sorted(failed.items())),
         "format_errors": dict(sorted(format_errors.items())),
         "usage": dict(sorted((usage or {}).items())),

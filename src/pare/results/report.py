@@ -56,19 +56,19 @@ _RESOLUTION_NAMES = {
 }
 
 
-def format_percent(value: float | None) -> str:
-    """``0.42`` as ``"42.0%"``; ``None`` as ``"n/a"``."""
-    return NA if value is None else f"{value * 100:.1f}%"
+def format_percent(value: float | None, *, missing: str = NA) -> str:
+    """``0.42`` as ``"42.0%"``; ``None`` as ``missing`` (``"n/a"``)."""
+    return missing if value is None else f"{value * 100:.1f}%"
 
 
-def format_estimate(estimate: Estimate, *, percent: bool = True, digits: int = 1) -> str:
+def format_estimate(estimate: Estimate, *, percent: bool = True, digits: int = 1, missing: str = NA) -> str:
     """An estimate as ``"42.0% ± 1.0%"`` (or ``"20.2 ± 0.2"`` with ``percent=False``).
 
     The ``± SE`` part is left out when the standard error is undefined (fewer than two runs), and the
-    whole reads ``"n/a"`` when there was nothing to measure.
+    whole reads ``missing`` (``"n/a"``) when there was nothing to measure.
     """
     if estimate.mean is None:
-        return NA
+        return missing
     if percent:
         text = format_percent(estimate.mean)
         return text if estimate.se is None else f"{text} ± {format_percent(estimate.se)}"

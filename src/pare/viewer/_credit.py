@@ -27,11 +27,12 @@ updated) stays credited to the user or the assistant: the log does not say which
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 from pare.env.attribution import ATTRIBUTED_ACTORS, CONTROL_APPS, item_key
+from pare.results.trajectory import LogRecord, PlaceRecord
 
 WORLD = "the world"
 _NAMES_DEPTH = 4
@@ -62,8 +63,8 @@ class _Call:
 class Credits:
     """Credits the state diff's operations of one episode from its action log and attribution."""
 
-    def __init__(self, log: Iterable[dict[str, Any]], attribution: dict[str, Any]) -> None:
-        self._marks = {place: mark for place, mark in attribution.items() if isinstance(mark, dict)}
+    def __init__(self, log: Iterable[LogRecord], attribution: Mapping[str, PlaceRecord]) -> None:
+        self._marks = attribution
         self._calls = [call for entry in log if (call := _call(entry)) is not None]
         self._by_index = {call.index: call for call in self._calls}
 
@@ -90,17 +91,20 @@ class Credits:
             return [Credit(WORLD, None)]
         return found
 
+    def marked_under(self, dotted: str) -> list[int]:
+        """The calls that created or changed ``dotted`` (a dotted place) or anything under it."""
+        found: set[int] = set()
+        for key, mark in self._marks.items():
+            if key == dotted or key.startswith(dotted + "."):
+                found.update(i for i in (mark.created_at, mark.changed_at) if i is not None)
+        return sorted(found)
+
     def made(self, place: Sequence[str]) -> list[int]:
         """The calls that made ``place`` (an attribution place) and what it holds: the marks at and
         under it and, when no mark says who created it, the world's first call that names it.
         """
         dotted = ".".join(place)
-        found: set[int] = set()
-        for key, mark in self._marks.items():
-            if key == dotted or key.startswith(dotted + "."):
-                found.update(
-                    i for i in (_index(mark, "created_at"), _index(mark, "changed_at")) if i is not None
-                )
+        found = set(self.marked_under(dotted))
         own = self._marks.get(dotted)
         if len(place) > 1 and _index(own, "created_at") is None:
             world = self._first(place[-1], ("world",))
@@ -109,7 +113,7 @@ class Credits:
         return sorted(found)
 
     def _appeared(
-        self, parts: list[str], own: str, positional: bool, mark: dict[str, Any] | None
+        self, parts: list[str], own: str, positional: bool, mark: PlaceRecord | None
     ) -> list[Credit]:
         changed = _index(mark, "changed_at")
         if mark is not None and _index(mark, "created_at") is not None:
@@ -127,7 +131,7 @@ class Credits:
         return []
 
     def _changed(
-        self, parts: list[str], own: str, positional: bool, mark: dict[str, Any] | None
+        self, parts: list[str], own: str, positional: bool, mark: PlaceRecord | None
     ) -> list[Credit]:
         if (changed := _index(mark, "changed_at")) is not None:
             return self._credits(changed)
@@ -153,7 +157,7 @@ class Credits:
                     return self._credits(last)
         return []
 
-    def _mark(self, place: list[str]) -> dict[str, Any] | None:
+    def _mark(self, place: list[str]) -> PlaceRecord | None:
         """The mark of ``place``; a list position inside it (an order's items, by position) stands for
         any item there, and the latest such mark is taken.
         """
@@ -195,17 +199,16 @@ def pointer_parts(pointer: str) -> list[str]:
     return [part.replace("~1", "/").replace("~0", "~") for part in pointer.split("/")[1:]]
 
 
-def _index(mark: dict[str, Any] | None, key: str) -> int | None:
-    value = mark.get(key) if mark is not None else None
-    return value if isinstance(value, int) else None
-
-
-def _call(entry: dict[str, Any]) -> _Call | None:
-    index = entry.get("index")
-    if not isinstance(index, int) or not entry.get("ok"):
+def _index(mark: PlaceRecord | None, key: str) -> int | None:
+    if mark is None:
         return None
-    actor, app, kind = str(entry.get("actor", "")), str(entry.get("app", "")), entry.get("kind")
-    event_id = entry.get("event_id") if isinstance(entry.get("event_id"), str) else None
+    return mark.created_at if key == "created_at" else mark.changed_at
+
+
+def _call(entry: LogRecord) -> _Call | None:
+    if not entry.ok:
+        return None
+    index, actor, app, kind, event_id = entry.index, entry.actor, entry.app, entry.kind, entry.event_id
     if actor == "env":
         group = "world"
         who = WORLD if event_id is None else ("noise" if event_id.startswith("noise-") else "event")
@@ -214,9 +217,9 @@ def _call(entry: dict[str, Any]) -> _Call | None:
         group = "attributed" if writes_data and actor in ATTRIBUTED_ACTORS else "other"
         who = actor
     names: set[str] = set()
-    _strings(entry.get("args"), names, _NAMES_DEPTH)
+    _strings(entry.args, names, _NAMES_DEPTH)
     if kind in ("write", "env", "control"):  # what a write made is in its result; a read's lists everything
-        _strings(entry.get("result"), names, _NAMES_DEPTH)
+        _strings(entry.result, names, _NAMES_DEPTH)
     return _Call(index, who, event_id, group, frozenset(names))
 
 

@@ -5,8 +5,9 @@ with the phone as the user saw it, and the assistant's steps: observe-mode steps
 steps grouped under the task they carried out. Proposals carry the record's decision and resolution;
 every check carries the log entries it names or that made the state it looked at.
 
-Trajectories written before the user's view was recorded still open: the phone then shows the app and
-screen from the action log and says the rest was not recorded.
+The trajectory comes typed from :func:`pare.results.trajectory.read_trajectory` (older formats
+upgraded there). Trajectories written before the user's view was recorded still open: the phone then
+shows the app and screen from the action log and says the rest was not recorded.
 """
 
 from __future__ import annotations
@@ -16,52 +17,21 @@ import re
 from dataclasses import dataclass, field
 from typing import Any
 
+from pare.agents.models.ledger import StepUsage
+from pare.agents.policy import SEND_MESSAGE
+from pare.env.views import split_observation
 from pare.results.records import ProposalRecord
+from pare.results.trajectory import ANSWERS, CheckRecord, GoalRecord, LogRecord, StepRecord, Trajectory
 from pare.scenarios.checks import JUDGE_SAID
 from pare.viewer._credit import Credit, Credits, pointer_parts
 
-SEND_MESSAGE = "agent_ui__send_message_to_user"
-ANSWERS = {"accept_proposal": "accept", "reject_proposal": "reject"}
-ON_SCREEN = "\nOn screen: "
 _THOUGHT = re.compile(r"Thought:\s*(.*?)\s*(?:\n\s*Action\s*:|$)", re.S)
 _LOG_REFERENCE = re.compile(r"#(\d+)\b")
 _TOOL_REFERENCE = re.compile(r"\b([a-z][a-z0-9_]*)__([a-z][a-z0-9_]*)\b")
 
 
-@dataclass
-class Usage:
-    """Model usage behind one step (none for deterministic actors)."""
-
-    calls: int = 0
-    prompt_tokens: int = 0
-    completion_tokens: int = 0
-    cost_usd: float | None = 0.0
-    format_errors: list[str] = field(default_factory=list)
-
-    @property
-    def tokens(self) -> int:
-        """Prompt plus completion tokens."""
-        return self.prompt_tokens + self.completion_tokens
-
-    @property
-    def cost_text(self) -> str:
-        """The cost in words ("unknown" when any call had no price)."""
-        return "unknown" if self.cost_usd is None else f"${self.cost_usd:.4f}"
-
-    @classmethod
-    def of(cls, data: Any) -> Usage | None:
-        """Read a step's ``action.usage``; ``None`` when it has none."""
-        if not isinstance(data, dict) or not data.get("calls"):
-            return None
-        cost = data.get("cost_usd")
-        errors = data.get("format_errors")
-        return cls(
-            calls=int(data.get("calls", 0)),
-            prompt_tokens=int(data.get("prompt_tokens", 0)),
-            completion_tokens=int(data.get("completion_tokens", 0)),
-            cost_usd=float(cost) if isinstance(cost, int | float) else None,
-            format_errors=[str(e) for e in errors] if isinstance(errors, list) else [],
-        )
+Usage = StepUsage
+"""Model usage behind one step, or summed over a role's steps."""
 
 
 @dataclass
@@ -131,7 +101,7 @@ class Turn:
 
     number: int
     time: str
-    world: list[dict[str, Any]]
+    world: list[LogRecord]
     user: list[StepView]
     assistant: list[StepView | ExecuteGroup]
     after_last: bool = False
@@ -193,7 +163,7 @@ class EpisodeView:
     turns: list[Turn]
     changes: list[Change] | None
     """``None`` for trajectories from before the diff was recorded."""
-    log: list[dict[str, Any]]
+    log: list[LogRecord]
     proposals: list[ProposalRecord]
     usage: dict[str, Usage]
     """Summed per role (user, observe, execute) and under ``total``."""
@@ -209,35 +179,8 @@ def thought_of(raw: str | None) -> str | None:
     return found.group(1).strip() or None if found else None
 
 
-def split_observation(text: str) -> tuple[str, Any]:
-    """A user step's observation as (result text, what the screen arrived on displays or ``None``)."""
-    head, marker, tail = text.partition(ON_SCREEN)
-    if not marker:
-        return text, None
-    try:
-        return head, json.loads(tail)
-    except json.JSONDecodeError:
-        return head, tail
-
-
-def episode_log(data: dict[str, Any]) -> list[dict[str, Any]]:
-    """The trajectory's action log (its well-formed entries)."""
-    return [
-        entry
-        for entry in data.get("log", [])
-        if isinstance(entry, dict) and isinstance(entry.get("index"), int)
-    ]
-
-
-def by_index(log: list[dict[str, Any]]) -> dict[int, dict[str, Any]]:
-    """The log's entries by their own index, which the steps, checks and attribution name (an entry's
-    position in the list is not its index once a malformed entry was left out).
-    """
-    return {int(entry["index"]): entry for entry in log}
-
-
 def build_episode(
-    data: dict[str, Any],
+    trajectory: Trajectory,
     proposals: list[ProposalRecord],
     matched: dict[tuple[str, int], list[int]] | None = None,
 ) -> EpisodeView:
@@ -245,14 +188,12 @@ def build_episode(
     holds the log entries each check's pattern matches when the scenario is at hand
     (:func:`pare.viewer._evidence.matched_entries`).
     """
-    log = episode_log(data)
-    entries = by_index(log)
+    entries = trajectory.entries
     by_id = {proposal.proposal_id: proposal for proposal in proposals}
-    steps = _steps(data, entries, by_id)
-    outcome = data.get("outcome") or {}
-    attribution = data.get("attribution") or {}
-    goals = [_goal(goal, entries, attribution, matched or {}) for goal in outcome.get("goals", [])]
-    diff = data.get("state_diff")
+    steps = _steps(trajectory, by_id)
+    outcome = trajectory.outcome
+    credits = Credits(trajectory.log, trajectory.marks)
+    goals = [_goal(goal, entries, credits, matched or {}) for goal in outcome.goals]
     usage: dict[str, Usage] = {}
     for step in steps:
         if step.usage is not None:
@@ -266,71 +207,59 @@ def build_episode(
         total = _add(total, each)
     if total is not None:
         ordered["total"] = total
+    after = trajectory.after_last_turn
+    diff = trajectory.state_diff
     return EpisodeView(
-        scenario_id=str(data.get("scenario_id", "")),
-        run=int(data.get("run", 0)),
-        label=str(data.get("label", "")),
-        user=str(data.get("user", "")),
-        assistant=str(data.get("assistant", "")),
-        turns_played=int(data.get("turns", 0)),
-        ended=str(data.get("ended", "")),
-        success=bool(outcome.get("success", False)),
-        goal_rate=float(outcome.get("goal_rate", 0.0)),
-        seed=data.get("seed") if isinstance(data.get("seed"), int) else None,
+        scenario_id=trajectory.scenario_id,
+        run=trajectory.run,
+        label=trajectory.label,
+        user=trajectory.user,
+        assistant=trajectory.assistant,
+        turns_played=trajectory.turns,
+        ended=trajectory.ended,
+        success=outcome.success,
+        goal_rate=outcome.goal_rate,
+        seed=trajectory.seed,
         goals=goals,
-        turns=_turns(steps, log, proposals, _after_last_turn(data)),
-        changes=None if not isinstance(diff, list) else _changes(diff, Credits(log, attribution)),
-        log=log,
+        turns=_turns(steps, trajectory.log, proposals, None if after is None else after.turn),
+        changes=None if diff is None else _changes(diff, credits),
+        log=trajectory.log,
         proposals=proposals,
         usage=ordered,
-        side_effects=[
-            str(change.get("text", ""))
-            for change in outcome.get("side_effects") or []
-            if isinstance(change, dict)
-        ],
+        side_effects=[change.text for change in outcome.side_effects],
     )
 
 
 def _add(total: Usage | None, usage: Usage) -> Usage:
-    if total is None:
-        return Usage(usage.calls, usage.prompt_tokens, usage.completion_tokens, usage.cost_usd)
-    cost = None if total.cost_usd is None or usage.cost_usd is None else total.cost_usd + usage.cost_usd
-    return Usage(
-        total.calls + usage.calls,
-        total.prompt_tokens + usage.prompt_tokens,
-        total.completion_tokens + usage.completion_tokens,
-        cost,
-    )
+    """A role's sum (without the format errors, which each step shows on its own)."""
+    usage = usage.model_copy(update={"format_errors": ()})
+    return usage if total is None else total + usage
 
 
-def _steps(
-    data: dict[str, Any], log: dict[int, dict[str, Any]], proposals: dict[str, ProposalRecord]
-) -> list[StepView]:
+def _steps(trajectory: Trajectory, proposals: dict[str, ProposalRecord]) -> list[StepView]:
     views: list[StepView] = []
     screen = _Screen()
-    for number, step in enumerate(data.get("steps", [])):
-        action = step.get("action") or {}
-        index = step.get("log_index")
-        entry = log.get(index) if isinstance(index, int) else None
-        result = entry.get("result") if entry else None
-        args = action.get("args")
-        proposal_id = result.get("proposal_id") if isinstance(result, dict) else None
+    entries = trajectory.entries
+    for number, step in enumerate(trajectory.steps):
+        action = step.action
+        entry = entries.get(step.log_index) if step.log_index is not None else None
+        proposal_id = entry.proposal_id if entry is not None else None
         view = StepView(
             number=number,
-            turn=int(step.get("turn", 0)),
-            actor=str(step.get("actor", "")),
-            mode=step.get("mode"),
-            tool=str(action.get("tool", "")),
-            args=args if isinstance(args, dict) else {},
-            ok=bool(step.get("ok", False)),
-            observation=str(step.get("observation", "")),
-            error=action.get("error"),
-            thought=thought_of(action.get("raw")),
-            raw=action.get("raw"),
-            log_index=index if entry is not None else None,
-            usage=Usage.of(action.get("usage")),
-            proposal=proposals.get(proposal_id) if isinstance(proposal_id, str) else None,
-            reasoning=reasoning if isinstance(reasoning := action.get("reasoning"), str) else None,
+            turn=step.turn,
+            actor=step.actor,
+            mode=step.mode,
+            tool=action.tool,
+            args=action.args,
+            ok=step.ok,
+            observation=step.observation,
+            error=action.error,
+            thought=thought_of(action.raw),
+            raw=action.raw,
+            log_index=entry.index if entry is not None else None,
+            usage=action.usage if action.usage is not None and action.usage.calls else None,
+            proposal=proposals.get(proposal_id) if proposal_id is not None else None,
+            reasoning=action.reasoning,
         )
         if view.actor == "user":
             view.phone = screen.before(step, entry)
@@ -352,25 +281,25 @@ class _Screen:
     """``shown`` was revealed by the step just before."""
     where: str | None = None
 
-    def before(self, step: dict[str, Any], entry: dict[str, Any] | None) -> Phone:
+    def before(self, step: StepRecord, entry: LogRecord | None) -> Phone:
         """The phone before ``step``; then takes in what the step revealed."""
-        view = step.get("view")
-        if isinstance(view, dict):
-            here = f"{view.get('app')} > {view.get('screen')}"
+        view = step.view
+        if view is not None:
+            here = f"{view.app} > {view.screen}"
             phone = Phone(
-                time=str(view.get("time", "")),
-                app=view.get("app"),
-                screen=view.get("screen"),
-                notifications=[str(n) for n in view.get("notifications") or []],
-                pending_proposal=view.get("pending_proposal"),
-                background_apps=[str(a) for a in view.get("background_apps") or []],
-                actions=[str(a) for a in view.get("tools") or []],
+                time=view.time,
+                app=view.app,
+                screen=view.screen,
+                notifications=view.notifications,
+                pending_proposal=view.pending_proposal,
+                background_apps=view.background_apps,
+                actions=view.tools,
             )
-            update = view.get("screen_update")
+            update = view.screen_update
         else:  # an older trajectory: the log knows the screen the call was made on
-            here = str(entry.get("screen") or "") if entry else ""
+            here = (entry.screen or "") if entry is not None else ""
             app, _, label = here.partition(" > ")
-            time = str(entry.get("time", "")) if entry else ""
+            time = entry.time.isoformat() if entry is not None else ""
             phone = Phone(time=time, app=app or None, screen=label or None, recorded=False)
             update = None
         if update is not None:
@@ -384,35 +313,27 @@ class _Screen:
         return phone
 
 
-def _revealed(step: dict[str, Any], entry: dict[str, Any] | None) -> Any:
+def _revealed(step: StepRecord, entry: LogRecord | None) -> Any:
     """What a user step put on the screen: the screen it arrived on, or an app's structured answer."""
-    _, arrived = split_observation(str(step.get("observation", "")))
+    _, arrived = split_observation(step.observation)
     if arrived is not None:
         return arrived
-    if not step.get("ok") or entry is None or entry.get("app") in ("system", "agent_ui"):
+    if not step.ok or entry is None or entry.app in ("system", "agent_ui"):
         return None
-    result = entry.get("result")
-    return result if isinstance(result, dict | list) else None
-
-
-def _after_last_turn(data: dict[str, Any]) -> int | None:
-    """The number the log gives the phase after the last turn, if the trajectory has one."""
-    after = data.get("after_last_turn")
-    turn = after.get("turn") if isinstance(after, dict) else None
-    return turn if isinstance(turn, int) else None
+    return entry.result if isinstance(entry.result, dict | list) else None
 
 
 def _turns(
     steps: list[StepView],
-    log: list[dict[str, Any]],
+    log: list[LogRecord],
     proposals: list[ProposalRecord],
     after_last: int | None = None,
 ) -> list[Turn]:
-    numbers = sorted({step.turn for step in steps} | {int(e.get("turn", 0)) for e in log if e.get("turn")})
+    numbers = sorted({step.turn for step in steps} | {entry.turn for entry in log if entry.turn})
     turns: dict[int, Turn] = {}
     for number in numbers:
-        world = [e for e in log if e.get("turn") == number and e.get("actor") == "env"]
-        times = [str(e.get("time", "")) for e in log if e.get("turn") == number]
+        world = [entry for entry in log if entry.turn == number and entry.actor == "env"]
+        times = [entry.time.isoformat() for entry in log if entry.turn == number]
         turns[number] = Turn(number, times[0] if times else "", world, [], [], number == after_last)
     for step in steps:
         turn = turns[step.turn]
@@ -434,68 +355,51 @@ def _turns(
 
 
 def _goal(
-    goal: dict[str, Any],
-    log: dict[int, dict[str, Any]],
-    attribution: dict[str, Any],
+    goal: GoalRecord,
+    log: dict[int, LogRecord],
+    credits: Credits,
     matched: dict[tuple[str, int], list[int]],
 ) -> GoalView:
-    goal_id = str(goal.get("id", ""))
     checks = []
-    for check in goal.get("checks", []):
-        detail, *said = str(check.get("detail", "")).split(JUDGE_SAID)
+    for check in goal.checks:
+        detail, *said = check.detail.split(JUDGE_SAID)
+        key = (goal.id, check.index)
         checks.append(
             CheckView(
-                index=int(check.get("index", 0)),
-                form=str(check.get("form", "")),
-                passed=bool(check.get("passed", False)),
-                description=str(check.get("description", "")),
+                index=check.index,
+                form=check.form,
+                passed=check.passed,
+                description=check.description,
                 detail=detail,
-                user_made=bool(check.get("user_made", False)),
-                evidence=_evidence_of(goal_id, check, log, attribution, matched),
+                user_made=check.user_made,
+                evidence=matched[key] if key in matched else evidence(check, log, credits),
                 judge_said=said,
             )
         )
-    return GoalView(goal_id, str(goal.get("description", "")), bool(goal.get("passed")), checks)
+    return GoalView(goal.id, goal.description, goal.passed, checks)
 
 
-def _evidence_of(
-    goal_id: str,
-    check: dict[str, Any],
-    log: dict[int, dict[str, Any]],
-    attribution: dict[str, Any],
-    matched: dict[tuple[str, int], list[int]],
-) -> list[int]:
-    key = (goal_id, int(check.get("index", 0)))
-    return matched[key] if key in matched else evidence(check, log, attribution)
-
-
-def evidence(check: dict[str, Any], log: dict[int, dict[str, Any]], attribution: dict[str, Any]) -> list[int]:
+def evidence(check: CheckRecord, log: dict[int, LogRecord], credits: Credits) -> list[int]:
     """The log entries behind a check's verdict: those its detail names (``#12``: an action check's
     calls, the texts a judge check read); for a state check, the calls that made anything at the path
     it looked at (without the scenario, which items it found is not known: see
     :func:`pare.viewer._evidence.state_entries`); otherwise the calls of the tools its detail names.
     ``log`` is the log by entry index.
     """
-    detail = str(check.get("detail", ""))
+    detail = check.detail
     found = {int(number) for number in _LOG_REFERENCE.findall(detail)}
-    if check.get("form") == "state":
+    if check.form == "state":
         path = re.split(r"[:\s]", detail, maxsplit=1)[0]
-        for place, mark in attribution.items():
-            if (place == path or place.startswith(path + ".")) and isinstance(mark, dict):
-                found.update(
-                    i for i in (mark.get("created_at"), mark.get("changed_at")) if isinstance(i, int)
-                )
+        found.update(credits.marked_under(path))
     elif not found:
         for app, tool in _TOOL_REFERENCE.findall(detail):
-            found.update(i for i, e in log.items() if e.get("app") == app and e.get("tool") == tool)
+            found.update(i for i, e in log.items() if e.app == app and e.tool == tool)
     return sorted(index for index in found if index in log)
 
 
-def _changes(diff: list[Any], credits: Credits) -> list[Change]:
+def _changes(diff: list[dict[str, Any]], credits: Credits) -> list[Change]:
     changes = []
     for op in diff:
-        if not isinstance(op, dict):
-            continue
         parts = pointer_parts(str(op.get("path", "")))
         value = op.get("value")
         changes.append(

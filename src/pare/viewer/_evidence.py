@@ -13,20 +13,17 @@ sentence and the attribution tell.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from datetime import datetime
 from typing import Any
-
-import jsonpatch
 
 from pare.errors import UserInputError
 from pare.results.run_folder import scenario_hash
+from pare.results.trajectory import Trajectory
+from pare.results.trajectory import final_state as apply_diff
 from pare.scenarios.build import build_environment
 from pare.scenarios.checks import linked_entries, state_check_places
 from pare.scenarios.library import get_scenario
 from pare.scenarios.model import Scenario
-from pare.sim.log import LogEntry
 from pare.viewer._credit import Credits
-from pare.viewer._episode import episode_log
 
 CheckKey = tuple[str, int]
 """A check by goal id and position."""
@@ -42,66 +39,39 @@ def library_scenario(scenario_id: str, wanted_hash: str) -> Scenario | None:
 
 
 def matched_entries(
-    scenario: Scenario, log: list[dict[str, Any]], final: Mapping[str, Any] | None = None
+    scenario: Scenario, trajectory: Trajectory, final: Mapping[str, Any] | None = None
 ) -> dict[CheckKey, list[int]]:
     """For each check that reads the action log: the entries that decided it, as its form's rule says
     (:func:`pare.scenarios.checks.linked_entries`). State checks are left out (:func:`state_entries`).
     The episode's ``final`` state, when known, tells whom each call told and which files it carried.
     """
-    try:
-        entries = [_entry(item) for item in log]
-    except (KeyError, TypeError, ValueError):  # a log this PARE cannot read back: no precise links
-        return {}
-    return linked_entries(scenario, entries, final)
+    return linked_entries(scenario, trajectory.log_entries(), final)
 
 
 def state_entries(
-    scenario: Scenario, data: dict[str, Any], final: dict[str, Any] | None = None
+    scenario: Scenario, trajectory: Trajectory, final: dict[str, Any] | None = None
 ) -> dict[CheckKey, list[int]]:
     """For each state check: the calls that made the items it found (or the value it read) in the
     episode's final state (``final``, or :func:`final_state` worked out here). Empty when the trajectory
     has no diff or the diff does not apply to the start.
     """
-    final = final if final is not None else final_state(scenario, data)
+    final = final if final is not None else final_state(scenario, trajectory)
     if final is None:
         return {}
-    credits = Credits(episode_log(data), data.get("attribution") or {})
+    credits = Credits(trajectory.log, trajectory.marks)
     return {
         key: sorted({index for place in places for index in credits.made(place)})
         for key, places in state_check_places(scenario, final).items()
     }
 
 
-def final_state(scenario: Scenario, data: dict[str, Any]) -> dict[str, Any] | None:
+def final_state(scenario: Scenario, trajectory: Trajectory) -> dict[str, Any] | None:
     """An episode's final state: the scenario's start with the trajectory's state diff applied (``None``
-    when the trajectory has no diff or it does not apply to the start).
+    when the trajectory has no diff, or the start is not the one the episode had, or the diff does not
+    apply to it).
     """
-    diff = data.get("state_diff")
-    if not isinstance(diff, list):
-        return None
     start = build_environment(scenario).snapshot(shared=True)
-    try:  # applied to a copy: the start snapshot is shared with every episode of the scenario
-        final: dict[str, Any] = jsonpatch.apply_patch(start, diff)
-    except (jsonpatch.JsonPatchException, jsonpatch.JsonPointerException, TypeError, KeyError):
+    try:
+        return apply_diff(trajectory, start)
+    except ValueError:
         return None
-    return final
-
-
-def _entry(item: dict[str, Any]) -> LogEntry:
-    return LogEntry(
-        index=int(item["index"]),
-        turn=int(item["turn"]),
-        time=datetime.fromisoformat(str(item["time"])),
-        actor=item["actor"],
-        app=str(item["app"]),
-        tool=str(item["tool"]),
-        args=dict(item.get("args") or {}),
-        kind=item.get("kind"),
-        ok=bool(item["ok"]),
-        result=item.get("result"),
-        error=item.get("error"),
-        mode=item.get("mode"),
-        injected_failure=bool(item.get("injected_failure", False)),
-        event_id=item.get("event_id"),
-        screen=item.get("screen"),
-    )

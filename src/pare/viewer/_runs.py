@@ -7,7 +7,6 @@ episodes therefore costs its ``episodes.jsonl`` lines, never its trajectories, u
 
 from __future__ import annotations
 
-import json
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -17,13 +16,9 @@ from typing import Any
 from pare.errors import UserInputError
 from pare.results.metrics import ConfigurationMetrics, compute_metrics
 from pare.results.records import EpisodeRecord
-from pare.results.run_folder import EPISODES, MANIFEST, LoadedRun, load_run, read_run_file, run_folders
+from pare.results.run_folder import EPISODES, MANIFEST, LoadedRun, load_run, run_folders
+from pare.results.trajectory import Trajectory, read_trajectory
 from pare.viewer._paths import OutsideRunError, confined, slug
-
-TRAJECTORY_FORMAT = 1
-"""The trajectory format this viewer shows (the ``format`` number ``pare run`` writes in each file)."""
-MAX_TRAJECTORY_BYTES = 64 * 1024 * 1024
-"""The largest trajectory file the viewer opens."""
 
 EpisodeKey = tuple[str, int]
 
@@ -109,30 +104,17 @@ class Configuration:
         """The record of one episode, named as in URLs."""
         return self._current().by_slug.get((scenario_slug, run))
 
-    def trajectory(self, record: EpisodeRecord) -> dict[str, Any] | None:
-        """The full trajectory of a complete episode, or ``None`` when it has none (failed episodes).
+    def trajectory(self, record: EpisodeRecord) -> Trajectory | None:
+        """The full trajectory of a complete episode (older formats upgraded), or ``None`` when it has
+        none (failed episodes).
 
         Raises:
             OutsideRunError: The record names a file outside the run folder.
-            UserInputError: The file is missing, too large or not a trajectory.
+            UserInputError: The file is missing, too large, of a newer format, or damaged.
         """
         if record.trajectory is None:
             return None
-        file = confined(self.path, record.trajectory)
-        text = read_run_file(file, "the trajectory", max_bytes=MAX_TRAJECTORY_BYTES)
-        try:
-            data = json.loads(text)
-        except (json.JSONDecodeError, RecursionError) as error:
-            raise UserInputError(f"{file}: not a trajectory: {error}") from None
-        if not isinstance(data, dict) or not isinstance(data.get("steps"), list):
-            raise UserInputError(f"{file}: not a PARE trajectory (no steps)")
-        found = data.get("format", TRAJECTORY_FORMAT)  # files written before the number was kept are format 1
-        if found != TRAJECTORY_FORMAT:
-            raise UserInputError(
-                f"{file}: trajectory format {found!r}, but this PARE shows format {TRAJECTORY_FORMAT}; "
-                "view it with the PARE version that wrote it"
-            )
-        return data
+        return read_trajectory(confined(self.path, record.trajectory))
 
 
 @dataclass

@@ -24,8 +24,9 @@ from typing import Any
 from jinja2 import Environment, PackageLoader, StrictUndefined, select_autoescape
 
 from pare.errors import UserInputError
+from pare.results import report
 from pare.results.metrics import Estimate
-from pare.viewer._episode import build_episode, episode_log
+from pare.viewer._episode import build_episode
 from pare.viewer._evidence import final_state, library_scenario, matched_entries, state_entries
 from pare.viewer._paths import OutsideRunError, slug
 from pare.viewer._rows import FILTERS, episode_href, filter_choices, rows, rows_script
@@ -165,22 +166,22 @@ class Site:
             ),
         }
         try:
-            data = configuration.trajectory(record)
+            trajectory = configuration.trajectory(record)
         except (OutsideRunError, UserInputError) as error:
             return self._render("episode.html", 4, **page, episode=None, problem=str(error))
-        if data is None:
+        if trajectory is None:
             problem = record.failure.message if record.failure is not None else "no trajectory was stored"
             return self._render("episode.html", 4, **page, episode=None, problem=problem)
         try:
             scenario = library_scenario(record.scenario_id, record.scenario_hash)
             matched = None
             if scenario is not None:
-                final = final_state(scenario, data)
+                final = final_state(scenario, trajectory)
                 matched = {
-                    **matched_entries(scenario, episode_log(data), final),
-                    **state_entries(scenario, data, final),
+                    **matched_entries(scenario, trajectory, final),
+                    **state_entries(scenario, trajectory, final),
                 }
-            episode = build_episode(data, list(record.proposals), matched)
+            episode = build_episode(trajectory, list(record.proposals), matched)
             return self._render("episode.html", 4, **page, episode=episode, problem=None)
         except Exception as error:  # any part of a damaged file may be missing or of the wrong type
             problem = f"{record.trajectory}: damaged, cannot be shown: {_describe(error)}"
@@ -201,17 +202,13 @@ def _describe(error: Exception) -> str:
 
 
 def format_estimate(value: Estimate, percent: bool = True) -> str:
-    """``75.0% ± 12.5`` (or a plain number), :data:`NOTHING` when nothing was measured."""
-    if value.mean is None:
-        return NOTHING
-    scale, unit = (100.0, "%") if percent else (1.0, "")
-    text = f"{value.mean * scale:.1f}{unit}"
-    return text if value.se is None else f"{text} ± {value.se * scale:.1f}"
+    """An estimate as ``pare report`` prints it, :data:`NOTHING` when nothing was measured."""
+    return report.format_estimate(value, percent=percent, missing=NOTHING)
 
 
 def format_share(value: float | None) -> str:
     """A share as a percentage, :data:`NOTHING` when undefined."""
-    return NOTHING if value is None else f"{value * 100:.1f}%"
+    return report.format_percent(value, missing=NOTHING)
 
 
 def pretty(value: Any) -> str:

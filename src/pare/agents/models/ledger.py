@@ -82,6 +82,42 @@ class RoleUsage(BaseModel):
         return f"unknown ({self.unknown_cost_calls} of {self.calls} calls unpriced{known})"
 
 
+class StepUsage(BaseModel):
+    """The model calls behind one action of one actor (kept with the step in the trajectory): how many,
+    their tokens and cost, and the malformed answers that were sent back with a hint before the action.
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+    calls: int = Field(default=0, ge=0)
+    prompt_tokens: int = Field(default=0, ge=0)
+    completion_tokens: int = Field(default=0, ge=0)
+    cached_tokens: int = Field(default=0, ge=0)
+    cost_usd: float | None = Field(default=0.0, description="``None`` when any call's price is unknown.")
+    format_errors: tuple[str, ...] = Field(default=(), description="Why each malformed answer was refused.")
+
+    @property
+    def tokens(self) -> int:
+        """Prompt plus completion tokens."""
+        return self.prompt_tokens + self.completion_tokens
+
+    @property
+    def cost_text(self) -> str:
+        """The cost in words: ``$0.0123``, or ``unknown`` when any call had no price."""
+        return "unknown" if self.cost_usd is None else f"${self.cost_usd:.4f}"
+
+    def __add__(self, other: StepUsage) -> StepUsage:
+        cost = None if self.cost_usd is None or other.cost_usd is None else self.cost_usd + other.cost_usd
+        return StepUsage(
+            calls=self.calls + other.calls,
+            prompt_tokens=self.prompt_tokens + other.prompt_tokens,
+            completion_tokens=self.completion_tokens + other.completion_tokens,
+            cached_tokens=self.cached_tokens + other.cached_tokens,
+            cost_usd=cost,
+            format_errors=self.format_errors + other.format_errors,
+        )
+
+
 class UsageLedger:
     """Per-role usage of every model call made through the clients that share this ledger.
 
