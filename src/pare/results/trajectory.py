@@ -188,6 +188,22 @@ class RemovalRecord(_Part):
     at: int
 
 
+class JudgeVerdictRecord(_Verdict):
+    """What a judge model said of one text: its verdict, its one-sentence reason, its whole answer."""
+
+    passed: bool
+    reason: str = ""
+    answer: str = ""
+    model: str = ""
+
+
+class JudgedTextRecord(_Verdict):
+    """One text a judge check gave the judge (the calls it is from) and the judge's verdict on it."""
+
+    entries: list[int] = Field(default_factory=list)
+    verdict: JudgeVerdictRecord
+
+
 class CheckRecord(_Verdict):
     """One check's verdict and its sentence."""
 
@@ -198,6 +214,11 @@ class CheckRecord(_Verdict):
     detail: str = ""
     description: str = ""
     user_made: bool = False
+    judged: list[JudgedTextRecord] = Field(
+        default_factory=list,
+        description="The texts a judge model read for the check, with its answers (empty when none did, and "
+        "in files written before judges' answers were kept).",
+    )
 
 
 class GoalRecord(_Verdict):
