@@ -4,6 +4,8 @@ success, a seed fixes the episode, malformed actions fail their step with the mo
 from __future__ import annotations
 
 import asyncio
+import importlib
+import sys
 from collections.abc import Iterator
 from typing import Any
 
@@ -17,7 +19,7 @@ import pare.gym  # noqa: E402
 from pare.agents.actions import FORMAT_HINT  # noqa: E402
 from pare.agents.models.config import ModelConfig  # noqa: E402
 from pare.errors import UserInputError  # noqa: E402
-from pare.testing import ChatServer, proactive_play  # noqa: E402
+from pare.testing import PROPOSAL, REPORT, ChatServer, proactive_play  # noqa: E402
 from pare.training.envs import AsyncProactiveAssistantEnv, AsyncUserEnv  # noqa: E402
 from tests.training.oracle_replay import oracle_texts  # noqa: E402
 
@@ -156,3 +158,24 @@ def test_a_configured_user_model_answers_the_agent_s_proposal(made: list[Any]) -
         assert info["conversation"] == "execute" and "accepted" in observation
         assert server.request_count >= 1
         env.close()
+
+
+def test_a_configured_assistant_model_proposes_to_the_agent_as_user(made: list[Any]) -> None:
+    with ChatServer(proactive_play()) as server:
+        assistant = {"model": "pare-test-model", "api_base": server.base_url, "api_key_env": None}
+        env = _make(made, pare.gym.USER_ENV_ID, assistant=assistant)
+        env.reset(seed=3, options={"scenario": SCENARIO})
+        wait = 'Thought: Nothing yet.\nAction:\n{"action": "wait", "action_input": {}}<end_action>'
+        observation, *_ = env.step(wait)
+        assert PROPOSAL in observation  # the assistant model proposed in the first turn
+        accept = '{"action": "accept_proposal", "action_input": {"reason": "Yes."}}'
+        observation, *_ = env.step(f"Thought: Fine.\nAction:\n{accept}<end_action>")
+        assert REPORT in observation  # it carried the task out and reported
+        env.close()
+
+
+def test_without_gymnasium_the_import_names_the_extra(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setitem(sys.modules, "gymnasium", None)  # as if not installed
+    monkeypatch.delitem(sys.modules, "pare.gym")
+    with pytest.raises(ImportError, match=r"\[gym\]"):
+        importlib.import_module("pare.gym")

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import asyncio
 import random
+from abc import ABC, abstractmethod
 from collections.abc import Mapping, Sequence
 from typing import Any, ClassVar, Literal, TypeGuard, get_args
 
@@ -122,7 +123,7 @@ class _WatchedUser(UserPolicy):
         return self.inner.finish(ending, previous, notifications)
 
 
-class _AsyncPareEnv:
+class _AsyncPareEnv(ABC):
     """The episode bookkeeping both roles share; subclasses say which role the agent plays."""
 
     role: ClassVar[AgentRole]
@@ -163,10 +164,11 @@ class _AsyncPareEnv:
         self.seed: int | None = None
         """The world's seed of the episode being played."""
 
+    @abstractmethod
     def _players(
         self, scenario: Scenario, requests: asyncio.Queue[Request], watch: _Watch
     ) -> tuple[UserPolicy, AssistantPolicy]:
-        raise NotImplementedError
+        """The episode's user and assistant, the agent's role played over ``requests``, noted in ``watch``."""
 
     async def reset(
         self, *, seed: int | None = None, options: Mapping[str, Any] | None = None
