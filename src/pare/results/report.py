@@ -163,6 +163,7 @@ def _main_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
             f"Success^{suffix}",
             "Success rate ± SE",
             level,
+            "Wrong irreversible / episode ± SE",
             "User did it ± SE",
             "Side effects ± SE",
             "Proposal rate ± SE",
@@ -172,7 +173,9 @@ def _main_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
             "Coverage",
         ),
         note="± is the standard error across runs; Success@k and Success^k count only scenarios whose k "
-        "runs are all complete. User did it: failed episodes in which the user made by hand what a goal "
+        "runs are all complete. Wrong irreversible: the assistant's calls per episode that cannot be "
+        "undone (a sent message, a deletion) and made a change no solution of the scenario makes. User "
+        "did it: failed episodes in which the user made by hand what a goal "
         "wanted from the assistant (failures of the assistant, already in the success rate). Side "
         "effects: episodes in which the assistant changed something no solution of the scenario changes "
         "(failures, already in the success rate). Proposal rate: proposals per turn, the paper's definition; "
@@ -187,6 +190,7 @@ def _main_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
             format_percent(m.success_all_k),
             format_estimate(m.success_rate),
             format_ci(m.success_rate_ci),
+            format_estimate(m.wrong_irreversible_actions, percent=False, digits=2),
             format_estimate(m.user_did_work_rate),
             format_estimate(m.side_effect_rate),
             format_estimate(m.proposal_rate),
@@ -589,6 +593,8 @@ _ESTIMATES = (
     "goal_rate",
     "user_did_work_rate",
     "side_effect_rate",
+    "wrong_irreversible_actions",
+    "irreversible_actions",
     "proposal_rate",
     "observe_proposal_rate",
     "accept_reward",
@@ -626,6 +632,7 @@ _CSV_COLUMNS: tuple[str, ...] = (
     "success_rate_ci_low",
     "success_rate_ci_high",
     "confidence",
+    "wrong_irreversible_total",
     "proposals",
     "accepted",
     "proposals_per_episode",
@@ -668,6 +675,7 @@ def _csv_row(m: ConfigurationMetrics) -> dict[str, str]:
         "success_rate_ci_low": _cell(None if ci is None else ci[0]),
         "success_rate_ci_high": _cell(None if ci is None else ci[1]),
         "confidence": _cell(m.confidence),
+        "wrong_irreversible_total": _cell(m.wrong_irreversible_total),
         "proposals": _cell(m.proposals),
         "accepted": _cell(m.accepted),
         "proposals_per_episode": _cell(m.proposals_per_episode),
