@@ -243,3 +243,19 @@ def test_wrong_irreversible_actions_sit_beside_the_success_rate_in_every_format(
     data = json.loads(render_json([metrics]))["configurations"][0]
     assert data["wrong_irreversible_actions"] == {"mean": 0.5, "se": 0.5, "n": 2}
     assert data["irreversible_actions"]["mean"] == 2.0
+
+
+@pytest.mark.parametrize("width", range(150, 262, 8))
+def test_a_table_that_fits_is_drawn_whole_at_any_width(
+    configurations: list[ConfigurationMetrics], width: int
+) -> None:
+    # rich narrowed the widest columns below what their cells need and drew the table past the console's
+    # edge, where it was cut (a long label made it happen at 168-184 and 204-224 columns)
+    labelled = [m.model_copy(update={"label": "baseline: generic_offer"}) for m in configurations]
+    console = Console(record=True, width=width)
+    render_terminal(labelled, console, sections=("main",))
+    lines = console.export_text().splitlines()
+    assert all(len(line) <= width for line in lines)
+    rows = [line for line in lines if line.startswith("│")]
+    if rows:  # drawn as a table rather than as blocks
+        assert all(row.rstrip().endswith("│") for row in rows)

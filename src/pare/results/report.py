@@ -412,7 +412,7 @@ def render_terminal(
         if sum(widths) + _BORDERS_PER_COLUMN * len(widths) + 1 > console.width:
             _print_blocks(report, console)
         else:
-            console.print(_rich_table(report, widths))
+            console.print(_rich_table(report, _fitted_widths(report, widths, console.width)))
 
 
 _BORDERS_PER_COLUMN = 3
@@ -431,6 +431,29 @@ def _cell_widths(report: _Report) -> list[int]:
     return widths
 
 
+def _fitted_widths(report: _Report, widths: Sequence[int], room: int) -> list[int]:
+    """Each column's width for a table ``room`` wide, given the least each needs (``widths``): the
+    least, plus a fair share of what is left toward its widest cell or unwrapped header.
+
+    Rich narrows the widest columns first when a table does not fit, below what their cells need, then
+    measures them again at that need: the table came out wider than the console and was cut at its
+    right edge. Widths worked out here, each at least the column's need, are what rich draws.
+    """
+    wanted = [cell_len(printable(column)) for column in report.columns]
+    for row in report.rows:
+        for position, cell in enumerate(row):
+            wanted[position] = max(wanted[position], cell_len(printable(cell)))
+    fitted = list(widths)
+    spare = room - sum(fitted) - _BORDERS_PER_COLUMN * len(fitted) - 1
+    hungry = sorted(range(len(fitted)), key=lambda position: wanted[position] - fitted[position])
+    for left, position in enumerate(hungry):
+        share = max(spare, 0) // (len(hungry) - left)  # what the columns not yet served may each have
+        grant = min(max(wanted[position] - fitted[position], 0), share)
+        fitted[position] += grant
+        spare -= grant
+    return fitted
+
+
 def _rich_table(report: _Report, widths: Sequence[int]) -> Table:
     table = Table(
         title=plain_text(report.title),
@@ -443,7 +466,7 @@ def _rich_table(report: _Report, widths: Sequence[int]) -> Table:
         table.add_column(
             plain_text(column),
             justify="left" if position < report.text_columns else "right",
-            min_width=widths[position],
+            width=widths[position],
         )
     for row, style in zip(report.rows, report.row_styles, strict=True):
         table.add_row(*(plain_text(cell) for cell in row), style=style)
