@@ -21,6 +21,8 @@ def test_apps_show_prints_screens_and_tools(capsys: pytest.CaptureFixture[str]) 
     assert main(["apps", "show", "contacts"]) == 0
     out = capsys.readouterr().out
     assert "screen Detail" in out and "start_edit_contact" in out and "contacts__edit_contact" in out
+    delete = next(line for line in out.splitlines() if "contacts__delete_contact" in line)
+    assert "write, irreversible" in delete  # each write tool says how bad a wrong call is
 
 
 def test_apps_show_seed_format(capsys: pytest.CaptureFixture[str]) -> None:

@@ -151,7 +151,8 @@ def test_the_main_table_is_never_cut_at_the_consoles_width(
                 assert line.startswith("  ") and line.split(header, 1)[1].strip()
         else:  # a table: the configuration and its values on one row
             [row] = [line for line in shown.splitlines() if line.startswith("│") and "[100.0%" in line]
-            assert row.count("│") == 12  # all 11 columns of the main table
+            assert row.count("│") == 14  # a bar each side of the main table's 13 columns
+            assert row.rstrip().endswith("│"), "the table's right edge was cut off"
     assert "Gather context" in shown_by_report
 
 

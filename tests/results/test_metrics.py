@@ -555,3 +555,40 @@ def test_side_effects_are_counted_per_run_and_shown_in_the_main_table() -> None:
     header, row = render_csv([metrics]).splitlines()[:2]
     assert row.split(",")[header.split(",").index("side_effect_rate_mean")] == "0.25"
     assert "Side effects ± SE" in render_markdown([metrics], sections=["main"])
+
+
+def harm_records() -> list[EpisodeRecord]:
+    """k = 3, A and B: run 1 wrong 2 and 0 (irreversible calls 3 and 1), run 2 wrong 0 (2 calls) and an
+    older record without the counts, run 3 only older records.
+    """
+    return [
+        record("A", 1, side_effects=2, wrong_irreversible_actions=2, irreversible_actions=3),
+        record("B", 1, success=True, wrong_irreversible_actions=0, irreversible_actions=1),
+        record("A", 2, success=True, wrong_irreversible_actions=0, irreversible_actions=2),
+        record("B", 2, success=True),
+        record("A", 3, success=True),
+        record("B", 3, success=True),
+    ]
+
+
+def harm_metrics() -> ConfigurationMetrics:
+    planned = [(s, r) for s in "AB" for r in (1, 2, 3)]
+    return compute_metrics(harm_records(), label="harm", runs=3, planned=planned)
+
+
+def test_wrong_irreversible_actions_per_episode_leave_out_records_that_lack_them() -> None:
+    metrics = harm_metrics()
+    # run 1: (2 + 0) / 2 = 1.0; run 2: 0 / 1 (B2 has no count) = 0.0; run 3 has no count: skipped
+    assert metrics.wrong_irreversible_actions == Estimate(mean=0.5, se=0.5, n=2)
+    assert metrics.wrong_irreversible_total == 2
+    # run 1: (3 + 1) / 2 = 2.0; run 2: 2 / 1 = 2.0
+    assert metrics.irreversible_actions == Estimate(mean=2.0, se=0.0, n=2)
+
+
+def test_records_written_before_harm_was_counted_still_read() -> None:
+    old = record("A", 1).model_dump(mode="json")
+    del old["irreversible_actions"], old["wrong_irreversible_actions"]
+    read = EpisodeRecord.model_validate(old)
+    assert read.irreversible_actions is None and read.wrong_irreversible_actions is None
+    metrics = compute_metrics([read], label="old", runs=1, planned=[("A", 1)])
+    assert metrics.wrong_irreversible_actions == Estimate() and metrics.wrong_irreversible_total == 0

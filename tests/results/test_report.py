@@ -218,3 +218,44 @@ def test_reliability_consistency_and_kinds_in_every_format(
     assert float(row["accept_reward_se"]) == 0.5
     data = json.loads(render_json([configurations[1]]))["configurations"][0]
     assert data["pass_hat"] == {"1": 0.75, "2": 0.5}
+
+
+def test_wrong_irreversible_actions_sit_beside_the_success_rate_in_every_format() -> None:
+    from tests.results.test_metrics import harm_metrics
+
+    metrics = harm_metrics()  # wrong irreversible per episode 0.5 ± 0.5 over runs 1 and 2, 2 in all
+    header = "Wrong irreversible / episode ± SE"
+    text = terminal([metrics], sections=("main",))
+    assert "irreversible /" in text and "0.50 ± 0.50" in text  # the header wraps at its spaces
+    markdown = render_markdown([metrics], sections=["main"])
+    columns = next(line for line in markdown.splitlines() if line.startswith("| Configuration"))
+    names = [cell.strip() for cell in columns.strip("|").split("|")]
+    assert names.index(header) == names.index("Success rate ± SE") + 2  # after the rate and its interval
+    row = next(line for line in markdown.splitlines() if line.startswith("| harm "))
+    assert [cell.strip() for cell in row.strip("|").split("|")][names.index(header)] == "0.50 ± 0.50"
+    latex = render_latex([metrics], sections=["main"])
+    assert r"\textbf{Wrong irreversible / episode $\pm$ SE}" in latex and r"0.50 $\pm$ 0.50" in latex
+    cells = next(csv.DictReader(io.StringIO(render_csv([metrics]))))
+    assert float(cells["wrong_irreversible_actions_mean"]) == 0.5
+    assert float(cells["wrong_irreversible_actions_se"]) == 0.5
+    assert cells["wrong_irreversible_actions_n"] == "2" and cells["wrong_irreversible_total"] == "2"
+    assert float(cells["irreversible_actions_mean"]) == 2.0
+    data = json.loads(render_json([metrics]))["configurations"][0]
+    assert data["wrong_irreversible_actions"] == {"mean": 0.5, "se": 0.5, "n": 2}
+    assert data["irreversible_actions"]["mean"] == 2.0
+
+
+@pytest.mark.parametrize("width", range(150, 262, 8))
+def test_a_table_that_fits_is_drawn_whole_at_any_width(
+    configurations: list[ConfigurationMetrics], width: int
+) -> None:
+    # rich narrowed the widest columns below what their cells need and drew the table past the console's
+    # edge, where it was cut (a long label made it happen at 168-184 and 204-224 columns)
+    labelled = [m.model_copy(update={"label": "baseline: generic_offer"}) for m in configurations]
+    console = Console(record=True, width=width)
+    render_terminal(labelled, console, sections=("main",))
+    lines = console.export_text().splitlines()
+    assert all(len(line) <= width for line in lines)
+    rows = [line for line in lines if line.startswith("│")]
+    if rows:  # drawn as a table rather than as blocks
+        assert all(row.rstrip().endswith("│") for row in rows)

@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 
 from pare.agents.policy import SilentAssistant
+from pare.apps.harm import harm_by_index
 from pare.bench.episode import EpisodeSettings, run_episode
 from pare.errors import UserInputError
 from pare.results.records import summarize
@@ -107,7 +108,8 @@ def test_the_checks_evaluated_again_on_the_stored_trajectory_give_its_verdict(
     env = result.env
     played = evaluate(scenario, env.log.entries, env.snapshot(), attribution=env.attribution)
     assert again == played and again.success == (not by_hand) and again.user_did_work == by_hand
-    assert assistant_changes(start, final, attribution) == result.changes
+    harm_of = harm_by_index(trajectory.log_entries())
+    assert assistant_changes(start, final, attribution, harm_of=harm_of) == result.changes
 
 
 def test_a_format_1_file_cannot_give_the_whole_attribution() -> None:
@@ -140,10 +142,16 @@ def test_a_format_1_file_is_upgraded_on_read(kind: str) -> None:
         (r.proposal_id, r.turn) for r in record.proposals
     ]
     assert [p.status for p in trajectory.proposals] == [r.resolution for r in record.proposals]
-    # the record computed from the upgraded file is the one stored when it ran
-    assert summarize(trajectory, usage=record.usage) == {
-        name: getattr(record, name) for name in summarize(trajectory, usage=record.usage)
-    }
+    # the record computed from the upgraded file is the one stored when it ran (but for what that PARE did
+    # not count: irreversible calls, counted now from the log; wrong ones, unknown without side effects'
+    # classes)
+    summary = summarize(trajectory, usage=record.usage)
+    assert summary.pop("wrong_irreversible_actions") == (None if trajectory.outcome.side_effects else 0)
+    irreversible = summary.pop("irreversible_actions")
+    assert (
+        irreversible == 1 if kind == "oracle" else isinstance(irreversible, int)
+    )  # the reply to the practice
+    assert summary == {name: getattr(record, name) for name in summary}
 
 
 def test_the_viewer_opens_a_format_1_run(tmp_path: Path) -> None:

@@ -248,6 +248,10 @@ class ApartmentApp(App):
     title = "Apartments"
     description = "Rental listings: browse and search apartments, and keep a list of saved ones."
     State = ApartmentState
+    harm = {
+        "save_apartment": "reversible",
+        "remove_saved_apartment": "reversible",
+    }
     state: ApartmentState
 
     # -- helpers used by screens ---------------------------------------------------------------------

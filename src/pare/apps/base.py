@@ -10,6 +10,7 @@ from typing import Any, ClassVar
 
 from pydantic import BaseModel, ValidationError
 
+from pare.apps.harm import Harm, classify_tools
 from pare.apps.screens import BACK, STAY, Screen
 from pare.apps.tools import ToolSpec, collect_tools
 from pare.errors import SimulationBug, UserInputError
@@ -140,6 +141,10 @@ class App:
     screens: ClassVar[tuple[type[Screen], ...]] = ()
     tools: ClassVar[dict[str, ToolSpec]] = {}
 
+    harm: ClassVar[Mapping[str, Harm]] = {}
+    """How bad a wrong call of each write tool is, by the tool's method name (:mod:`pare.apps.harm`):
+    every write tool has a class, read tools have none."""
+
     also_writes: ClassVar[tuple[str, ...]] = ()
     """Other apps this app's writes can change (saving attachments changes Files). Attribution diffs the
     data of these and of the app itself around each write, and nothing else: a tool that reaches further
@@ -156,6 +161,7 @@ class App:
         super().__init_subclass__(**kwargs)
         if "name" in cls.__dict__:
             cls.tools = collect_tools(cls, app=cls.name, skip=1)
+            classify_tools(cls.__name__, cls.tools, cls.harm)
 
     @classmethod
     def set_screens(cls, *screens: type[Screen]) -> None:

@@ -258,6 +258,12 @@ class CabApp(App):
     title = "Cab"
     description = "Ride-hailing: price quotes between two places, booking a cab, following the current ride."
     State = CabState
+    # a booking and a cancellation can be reversed only by another booking, at the fare of the moment
+    harm = {
+        "order_ride": "costly",
+        "order_quotation": "costly",
+        "user_cancel_ride": "costly",
+    }
     state: CabState
 
     # -- helpers used by screens --------------------------------------------------------------------

@@ -125,6 +125,11 @@ class CalendarApp(App):
     title = "Calendar"
     description = "The user's calendar: events with times, places, tags and attendees."
     State = CalendarState
+    harm = {
+        "add_calendar_event": "reversible",
+        "edit_calendar_event": "reversible",
+        "delete_calendar_event": "irreversible",
+    }
     state: CalendarState
 
     # -- helpers used by other apps and screens -----------------------------------------------------

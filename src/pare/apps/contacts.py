@@ -83,6 +83,11 @@ class ContactsApp(App):
     title = "Contacts"
     description = "The user's address book: names, phone numbers, emails, addresses."
     State = ContactsState
+    harm = {
+        "add_new_contact": "reversible",
+        "edit_contact": "reversible",
+        "delete_contact": "irreversible",
+    }
     state: ContactsState
 
     # -- helpers used by other apps and screens -----------------------------------------------------

@@ -145,6 +145,16 @@ class EmailApp(App):
     title = "Email"
     description = "The user's email: inbox, sent mail, drafts, archive and trash, with attachments."
     State = EmailState
+    # sending cannot be taken back; delete_email deletes for good when the email is already in Trash
+    harm = {
+        "send_email": "irreversible",
+        "reply_to_email": "irreversible",
+        "forward_email": "irreversible",
+        "move_email": "reversible",
+        "delete_email": "irreversible",
+        "download_attachments": "reversible",
+        "save_draft": "reversible",
+    }
     also_writes = ("files",)
     state: EmailState
 

@@ -128,6 +128,13 @@ class FilesApp(App):
     title = "Files"
     description = "Documents, downloads and attachments stored on the phone (no screens; attach by path)."
     State = FilesState
+    harm = {
+        "write_file": "reversible",
+        "make_directory": "reversible",
+        "move": "reversible",
+        "copy_file": "reversible",
+        "delete": "irreversible",
+    }
     state: FilesState
 
     # -- helpers used by other apps ------------------------------------------------------------------

@@ -197,6 +197,16 @@ class MessagingApp(App):
     title = "Messages"
     description = "Text conversations with other people, one-to-one and in groups, with attachments."
     State = MessagingState
+    # a group's members see who was added or removed and that a group was made: undoing it is noticed
+    harm = {
+        "send_message": "irreversible",
+        "send_message_to_group_conversation": "irreversible",
+        "create_group_conversation": "costly",
+        "add_participant_to_conversation": "costly",
+        "remove_participant_from_conversation": "costly",
+        "change_conversation_title": "reversible",
+        "download_attachment": "reversible",
+    }
     also_writes = ("files",)
     state: MessagingState
 

@@ -127,6 +127,18 @@ class NotesApp(App):
     title = "Notes"
     description = "The user's notes, organised in folders, with attached files."
     State = NotesState
+    harm = {
+        "create_note": "reversible",
+        "update_note": "reversible",
+        "delete_note": "irreversible",
+        "move_note": "reversible",
+        "duplicate_note": "reversible",
+        "new_folder": "reversible",
+        "rename_folder": "reversible",
+        "delete_folder": "reversible",  # only an empty folder: new_folder makes it again
+        "add_attachment_to_note": "reversible",
+        "remove_attachment": "reversible",
+    }
     also_writes = ("files",)
     state: NotesState
 

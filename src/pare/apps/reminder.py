@@ -193,6 +193,11 @@ class ReminderApp(App):
     title = "Reminders"
     description = "The user's reminders: things to remember at a time, once or repeating; due ones notify."
     State = ReminderState
+    harm = {
+        "add_reminder": "reversible",
+        "update_reminder": "reversible",
+        "delete_reminder": "irreversible",
+    }
     state: ReminderState
     wakeup_tool = "announce_due_reminders"
 

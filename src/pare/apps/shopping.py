@@ -416,6 +416,13 @@ class ShoppingApp(App):
     title = "Shopping"
     description = "An online store: products and their variants, the user's cart, discount codes and orders."
     State = ShoppingState
+    # an order is undone by cancelling it, and a cancellation by ordering again (at the prices then)
+    harm = {
+        "add_to_cart": "reversible",
+        "remove_from_cart": "reversible",
+        "checkout": "costly",
+        "cancel_order": "costly",
+    }
     state: ShoppingState
 
     # -- helpers used by screens ---------------------------------------------------------------------

@@ -23,6 +23,7 @@ import docstring_parser
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model
 from pydantic_core import ErrorDetails
 
+from pare.apps.harm import Harm
 from pare.errors import SimulationBug, ToolError
 from pare.sim.log import Actor, ToolKind
 
@@ -101,6 +102,8 @@ class ToolSpec:
         self.actors: frozenset[Actor] = meta.actors
         self.leads_to = meta.leads_to
         self.available = meta.available
+        self.harm: Harm | None = None
+        """How bad a wrong call is, for an app's write tools (:mod:`pare.apps.harm`); set by the app."""
         # Tools are documented in the Google style; naming it spares trying every style on each of the
         # few hundred docstrings read when the apps are imported.
         doc = docstring_parser.parse(inspect.getdoc(func) or "", docstring_parser.DocstringStyle.GOOGLE)

@@ -39,6 +39,7 @@ from pare.agents.policy import (
     TurnBudget,
     UserPolicy,
 )
+from pare.apps.harm import harm_by_index
 from pare.bench.envelope import expected_envelope
 from pare.bench.state_diff import state_changes
 from pare.env import AssistantObservation, EnvConfig, Environment, ToolResult, TurnMark, UserView
@@ -331,7 +332,9 @@ class _Episode:
         outcome = await aevaluate(
             self.scenario, env.log.entries, final, judge=judge, attribution=env.attribution
         )
-        changes = assistant_changes(self.start_state, final, env.attribution)
+        changes = assistant_changes(
+            self.start_state, final, env.attribution, harm_of=harm_by_index(env.log.entries)
+        )
         if side_effects:
             envelope = await expected_envelope(self.scenario)
             outcome = outcome.with_side_effects(envelope.unexpected(changes, self.scenario.allowed_changes))

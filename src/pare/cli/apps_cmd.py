@@ -92,5 +92,6 @@ def show_app(
     for column in ("tool", "kind", "description"):
         table.add_column(column)
     for spec in cls.tools.values():
-        table.add_row(spec.qualified_name + spec.signature[len(spec.name) :], spec.kind, spec.summary)
+        kind = spec.kind if spec.harm is None else f"{spec.kind}, {spec.harm}"  # how bad a wrong call is
+        table.add_row(spec.qualified_name + spec.signature[len(spec.name) :], kind, spec.summary)
     console.print(table)

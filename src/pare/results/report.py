@@ -163,6 +163,7 @@ def _main_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
             f"Success^{suffix}",
             "Success rate ± SE",
             level,
+            "Wrong irreversible / episode ± SE",
             "User did it ± SE",
             "Side effects ± SE",
             "Proposal rate ± SE",
@@ -172,7 +173,9 @@ def _main_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
             "Coverage",
         ),
         note="± is the standard error across runs; Success@k and Success^k count only scenarios whose k "
-        "runs are all complete. User did it: failed episodes in which the user made by hand what a goal "
+        "runs are all complete. Wrong irreversible: the assistant's calls per episode that cannot be "
+        "undone (a sent message, a deletion) and made a change no solution of the scenario makes. User "
+        "did it: failed episodes in which the user made by hand what a goal "
         "wanted from the assistant (failures of the assistant, already in the success rate). Side "
         "effects: episodes in which the assistant changed something no solution of the scenario changes "
         "(failures, already in the success rate). Proposal rate: proposals per turn, the paper's definition; "
@@ -187,6 +190,7 @@ def _main_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
             format_percent(m.success_all_k),
             format_estimate(m.success_rate),
             format_ci(m.success_rate_ci),
+            format_estimate(m.wrong_irreversible_actions, percent=False, digits=2),
             format_estimate(m.user_did_work_rate),
             format_estimate(m.side_effect_rate),
             format_estimate(m.proposal_rate),
@@ -408,7 +412,7 @@ def render_terminal(
         if sum(widths) + _BORDERS_PER_COLUMN * len(widths) + 1 > console.width:
             _print_blocks(report, console)
         else:
-            console.print(_rich_table(report, widths))
+            console.print(_rich_table(report, _fitted_widths(report, widths, console.width)))
 
 
 _BORDERS_PER_COLUMN = 3
@@ -427,6 +431,29 @@ def _cell_widths(report: _Report) -> list[int]:
     return widths
 
 
+def _fitted_widths(report: _Report, widths: Sequence[int], room: int) -> list[int]:
+    """Each column's width for a table ``room`` wide, given the least each needs (``widths``): the
+    least, plus a fair share of what is left toward its widest cell or unwrapped header.
+
+    Rich narrows the widest columns first when a table does not fit, below what their cells need, then
+    measures them again at that need: the table came out wider than the console and was cut at its
+    right edge. Widths worked out here, each at least the column's need, are what rich draws.
+    """
+    wanted = [cell_len(printable(column)) for column in report.columns]
+    for row in report.rows:
+        for position, cell in enumerate(row):
+            wanted[position] = max(wanted[position], cell_len(printable(cell)))
+    fitted = list(widths)
+    spare = room - sum(fitted) - _BORDERS_PER_COLUMN * len(fitted) - 1
+    hungry = sorted(range(len(fitted)), key=lambda position: wanted[position] - fitted[position])
+    for left, position in enumerate(hungry):
+        share = max(spare, 0) // (len(hungry) - left)  # what the columns not yet served may each have
+        grant = min(max(wanted[position] - fitted[position], 0), share)
+        fitted[position] += grant
+        spare -= grant
+    return fitted
+
+
 def _rich_table(report: _Report, widths: Sequence[int]) -> Table:
     table = Table(
         title=plain_text(report.title),
@@ -439,7 +466,7 @@ def _rich_table(report: _Report, widths: Sequence[int]) -> Table:
         table.add_column(
             plain_text(column),
             justify="left" if position < report.text_columns else "right",
-            min_width=widths[position],
+            width=widths[position],
         )
     for row, style in zip(report.rows, report.row_styles, strict=True):
         table.add_row(*(plain_text(cell) for cell in row), style=style)
@@ -589,6 +616,8 @@ _ESTIMATES = (
     "goal_rate",
     "user_did_work_rate",
     "side_effect_rate",
+    "wrong_irreversible_actions",
+    "irreversible_actions",
     "proposal_rate",
     "observe_proposal_rate",
     "accept_reward",
@@ -626,6 +655,7 @@ _CSV_COLUMNS: tuple[str, ...] = (
     "success_rate_ci_low",
     "success_rate_ci_high",
     "confidence",
+    "wrong_irreversible_total",
     "proposals",
     "accepted",
     "proposals_per_episode",
@@ -668,6 +698,7 @@ def _csv_row(m: ConfigurationMetrics) -> dict[str, str]:
         "success_rate_ci_low": _cell(None if ci is None else ci[0]),
         "success_rate_ci_high": _cell(None if ci is None else ci[1]),
         "confidence": _cell(m.confidence),
+        "wrong_irreversible_total": _cell(m.wrong_irreversible_total),
         "proposals": _cell(m.proposals),
         "accepted": _cell(m.accepted),
         "proposals_per_episode": _cell(m.proposals_per_episode),

@@ -239,6 +239,14 @@ class SideEffectRecord(_Verdict):
     target: str = ""
     detail: str = ""
     address: str = ""
+    fields: list[str] = Field(
+        default_factory=list, description="The fields it wrote that no solution writes."
+    )
+    harm: str | None = Field(
+        default=None,
+        description="The class of the tool whose call made it: reversible, costly, irreversible.",
+    )
+    order: int | None = Field(default=None, description="The log index of the call that made it.")
     text: str = ""
 
 
