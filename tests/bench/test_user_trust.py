@@ -40,7 +40,7 @@ def test_the_default_persona_is_the_demanding_user_of_every_earlier_run() -> Non
 
 
 def test_a_persona_with_the_papers_wording_is_refused_with_the_reason() -> None:
-    with pytest.raises(UserInputError, match="user_trust 'trusting'.*user_prompt is 'paper'"):
+    with pytest.raises(UserInputError, match=r"user_trust 'trusting'.*user_prompt is 'paper'"):
         build_config({"protocol": {"preset": "paper", "user_trust": "trusting"}})
     with pytest.raises(UserInputError, match="user_trust"):
         build_config({"protocol": {"user_trust": "gullible"}})

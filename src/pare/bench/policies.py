@@ -213,9 +213,12 @@ BUILT_IN: dict[PolicyRole, dict[str, BuiltIn]] = {
         MODEL: BuiltIn(_model_user, "the user simulator on the user's model", uses_model=True),
         ORACLE: BuiltIn(_oracle_user, "the scenario's scripted user steps; accepts every proposal"),
         "oracle_strict": BuiltIn(
-            _strict_oracle_user, "the oracle user who accepts only the scenario's right proposals, word for word"
+            _strict_oracle_user,
+            "the oracle user who accepts only the scenario's right proposals, word for word",
         ),
-        "accept_all": BuiltIn(_accept_all_user, "the oracle user by another name: accepts everything at once"),
+        "accept_all": BuiltIn(
+            _accept_all_user, "the oracle user by another name: accepts everything at once"
+        ),
         "slow": BuiltIn(_slow_user, "the oracle user with a harmless extra step before each of its own"),
         "busy": BuiltIn(_busy_user, "the oracle user who never waits (a harmless step instead)"),
         "silent": BuiltIn(_silent_user, "a user who only waits (never answers a proposal)"),

@@ -86,7 +86,9 @@ def wilson(hits: int, total: int, confidence: float = 0.95) -> Rate:
     p = hits / total
     centre = (p + z * z / (2 * total)) / (1 + z * z / total)
     spread = z * math.sqrt(p * (1 - p) / total + z * z / (4 * total * total)) / (1 + z * z / total)
-    return Rate(hits=hits, total=total, value=p, low=max(0.0, centre - spread), high=min(1.0, centre + spread))
+    low = 0.0 if hits == 0 else max(0.0, min(p, centre - spread))  # exact at the ends, not 1e-17 off
+    high = 1.0 if hits == total else min(1.0, max(p, centre + spread))
+    return Rate(hits=hits, total=total, value=p, low=low, high=high)
 
 
 class GroupRow(BaseModel):
@@ -98,6 +100,8 @@ class GroupRow(BaseModel):
     cases: int
     right: Rate
     """Decided as expected."""
+    accepted: Rate
+    """Accepted, whatever the right answer."""
     accept_when_wrong: Rate
     reject_when_right: Rate
 
@@ -181,8 +185,10 @@ def load_calibration(path: Path) -> LoadedCalibration:
     """
     file = path / CALIBRATION_MANIFEST
     if not file.is_file():
-        raise UserInputError(f"{path} is not a calibration folder (no {CALIBRATION_MANIFEST}); pass the folder "
-                             "'pare calibrate' made")
+        raise UserInputError(
+            f"{path} is not a calibration folder (no {CALIBRATION_MANIFEST}); pass the folder "
+            "'pare calibrate' made"
+        )
     try:
         manifest = json.loads(read_run_file(file, "the calibration manifest", max_bytes=MAX_MANIFEST_BYTES))
     except json.JSONDecodeError as error:
@@ -207,6 +213,7 @@ def _row(name: str, records: Sequence[CaseRecord]) -> GroupRow:
         group=name,
         cases=len(records),
         right=wilson(sum(r.decision == r.expected for r in records), len(records)),
+        accepted=wilson(sum(r.decision == "accept" for r in records), len(records)),
         accept_when_wrong=wilson(sum(r.decision == "accept" for r in wrong), len(wrong)),
         reject_when_right=wilson(sum(r.decision == "reject" for r in right), len(right)),
     )
@@ -217,7 +224,8 @@ def calibration_metrics(loaded: LoadedCalibration) -> CalibrationMetrics:
     records = loaded.records
     reached = [r for r in records if r.reached]
     confusion = {
-        expected: {decision: 0 for decision in ("accept", "reject", "no_answer")} for expected in ("accept", "reject")
+        expected: {decision: 0 for decision in ("accept", "reject", "no_answer")}
+        for expected in ("accept", "reject")
     }
     for record in reached:
         confusion[record.expected][str(record.decision)] += 1

@@ -68,7 +68,12 @@ class CalibrationCase:
 
     def identity(self) -> dict[str, Any]:
         """What the case plays: the identity a calibration folder compares when it resumes."""
-        return {"id": self.case_id, "expected": self.expected, "proposal": self.proposal, "target": self.target}
+        return {
+            "id": self.case_id,
+            "expected": self.expected,
+            "proposal": self.proposal,
+            "target": self.target,
+        }
 
 
 def calibration_cases(
@@ -171,7 +176,9 @@ def _with_proposal(intervention: Intervention, text: str) -> Intervention:
     return intervention.model_copy(update={"proposal": text})
 
 
-def _carried(proposal: str, before: Mapping[str, Any], after: Mapping[str, Any], names: Mapping[str, str]) -> str | None:
+def _carried(
+    proposal: str, before: Mapping[str, Any], after: Mapping[str, Any], names: Mapping[str, str]
+) -> str | None:
     """``proposal`` with the change from ``before`` to ``after`` (an action's arguments) said in its words,
     or ``None`` when the proposal does not spell out the value that changed.
     """

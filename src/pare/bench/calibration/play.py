@@ -143,7 +143,8 @@ async def play_case(
     user = CaseUser(case, tested, max_steps)
     result = await arun_episode(case.scenario, user, CaseAssistant(case), settings, side_effects=False)
     proposal = next(
-        (p for p in result.env.agent_ui.state.proposals if p.content == case.proposal and user.handed_over), None
+        (p for p in result.env.agent_ui.state.proposals if p.content == case.proposal and user.handed_over),
+        None,
     )
     decision: Decision
     if proposal is None:

@@ -28,7 +28,13 @@ from pare import __version__
 from pare.agents.models.ledger import UsageLedger
 from pare.agents.models.secrets import redact_secrets
 from pare.bench._store_writer import write_atomically
-from pare.bench.calibration.cases import CASE_KINDS, PER_SCENARIO, CalibrationCase, CaseKind, calibration_cases
+from pare.bench.calibration.cases import (
+    CASE_KINDS,
+    PER_SCENARIO,
+    CalibrationCase,
+    CaseKind,
+    calibration_cases,
+)
 from pare.bench.calibration.play import MAX_STEPS, play_case
 from pare.bench.policies import MODEL_ROLES, Player, PolicyContext
 from pare.bench.runconfig import RunConfig, slug
@@ -60,9 +66,8 @@ class CalibrationSettings:
     def __post_init__(self) -> None:
         unknown = [kind for kind in self.kinds if kind not in CASE_KINDS]
         if unknown or not self.kinds:
-            raise UserInputError(
-                f"unknown case kind {', '.join(unknown) or '(none given)'}; the kinds are {', '.join(CASE_KINDS)}"
-            )
+            named = ", ".join(unknown) or "(none given)"
+            raise UserInputError(f"unknown case kind {named}; the kinds are {', '.join(CASE_KINDS)}")
         if not 1 <= self.max_steps <= 50:
             raise UserInputError(f"the user's steps per case must be 1 to 50, not {self.max_steps}")
         if not 1 <= self.per_scenario <= 100:
@@ -128,7 +133,8 @@ def plan_cases(config: RunConfig, settings: CalibrationSettings) -> list[Calibra
 
 def case_hash(case: CalibrationCase) -> str:
     """A hash of what the case plays: its proposal and expected answer, and the scenario it is played in
-    (its moment comes from the scenario's solution)."""
+    (its moment comes from the scenario's solution).
+    """
     from pare.results.run_folder import scenario_hash
 
     text = _canonical({**case.identity(), "scenario": scenario_hash(case.scenario)})
@@ -181,7 +187,9 @@ async def arun_calibration(
     async def one(case: CalibrationCase) -> None:
         nonlocal done_count
         async with limit:
-            record, trajectory = await _play_with_retries(case, hashes[case.case_id], config, settings, models, player)
+            record, trajectory = await _play_with_retries(
+                case, hashes[case.case_id], config, settings, models, player
+            )
         _append(path, record, trajectory)
         summary.played += 1
         done_count += 1
@@ -235,7 +243,9 @@ async def _play(
         run=1,
         seed=seed,
         models={
-            name: EpisodeModel(models.clients[name], case.case_id, ledger) for name in names if name in models.clients
+            name: EpisodeModel(models.clients[name], case.case_id, ledger)
+            for name in names
+            if name in models.clients
         },
         model_configs={name: configs[name] for name in names if name in configs},
         max_format_retries=config.protocol.max_format_retries,
@@ -348,7 +358,11 @@ def _differences(old: Mapping[str, Any], new: Mapping[str, Any], where: str = ""
 
 
 def _write_manifest(
-    path: Path, config: RunConfig, settings: CalibrationSettings, planned: int, previous: Mapping[str, Any] | None
+    path: Path,
+    config: RunConfig,
+    settings: CalibrationSettings,
+    planned: int,
+    previous: Mapping[str, Any] | None,
 ) -> None:
     sessions = list(previous.get("sessions", [])) if previous else []
     sessions.append({"started": datetime.now(UTC).isoformat(timespec="seconds"), "pare": __version__})
