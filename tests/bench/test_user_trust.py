@@ -4,6 +4,9 @@ recorded in the manifest and the reports' heading, and part of a run's identity 
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import pytest
 
 from pare.agents.prompts import user_system_prompt
@@ -11,6 +14,7 @@ from pare.bench.runconfig import RunConfig, build_config
 from pare.env import Environment
 from pare.errors import UserInputError
 from pare.protocols import ProtocolSettings, manifest_protocol
+from pare.results.run_folder import SWEEP_FILE, load_run
 from pare.sim.budget import USER_TRUST, TurnBudget
 
 
@@ -63,3 +67,23 @@ def test_the_run_flag_sets_the_persona() -> None:
 
     overrides = collect_overrides(sets=None, flags={"protocol.user_trust": "sceptical"}, models={})
     assert load_config(None, overrides).protocol.budget().user_trust == "sceptical"
+
+
+def test_a_sweep_takes_the_persona_as_an_axis(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from pare.cli import main
+
+    grid = "protocol.user_trust=[demanding, sceptical]"
+    argv = ["sweep", "-g", grid, "--set", "scenarios.split=smoke", "--set", "runs=1"]
+    assert main([*argv, "-o", str(tmp_path / "trust"), "--no-progress"]) == 0
+    described = json.loads((tmp_path / "trust" / SWEEP_FILE).read_text(encoding="utf-8"))
+    points = {p["params"]["protocol.user_trust"]: p["folder"] for p in described["points"]}
+    assert set(points) == {"demanding", "sceptical"}
+    sceptical = load_run(tmp_path / "trust" / points["sceptical"])
+    assert manifest_protocol(sceptical.manifest) == ("pare", {"user_trust": "sceptical"})
+    assert (
+        "user_trust"
+        not in load_run(tmp_path / "trust" / points["demanding"]).manifest["identity"]["protocol"]
+    )
+    capsys.readouterr()
+    assert main(["report", str(tmp_path / "trust" / points["sceptical"]), "--format", "markdown"]) == 0
+    assert "user_trust=sceptical" in capsys.readouterr().out.splitlines()[0]

@@ -111,6 +111,13 @@ def calibrate(
         **({"max_steps": max_steps} if max_steps is not None else {}),
     )
     console = make_console(stderr=True)
+    if config.policy("user") == "oracle":
+        console.print(
+            "[yellow]note[/yellow]: no user model or policy was given, so the oracle user is calibrated, "
+            "and it accepts every proposal; give --user-model, or --user-policy oracle_strict for the "
+            "reference.",
+            highlight=False,
+        )
     try:
         if progress:
             from rich.progress import Progress
