@@ -133,6 +133,18 @@ def _oracle_user(context: PolicyContext) -> Any:
     return OracleUser(context.scenario)
 
 
+def _accept_all_user(context: PolicyContext) -> Any:
+    from pare.scenarios.oracle import AcceptAllUser
+
+    return AcceptAllUser(context.scenario)
+
+
+def _strict_oracle_user(context: PolicyContext) -> Any:
+    from pare.scenarios.oracle import StrictOracleUser
+
+    return StrictOracleUser(context.scenario)
+
+
 def _slow_user(context: PolicyContext) -> Any:
     from pare.scenarios.oracle import SlowUser
 
@@ -200,6 +212,13 @@ BUILT_IN: dict[PolicyRole, dict[str, BuiltIn]] = {
     "user": {
         MODEL: BuiltIn(_model_user, "the user simulator on the user's model", uses_model=True),
         ORACLE: BuiltIn(_oracle_user, "the scenario's scripted user steps; accepts every proposal"),
+        "oracle_strict": BuiltIn(
+            _strict_oracle_user,
+            "the oracle user who accepts only the scenario's right proposals, word for word",
+        ),
+        "accept_all": BuiltIn(
+            _accept_all_user, "the oracle user by another name: accepts everything at once"
+        ),
         "slow": BuiltIn(_slow_user, "the oracle user with a harmless extra step before each of its own"),
         "busy": BuiltIn(_busy_user, "the oracle user who never waits (a harmless step instead)"),
         "silent": BuiltIn(_silent_user, "a user who only waits (never answers a proposal)"),

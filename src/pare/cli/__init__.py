@@ -15,6 +15,7 @@ import pare
 from pare.cli import (
     apps_cmd,
     baselines_cmd,
+    calibrate_cmd,
     doctor_cmd,
     generate_cmd,
     report_cmd,
@@ -41,6 +42,7 @@ app.command("run")(run_cmd.run)
 app.command("doctor")(doctor_cmd.doctor)
 app.command("sweep")(run_cmd.sweep)
 app.command("baselines")(baselines_cmd.baselines)
+app.command("calibrate")(calibrate_cmd.calibrate)
 app.command("report")(report_cmd.report)
 app.command("plot")(report_cmd.plot)
 app.command("view")(view_cmd.view)

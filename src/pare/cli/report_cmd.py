@@ -100,12 +100,18 @@ def report(
     """Print the metrics of one or more runs: Success@k, Success^k, success rate ± SE and CI, proposal and
     acceptance rates, read actions, the decision analysis, cost per role, per-app and per-tag results,
     and coverage, under a heading that names the protocol the runs played. Runs of different protocol
-    presets or scenario versions are refused unless ``--allow-mixed`` is given.
+    presets or scenario versions are refused unless ``--allow-mixed`` is given. Calibration folders
+    (``pare calibrate``) get their own tables.
     """
+    from pare.cli.calibrate_cmd import calibration_folders, print_calibrations
     from pare.output_paths import write_output_file
     from pare.results.report import render_csv, render_json, render_latex, render_markdown, render_terminal
     from pare.terminal_text import make_console, printable, printable_json
 
+    calibrations = calibration_folders(runs)
+    if calibrations is not None:  # folders of `pare calibrate`: their own tables
+        print_calibrations(calibrations, output_format, output)
+        return
     sections = tuple(section or SECTIONS)
     unknown = [name for name in sections if name not in SECTIONS]
     if unknown:
@@ -155,11 +161,24 @@ def plot(
     title: Annotated[str | None, typer.Option("--title", help="The figure's title.")] = None,
 ) -> None:
     """Draw the paper's robustness figure (proposal, acceptance and success rate against a swept setting,
-    one line per model, error bars = SE across runs) as PNG and SVG. Needs the ``plots`` extra.
+    one line per model, error bars = SE across runs) as PNG and SVG; for calibration folders, the share of
+    proposals each user accepted per case kind. Needs the ``plots`` extra.
     """
-    from pare.results.plots import plot_sweep
+    from pare.cli.calibrate_cmd import calibration_folders, calibration_metrics_of
+    from pare.results.plots import plot_calibration, plot_sweep
     from pare.results.run_folder import SWEEP_FILE
 
+    calibrations = calibration_folders(runs)
+    if calibrations is not None:  # folders of `pare calibrate`: the share accepted per case kind
+        written = plot_calibration(
+            calibration_metrics_of(calibrations),
+            out_dir=output or calibrations[0],
+            stem="calibration" if stem == "robustness" else stem,
+            title=title,
+        )
+        for path in written:
+            typer.echo(str(path))
+        return
     metrics = collect_metrics(runs)
     axes = _numeric_axes(metrics)
     x_axis = x or (axes[0] if axes else None)

@@ -71,6 +71,16 @@ AssistantPolicyName = Annotated[
     ),
 ]
 
+UserTrustFlag = Annotated[
+    str | None,
+    typer.Option(
+        "--user-trust",
+        help="The user's persona of trust: demanding (default), trusting, busy or sceptical "
+        "(protocol.user_trust).",
+        show_default=False,
+    ),
+]
+
 
 def collect_overrides(
     *,
@@ -204,6 +214,7 @@ def run(
             "it: docs/paper-conformance.md); the protocol flags and settings given override it.",
         ),
     ] = None,
+    user_trust: UserTrustFlag = None,
     max_turns: Annotated[
         int | None, typer.Option("--max-turns", help="Turns per episode (default 10).")
     ] = None,
@@ -275,6 +286,7 @@ def run(
         "policies.user": user_policy,
         "policies.assistant": assistant_policy,
         "protocol.preset": protocol,
+        "protocol.user_trust": user_trust,
         "protocol.max_turns": max_turns,
         "protocol.user_steps": user_steps,
         "protocol.observe_steps": observe_steps,

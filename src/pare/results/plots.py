@@ -1,4 +1,5 @@
-"""The paper's robustness figures: proposal, acceptance and success rate against a swept setting.
+"""The paper's robustness figures (proposal, acceptance and success rate against a swept setting) and the
+calibration figure (the share of proposals a user accepted, per case kind).
 
 matplotlib is an optional extra (``pip install "pare-bench[plots]"``); it is imported only when a figure is
 drawn, so the rest of PARE works without it.
@@ -14,9 +15,10 @@ from typing import Any
 from pare.errors import UserInputError
 from pare.install import install_command
 from pare.output_paths import make_output_folder
+from pare.results.calibration import CalibrationMetrics
 from pare.results.metrics import ConfigurationMetrics, Estimate
 
-__all__ = ["PANELS", "axis_label", "plot_sweep"]
+__all__ = ["PANELS", "axis_label", "plot_calibration", "plot_sweep"]
 
 PANELS: tuple[tuple[str, str], ...] = (
     ("proposal_rate", "Proposal rate (%)"),
@@ -182,3 +184,66 @@ def _draw_line(ax: Any, points: list[_Point], metric: str, name: str | None, *, 
             ecolor=color,
             capsize=3,
         )
+
+
+def plot_calibration(
+    metrics: Sequence[CalibrationMetrics],
+    *,
+    out_dir: Path,
+    stem: str = "calibration",
+    title: str | None = None,
+) -> list[Path]:
+    """Draw, per case kind, the share of proposals each calibrated user accepted (percent, Wilson 95% error
+    bars), one bar per user: a well-calibrated user is high on the oracle's proposals and low on the rest.
+
+    Returns:
+        The paths of ``<stem>.png`` (150 dpi) and ``<stem>.svg``; the same metrics give the same bytes.
+
+    Raises:
+        UserInputError: When matplotlib is missing, or no calibration was given.
+    """
+    if not metrics:
+        raise UserInputError("nothing to plot: no calibrations were given")
+    kinds = sorted({row.group for item in metrics for row in item.by_kind}, key=lambda k: (k != "oracle", k))
+    try:
+        import matplotlib
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        from matplotlib.figure import Figure
+    except ImportError as error:
+        raise UserInputError(f"plotting needs matplotlib: {install_command('plots')}") from error
+
+    make_output_folder(out_dir, "the figures' folder")
+    png, svg = out_dir / f"{stem}.png", out_dir / f"{stem}.svg"
+    width = 0.8 / len(metrics)
+    with matplotlib.rc_context({"svg.hashsalt": "pare", "svg.fonttype": "path"}):
+        figure = Figure(figsize=(max(6.0, 1.6 * len(kinds) + 2), 4.5), layout="constrained")
+        FigureCanvasAgg(figure)
+        ax = figure.subplots()
+        for index, item in enumerate(metrics):
+            rows = {row.group: row.accepted for row in item.by_kind}
+            xs, heights, below, above = [], [], [], []
+            for position, kind in enumerate(kinds):
+                rate = rows.get(kind)
+                if rate is None or rate.value is None or rate.low is None or rate.high is None:
+                    continue
+                xs.append(position - 0.4 + width * (index + 0.5))
+                heights.append(100 * rate.value)
+                below.append(100 * (rate.value - rate.low))
+                above.append(100 * (rate.high - rate.value))
+            ax.bar(
+                xs, heights, width, yerr=[below, above], capsize=3, label=item.label, color=f"C{index % 10}"
+            )
+        ax.set_xticks(range(len(kinds)), [f"{kind}\n(should {_should(kind)})" for kind in kinds])
+        ax.set_ylabel("Proposals accepted (%)")
+        ax.set_ylim(0, 105)
+        ax.grid(True, axis="y", alpha=0.3)
+        ax.legend(title="User", loc="best", fontsize="small")
+        if title:
+            figure.suptitle(title)
+        figure.savefig(png, format="png", dpi=150, metadata={"Software": None})
+        figure.savefig(svg, format="svg", metadata={"Date": None})
+    return [png, svg]
+
+
+def _should(kind: str) -> str:
+    return "accept" if kind == "oracle" else "reject"

@@ -155,6 +155,36 @@ class OracleUser(UserPolicy):
         return self.env
 
 
+class AcceptAllUser(OracleUser):
+    """The oracle user under its own name: its scripted steps, and every proposal accepted at once without
+    looking anything up. In a run it plays as the oracle user does; a calibration names it for what it
+    measures, the user who accepts everything.
+    """
+
+    name = "accept_all_user"
+
+
+class StrictOracleUser(OracleUser):
+    """The oracle user who knows the right answer: it accepts a proposal only when one of the scenario's
+    right solutions (the oracle, a passing variant) makes it word for word, and rejects any other. The
+    reference a calibration measures a user model against; against a model assistant, whose words are its
+    own, it rejects nearly everything.
+    """
+
+    name = "strict_oracle_user"
+
+    def __init__(self, scenario: Scenario, solution: Solution | None = None) -> None:
+        super().__init__(scenario, solution)
+        passing = [None, *(variant.id for variant in scenario.variants if variant.expect == "pass")]
+        self.right = frozenset(i.proposal for name in passing for i in scenario.solution(name).interventions)
+
+    async def step(self, view: UserView, previous: ToolResult | None) -> Action:
+        """Reject a pending proposal no right solution makes; otherwise as the oracle user."""
+        if view.pending_proposal is not None and view.pending_proposal not in self.right:
+            return Action("reject_proposal", {"reason": "That is not what I need."})
+        return await super().step(view, previous)
+
+
 class SlowUser(OracleUser):
     """The oracle user with one harmless extra step before each scripted step and each answer."""
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 from datetime import timedelta
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 MAX_TURNS = 1_000
 """The most turns an episode may be given (the paper's protocol uses 10)."""
@@ -23,6 +23,13 @@ MAX_REACTION_HORIZON = timedelta(days=30)
 
 UserPromptWording = Literal["pare", "paper"]
 """How the user's prompt asks it to judge proposals: PARE's wording, or the paper's appendix word for word."""
+
+UserTrust = Literal["demanding", "trusting", "busy", "sceptical"]
+"""How readily the person PARE's user prompt plays trusts the assistant's proposals (a persona of trust):
+``demanding`` accepts only what names concretely what they need and may check one thing first (PARE's
+wording as it always was); ``trusting`` accepts what looks plausible without checking; ``busy`` answers at
+once from what it already knows and rarely checks; ``sceptical`` checks in its apps before every answer."""
+USER_TRUST: tuple[UserTrust, ...] = ("demanding", "trusting", "busy", "sceptical")
 
 
 class TurnBudget(BaseModel):
@@ -77,6 +84,22 @@ class TurnBudget(BaseModel):
         description="How the user's prompt asks it to judge proposals: 'pare' (a demanding user who may "
         "check one thing first) or 'paper' (the appendix's EXTREMELY STRICT wording).",
     )
+    user_trust: UserTrust = Field(
+        default="demanding",
+        description="The persona of trust PARE's user prompt plays: demanding (accepts only a concrete "
+        "proposal that fits, may check one thing first), trusting (accepts what looks plausible without "
+        "checking), busy (answers at once, rarely checks) or sceptical (checks before every answer).",
+    )
+
+    @model_validator(mode="after")
+    def _trust_needs_our_wording(self) -> TurnBudget:
+        if self.user_prompt == "paper" and self.user_trust != "demanding":
+            raise ValueError(
+                f"user_trust '{self.user_trust}' words PARE's user prompt, but user_prompt is 'paper' (the "
+                "appendix's own strict wording, kept word for word): use user_prompt 'pare' with a persona "
+                "of trust, or leave user_trust at 'demanding'"
+            )
+        return self
 
     @property
     def turn_minutes(self) -> float:
