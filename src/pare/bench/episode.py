@@ -39,16 +39,15 @@ from pare.agents.policy import (
     TurnBudget,
     UserPolicy,
 )
-from pare.apps.harm import harm_by_index
-from pare.bench.envelope import expected_envelope
+from pare.bench.grading import grade
 from pare.bench.state_diff import state_changes
 from pare.env import AssistantObservation, EnvConfig, Environment, ToolResult, TurnMark, UserView
 from pare.errors import ModelRequestError
 from pare.results.trajectory import TRAJECTORY_FORMAT, Trajectory, attribution_records, state_hash
 from pare.scenarios.build import EventReadings, build_environment
-from pare.scenarios.checks import Judge, Outcome, aevaluate, goals_met
+from pare.scenarios.checks import Judge, Outcome, goals_met
 from pare.scenarios.model import Scenario
-from pare.scenarios.side_effects import Change, assistant_changes
+from pare.scenarios.side_effects import Change
 from pare.sim.log import AssistantMode, LogEntry
 from pare.sim.noise import NOISE_EVENT_PREFIX
 
@@ -329,15 +328,15 @@ class _Episode:
         # The order matters: the world's pending replies first, then the final state, then the checks.
         after = self._after_last_turn()
         final = env.snapshot(shared=True)  # read only: evaluated and diffed
-        outcome = await aevaluate(
-            self.scenario, env.log.entries, final, judge=judge, attribution=env.attribution
+        outcome, changes = await grade(
+            self.scenario,
+            env.log.entries,
+            self.start_state,
+            final,
+            env.attribution,
+            judge=judge,
+            side_effects=side_effects,
         )
-        changes = assistant_changes(
-            self.start_state, final, env.attribution, harm_of=harm_by_index(env.log.entries)
-        )
-        if side_effects:
-            envelope = await expected_envelope(self.scenario)
-            outcome = outcome.with_side_effects(envelope.unexpected(changes, self.scenario.allowed_changes))
         return EpisodeResult(
             scenario_id=self.scenario.id,
             user=self.user.name,
