@@ -46,6 +46,7 @@ from pare.bench.episode import arun_episode
 from pare.bench.policies import MODEL_ROLES, POLICY_ROLES, Player, PolicyContext, PolicyRole
 from pare.bench.run_requests import Learned, RunRequests, learned_refusals
 from pare.bench.runconfig import RunConfig
+from pare.bench.simulator_faults import find_faults
 from pare.bench.store import CACHE_FILE, RunStore
 from pare.errors import CacheMiss, RunFailure, UserInputError, first_error
 from pare.results.records import EpisodeRecord, Failure, FailureKind, summarize
@@ -302,6 +303,8 @@ async def play_episode(
     except Exception as error:  # a bug in PARE: keep the run going, keep the evidence
         detail = "".join(traceback.format_exception(error, limit=-8)).strip()
         return failed_output(plan, "internal_error", detail, attempt)
+    summary = summarize(result, usage=ledger.roles())
+    faults = find_faults(plan.scenario, result, summary["proposals"])
     trajectory = {
         "format": 1,
         "label": config.label(),
@@ -309,6 +312,7 @@ async def play_episode(
         "seed": plan.seed,
         "scenario_hash": plan.scenario_hash,
         **result.to_dict(),
+        "simulator_faults": [fault.model_dump(mode="json") for fault in faults],
     }
     try:
         # Strict JSON (no NaN or Infinity) in valid UTF-8: every file of the run stays readable.
@@ -320,7 +324,8 @@ async def play_episode(
             attempts=attempt,
             trajectory=trajectory_path(plan.scenario.id, plan.run),
             wall_s=round(time.perf_counter() - started, 3),
-            **summarize(result, usage=ledger.roles()),
+            simulator_faults=faults,
+            **summary,
         )
     except (ValueError, UnicodeEncodeError) as error:  # a bug in PARE: something let such a value through
         detail = "".join(traceback.format_exception(error, limit=-8)).strip()

@@ -32,9 +32,18 @@ Decision = Literal["accept", "reject", "gather_context", "truncated"]
 Resolution = Literal["accepted", "rejected", "expired", "truncated"]
 EpisodeStatus = Literal["complete", "failed"]
 FailureKind = Literal["provider_unavailable", "cache_miss", "internal_error"]
+FaultKind = Literal["accepted_wrong", "rejected_right", "did_by_hand", "stalled", "unseen_fact"]
+"""What the user simulator did wrong on its own (see :mod:`pare.bench.simulator_faults` for each rule)."""
 
 DECISIONS: tuple[Decision, ...] = ("accept", "reject", "gather_context", "truncated")
 RESOLUTIONS: tuple[Resolution, ...] = ("accepted", "rejected", "expired", "truncated")
+FAULT_KINDS: tuple[FaultKind, ...] = (
+    "accepted_wrong",
+    "rejected_right",
+    "did_by_hand",
+    "stalled",
+    "unseen_fact",
+)
 ANSWERS: dict[str, Decision] = {"accept_proposal": "accept", "reject_proposal": "reject"}
 
 
@@ -52,6 +61,17 @@ class ProposalRecord(BaseModel):
     user_steps_before_answer: int = Field(
         default=0, description="User steps between the proposal and its answer (or its end)."
     )
+
+
+class SimulatorFault(BaseModel):
+    """Something the user simulator did wrong independently of the assistant, found when the episode ended."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+    kind: FaultKind
+    turn: int = Field(description="The turn of the user's step at fault (or of the proposal it left).")
+    detail: str = Field(description="What happened, in one sentence.")
+    proposal_id: str | None = Field(default=None, description="The proposal concerned, if any.")
 
 
 class Failure(BaseModel):
@@ -108,6 +128,11 @@ class EpisodeRecord(BaseModel):
         description="Changes the assistant made that no solution of the scenario makes (any fails the "
         "episode; the trajectory's outcome names them).",
     )
+    simulator_faults: list[SimulatorFault] = Field(
+        default_factory=list,
+        description="What the user simulator did wrong on its own (empty in records written before faults "
+        "were recorded).",
+    )
     turns: int = 0
     ended: str = ""
     observe_turns: int = Field(default=0, description="Turns in which the assistant acted in observe mode.")
@@ -140,6 +165,11 @@ class EpisodeRecord(BaseModel):
     def accepted(self) -> int:
         """Proposals the user accepted (directly or after gathering context)."""
         return sum(proposal.resolution == "accepted" for proposal in self.proposals)
+
+    @property
+    def simulator_fault(self) -> bool:
+        """Whether the user simulator did something wrong on its own in this episode."""
+        return bool(self.simulator_faults)
 
     @property
     def accept_reward(self) -> int:
