@@ -17,8 +17,8 @@ from pare.agents.policy import WAIT, Action, SilentAssistant, SilentUser
 from pare.bench.episode import EpisodeResult, run_episode
 from pare.bench.policies import PolicyContext
 from pare.bench.simulator_faults import find_faults, matches
-from pare.env import ToolResult, UserView
 from pare.cli import main
+from pare.env import ToolResult, UserView
 from pare.results.records import SimulatorFault, classify_proposals
 from pare.results.run_folder import load_run
 from pare.scenarios.loader import load_scenario
@@ -110,7 +110,9 @@ def test_rejecting_the_solutions_proposal_is_a_fault(book_club: Scenario) -> Non
 
 def test_rejecting_a_near_miss_is_no_fault(book_club: Scenario) -> None:
     hardcover = book_club.solution("hardcover")
-    result = run_episode(book_club, RejectingUser(book_club, hardcover), OracleAssistant(book_club, hardcover))
+    result = run_episode(
+        book_club, RejectingUser(book_club, hardcover), OracleAssistant(book_club, hardcover)
+    )
     assert faults(book_club, result) == []
 
 
@@ -177,7 +179,10 @@ def test_a_run_records_the_faults_and_reports_them_in_every_format(
     # one failure, with a fault; no episode left without one: no success rate to give
     assert main(["report", str(folder), "--section", "simulator", "--format", "markdown"]) == 0
     markdown = capsys.readouterr().out
-    assert "## User simulator faults" in markdown and "| 100.0% (1/1) | n/a | 0 | 0 | 1 | 0 | 0 | 0 |" in markdown
+    assert (
+        "## User simulator faults" in markdown
+        and "| 100.0% (1/1) | n/a | 0 | 0 | 1 | 0 | 0 | 0 |" in markdown
+    )
     assert main(["report", str(folder), "--section", "simulator"]) == 0
     assert "User simulator faults" in capsys.readouterr().out
     assert main(["report", str(folder), "--section", "simulator", "--format", "latex"]) == 0
