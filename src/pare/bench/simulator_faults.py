@@ -36,6 +36,7 @@ near-miss usually differs in one figure (a time, a count), which similar wording
 
 from __future__ import annotations
 
+import functools
 import re
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
@@ -57,6 +58,7 @@ FACT_DIGITS = 3
 """Digits a typed token needs to count as a fact (a phone number, an amount, a code), not a word."""
 
 _WORD = re.compile(r"[\w@.'+-]+")
+_FIGURE = re.compile(r"[\w@.'+-]*[\d@][\w@.'+-]*")
 _EMAIL = re.compile(r"^[\w.+-]+@[\w-]+(\.[\w-]+)+$")
 _TIME_OR_DATE = re.compile(r"^(\d{1,2}[:.h]\d{2}|\d{4}-\d{2}-\d{2}(t[\d:]+)?|\d{1,2}/\d{1,2}(/\d{2,4})?)$")
 
@@ -67,8 +69,10 @@ def find_faults(
     """Every fault of the user simulator in ``result`` (an episode of ``scenario`` whose proposals were
     classified as ``proposals``), in the order of the turns they happened in.
     """
-    passing, failing = _solution_proposals(scenario)
     failed = not result.outcome.success
+    # a scenario's variants are validated when first read, which costs: read them only when a rule needs them
+    compared = proposals and (failed or any(p.resolution == "rejected" for p in proposals))
+    passing, failing = _solution_proposals(scenario) if compared else ([], [])
     faults: list[SimulatorFault] = []
     faults += _decision_faults(scenario, proposals, passing, failing, result)
     if failed and result.outcome.user_did_work:
@@ -80,6 +84,7 @@ def find_faults(
 
 
 # -- matching proposals ------------------------------------------------------------------------------------
+@functools.lru_cache(maxsize=4096)
 def words(text: str) -> frozenset[str]:
     """The lower-case words of ``text``, punctuation at their ends dropped."""
     found = (match.group(0).lower().strip(".'-+") for match in _WORD.finditer(text))
@@ -232,22 +237,22 @@ def _pattern_text(pattern: Any) -> str:
 
 # -- facts never seen ------------------------------------------------------------------------------------
 def _unseen_facts(scenario: Scenario, result: EpisodeResult) -> Iterator[SimulatorFault]:
+    typed = [(step, _facts(step.action.args)) for step in result.steps if step.actor == "user"]
+    if not any(facts for _, facts in typed):
+        return  # nothing fact-like typed: nothing to look for (most episodes; the search costs)
     seen: set[str] = set()
     _learn(seen, [scenario.user.persona, scenario.user.goal])
     _learn(seen, list(_scripted_words(scenario)))  # the scenario's own words for the user are the user's
-    for step in result.steps:
-        if step.actor != "user":
-            continue
+    for step, facts in typed:
         _learn(seen, [step.view])
-        for value in _texts(step.action.args):
-            unseen = sorted(token for token in _facts(value) if not _known(token, seen))
-            if unseen:
-                yield SimulatorFault(
-                    kind="unseen_fact",
-                    turn=step.turn,
-                    detail=f"typed {', '.join(unseen)} in {step.action.tool}, shown nowhere before",
-                )
-                return  # one is proof enough; the rest would repeat it
+        unseen = sorted(token for token in facts if not _known(token, seen))
+        if unseen:
+            yield SimulatorFault(
+                kind="unseen_fact",
+                turn=step.turn,
+                detail=f"typed {', '.join(unseen)} in {step.action.tool}, shown nowhere before",
+            )
+            return  # one is proof enough; the rest would repeat it
         _learn(seen, [step.observation])
 
 
@@ -262,13 +267,21 @@ def _scripted_words(scenario: Scenario) -> Iterator[Any]:
     yield from (intervention.answer for intervention in interventions)
 
 
-def _facts(text: str) -> set[str]:
+def _facts(args: Mapping[str, Any]) -> set[str]:
+    """The fact-like tokens typed in an action's arguments."""
     found = set()
-    for token in words(text):
-        digits = sum(char.isdigit() for char in token)
-        if _EMAIL.match(token) or (digits >= FACT_DIGITS and not _TIME_OR_DATE.match(token)):
-            found.add(token)
+    for text in _texts(args):
+        for token in _figure_tokens(text):
+            digits = sum(char.isdigit() for char in token)
+            if _EMAIL.match(token) or (digits >= FACT_DIGITS and not _TIME_OR_DATE.match(token)):
+                found.add(token)
     return found
+
+
+def _figure_tokens(text: str) -> set[str]:
+    """The lower-case tokens of ``text`` that hold a digit or ``@`` (the only ones a fact can be)."""
+    found = (match.group(0).lower().strip(".'-+") for match in _FIGURE.finditer(text))
+    return {token for token in found if token}
 
 
 def _known(token: str, seen: set[str]) -> bool:
@@ -287,9 +300,9 @@ def _digits(token: str) -> str:
 def _learn(seen: set[str], values: Iterable[Any]) -> None:
     for value in values:
         for text in _texts(value):
-            for token in words(text):
+            for token in _figure_tokens(text):
                 seen.add(token)
-                if any(char.isdigit() for char in token) and not any(char.isalpha() for char in token):
+                if not any(char.isalpha() for char in token):
                     seen.add(_digits(token))
 
 
