@@ -16,11 +16,12 @@ import pytest
 from pare.agents.policy import WAIT, Action, SilentAssistant, SilentUser
 from pare.bench.episode import EpisodeResult, run_episode
 from pare.bench.policies import PolicyContext
-from pare.bench.simulator_faults import find_faults, matches
+from pare.bench.simulator_faults import find_faults, matches, typed_facts
 from pare.cli import main
 from pare.env import ToolResult, UserView
 from pare.results.records import SimulatorFault, classify_proposals
 from pare.results.run_folder import load_run
+from pare.scenarios.library import library
 from pare.scenarios.loader import load_scenario
 from pare.scenarios.model import Scenario
 from pare.scenarios.oracle import BusyUser, OracleAssistant, OracleUser, SlowUser, UnrelatedAssistant
@@ -153,11 +154,14 @@ def test_matching_wants_the_same_figures_and_most_words() -> None:
     assert not matches("Shall I order the book?", oracle)  # too few words in common
 
 
-def test_a_no_proposal_scenarios_accepted_proposal_that_fails_it_is_a_fault() -> None:
-    scenario = load_scenario(BENCH / "abandoned_cart_left_on_purpose_needs_nothing.yaml")
-    result = run_episode(scenario, OracleUser(scenario), UnrelatedAssistant(scenario))
-    assert not result.success
-    assert kinds(faults(scenario, result)) == ["accepted_wrong"]
+def test_in_a_no_proposal_scenario_only_a_declared_near_miss_accepted_is_a_fault() -> None:
+    scenario = load_scenario(BENCH / "newsletter_coupon_for_unneeded_category_needs_nothing.yaml")
+    eager = scenario.solution("orders_bistro_set")
+    result = run_episode(scenario, OracleUser(scenario, eager), OracleAssistant(scenario, eager))
+    assert not result.success and kinds(faults(scenario, result)) == ["accepted_wrong"]
+    # an unrelated offer fails the scenario's quiet goal by being made, whatever the user answers
+    unrelated = run_episode(scenario, OracleUser(scenario), UnrelatedAssistant(scenario))
+    assert not unrelated.success and faults(scenario, unrelated) == []
     quiet = run_episode(scenario, OracleUser(scenario), SilentAssistant())
     assert quiet.success and faults(scenario, quiet) == []
 
@@ -193,3 +197,25 @@ def test_a_run_records_the_faults_and_reports_them_in_every_format(
     assert main(["report", str(folder), "--format", "json"]) == 0
     [data] = json.loads(capsys.readouterr().out)["configurations"]
     assert data["simulator"]["failure_fault_share"] == 1.0
+
+
+def test_dates_times_and_paths_are_read_whole_and_only_figures_count_as_facts() -> None:
+    typed = (
+        "Call 555-0142 at 14:30 on 2025-09-09T18:30:00+01:00 with BRAMBLE2025; x@y.com; /Scans/scan_2041.pdf"
+    )
+    assert typed_facts({"content": typed, "count": 2}) == {
+        "555-0142",
+        "bramble2025",
+        "x@y.com",
+        "scans/scan_2041.pdf",
+    }
+
+
+def test_no_solution_the_library_declares_right_is_taken_for_a_simulator_fault() -> None:
+    """Every scenario's oracle and passing variants, played by the oracle users: not one fault."""
+    for scenario in library().values():
+        for name in [None, *(v.id for v in scenario.variants if v.expect == "pass")]:
+            solution = scenario.solution(name)
+            user, assistant = OracleUser(scenario, solution), OracleAssistant(scenario, solution)
+            result = run_episode(scenario, user, assistant)
+            assert faults(scenario, result) == [], (scenario.id, name)

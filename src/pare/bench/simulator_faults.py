@@ -6,17 +6,19 @@ fault the rules miss leaves the episode counted as it is today, a false fault wo
 failure. The rules, each with what proves it:
 
 ``accepted_wrong``
-    The user accepted a proposal that contradicts its goal: the episode failed, and the proposal matches
-    a failing variant's proposal (a near-miss the scenario declares wrong) and no proposal of the oracle
-    or of a passing variant; or the scenario is a ``no_proposal`` one (its goal is that nothing is done
-    for the user) and the episode failed.
+    The user accepted a proposal that contradicts its goal: the episode failed, the goals a failing
+    variant is declared to fail did fail, and the proposal matches that variant's proposal (a near-miss
+    the scenario declares wrong) and no proposal of the oracle or of a passing variant. An accepted
+    proposal the scenario says nothing about (an unrelated offer, an eager one in a ``no_proposal``
+    scenario, whose quiet goal fails on the proposal itself whatever the user answers) is not flagged:
+    nothing proves the answer was wrong, or that it changed the verdict.
 ``rejected_right``
     The user rejected a proposal that matches the oracle's (or a passing variant's) and no failing
     variant's: the assistant offered what the scenario's own solution offers.
 ``did_by_hand``
     The episode failed with ``user_did_work`` (the user made by hand what a goal wanted from the
-    assistant) and the user made a change after accepting a proposal: the assistant had been told to do
-    it.
+    assistant) and, after accepting a proposal, the user changed data in an app the oracle's
+    interventions act on: the assistant had been told to do it.
 ``stalled``
     In a ``proposal`` scenario that failed, the user left a proposal matching a solution's unanswered
     until it expired, or until the episode ended after :data:`STALL_STEPS` steps of its own with it on
@@ -58,9 +60,15 @@ FACT_DIGITS = 3
 """Digits a typed token needs to count as a fact (a phone number, an amount, a code), not a word."""
 
 _WORD = re.compile(r"[\w@.'+-]+")
-_FIGURE = re.compile(r"[\w@.'+-]*[\d@][\w@.'+-]*")
+_FIGURE = re.compile(r"[\w@.'+/:-]*[\d@][\w@.'+/:-]*")
+"""A token holding a digit or ``@``; paths, addresses and times are kept whole (``/`` and ``:`` inside)."""
 _EMAIL = re.compile(r"^[\w.+-]+@[\w-]+(\.[\w-]+)+$")
-_TIME_OR_DATE = re.compile(r"^(\d{1,2}[:.h]\d{2}|\d{4}-\d{2}-\d{2}(t[\d:]+)?|\d{1,2}/\d{1,2}(/\d{2,4})?)$")
+_TIME_OR_DATE = re.compile(
+    r"^(\d{1,2}[:.h]\d{2}(:\d{2})?"
+    r"|\d{4}-\d{2}-\d{2}(t\d{1,2}:\d{2}(:\d{2}(\.\d+)?)?)?(z|[+-]\d{2}:?\d{2})?"
+    r"|\d{1,2}/\d{1,2}(/\d{2,4})?)$"
+)
+"""A date or a clock time, which a user works out rather than copies: never a fact, however many digits."""
 
 
 def find_faults(
@@ -76,7 +84,7 @@ def find_faults(
     faults: list[SimulatorFault] = []
     faults += _decision_faults(scenario, proposals, passing, failing, result)
     if failed and result.outcome.user_did_work:
-        faults += _work_after_accepting(result)
+        faults += _work_after_accepting(scenario, result)
     if failed and scenario.kind == "proposal":
         faults += _stalls(scenario, result, proposals, passing, failing)
     faults += _unseen_facts(scenario, result)
@@ -142,14 +150,7 @@ def _decision_faults(
             )
         if proposal.resolution != "accepted" or result.outcome.success:
             continue
-        if scenario.kind == "no_proposal":
-            yield SimulatorFault(
-                kind="accepted_wrong",
-                turn=turn,
-                proposal_id=proposal.proposal_id,
-                detail="accepted a proposal in a scenario whose goal is that nothing is done for the user",
-            )
-        elif bad and not good and any(set(fails) <= failed_goals for fails in bad):
+        if bad and not good and any(set(fails) <= failed_goals for fails in bad):
             yield SimulatorFault(
                 kind="accepted_wrong",
                 turn=turn,
@@ -159,7 +160,8 @@ def _decision_faults(
 
 
 # -- doing the work, stalling ---------------------------------------------------------------------------
-def _work_after_accepting(result: EpisodeResult) -> Iterator[SimulatorFault]:
+def _work_after_accepting(scenario: Scenario, result: EpisodeResult) -> Iterator[SimulatorFault]:
+    task_apps = {action.tool.split("__")[0] for i in scenario.oracle.interventions for action in i.actions}
     log = result.env.log.entries
     accepted_at = next(
         (
@@ -172,7 +174,7 @@ def _work_after_accepting(result: EpisodeResult) -> Iterator[SimulatorFault]:
     if accepted_at is None:
         return
     for entry in log[accepted_at + 1 :]:
-        if entry.actor == "user" and entry.kind == "write" and entry.ok and entry.app != "agent_ui":
+        if entry.actor == "user" and entry.kind == "write" and entry.ok and entry.app in task_apps:
             yield SimulatorFault(
                 kind="did_by_hand",
                 turn=entry.turn,
@@ -237,7 +239,7 @@ def _pattern_text(pattern: Any) -> str:
 
 # -- facts never seen ------------------------------------------------------------------------------------
 def _unseen_facts(scenario: Scenario, result: EpisodeResult) -> Iterator[SimulatorFault]:
-    typed = [(step, _facts(step.action.args)) for step in result.steps if step.actor == "user"]
+    typed = [(step, typed_facts(step.action.args)) for step in result.steps if step.actor == "user"]
     if not any(facts for _, facts in typed):
         return  # nothing fact-like typed: nothing to look for (most episodes; the search costs)
     seen: set[str] = set()
@@ -267,7 +269,7 @@ def _scripted_words(scenario: Scenario) -> Iterator[Any]:
     yield from (intervention.answer for intervention in interventions)
 
 
-def _facts(args: Mapping[str, Any]) -> set[str]:
+def typed_facts(args: Mapping[str, Any]) -> set[str]:
     """The fact-like tokens typed in an action's arguments."""
     found = set()
     for text in _texts(args):
@@ -280,7 +282,7 @@ def _facts(args: Mapping[str, Any]) -> set[str]:
 
 def _figure_tokens(text: str) -> set[str]:
     """The lower-case tokens of ``text`` that hold a digit or ``@`` (the only ones a fact can be)."""
-    found = (match.group(0).lower().strip(".'-+") for match in _FIGURE.finditer(text))
+    found = (match.group(0).lower().strip(".'-+:/") for match in _FIGURE.finditer(text))
     return {token for token in found if token}
 
 
