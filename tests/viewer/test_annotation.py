@@ -218,3 +218,11 @@ def test_pare_agreement_in_every_format(folder: Path, capsys: pytest.CaptureFixt
 def test_no_annotations_says_so(folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["agreement", str(folder)]) == 0
     assert "No annotations to compare" in capsys.readouterr().out
+
+
+def test_a_mark_without_a_name_is_the_accounts(folder: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("LOGNAME", "dana")
+    client, key = serve(folder)
+    answer = client.post(f"/annotate?key={key}", json=mark(1, "proposal", "proposal-1", "accept", "  "))
+    assert answer.status_code == 200 and answer.json()["annotator"] == "dana"
+    assert [a.annotator for a in read_annotations(folder)] == ["dana"]

@@ -74,6 +74,14 @@ def annotation_items(
     return items
 
 
+def _account_name() -> str:
+    """The name of the account running the viewer (``anonymous`` where the system has none to give)."""
+    try:
+        return getpass.getuser()
+    except (KeyError, OSError):  # no USER variable and no entry in the password database (containers)
+        return "anonymous"
+
+
 def _text_of(entry: Any) -> str:
     """The texts a logged call carried (its string arguments), as the judge was given them."""
     if not isinstance(entry, dict):
@@ -96,7 +104,7 @@ def record_annotation(catalog: Catalog, body: Any, *, now: datetime | None = Non
     configuration = catalog.get(str(body.get("configuration", "")))
     if configuration is None:
         raise UserInputError(f"no configuration {body.get('configuration')!r} in this viewer")
-    annotator = str(body.get("annotator") or "").strip() or getpass.getuser()
+    annotator = str(body.get("annotator") or "").strip() or _account_name()
     stamp = (now or datetime.now(UTC)).isoformat(timespec="seconds")
     fields = {name: body.get(name) for name in ("scenario_id", "run", "kind", "item", "label")}
     try:
