@@ -3,6 +3,7 @@ and its errors (each error leaving the data as it was), the world's tools, money
 
 from __future__ import annotations
 
+import random
 from datetime import UTC, datetime, timedelta
 from decimal import Decimal
 from typing import Any
@@ -12,6 +13,7 @@ import pytest
 from pare.apps.banking import BankingApp, fmt
 from pare.apps.registry import get_app_class, phone_apps
 from pare.env import Environment
+from pare.env.random_walk import RandomAssistant, RandomUser
 from pare.errors import UserInputError
 from pare.scenarios.seed import prepare_seed
 from tests.conftest import START, err, make_env, ok, screen_of
@@ -812,7 +814,9 @@ def test_monthly_orders_keep_their_day_through_short_months() -> None:
     env.advance(timedelta(days=59))  # to 31 Mar 08:00: paid 31 Jan and 28 Feb, next 31 Mar
     rents = [t for t in bank(env)["transactions"].values() if t["kind"] == "standing_order"]
     assert [t["booked_at"][:10] for t in rents] == ["2025-01-31", "2025-02-28"]
-    assert bank(env)["standing_orders"]["so-rent"]["next_payment"] == "2025-03-31T09:00:00Z"
+    order = bank(env)["standing_orders"]["so-rent"]
+    assert order["next_payment"] == "2025-03-31T09:00:00Z"
+    assert order["first_payment"] == "2025-01-31T09:00:00Z"  # kept as set up, for checks to read
 
 
 # -- direct debits ----------------------------------------------------------------------------------------
@@ -988,3 +992,58 @@ def test_writes_need_execute_mode_and_world_tools_are_the_world_s(env: Environme
     err(env.call("user", "pay_payee", {"payee_id": "p-jo", "amount": 1, "from_account_id": "acc-main"}))
     assert env.snapshot() == before
     assert world(env, "pay_due_standing_orders") == []  # nothing is due yet
+
+
+# -- fuzzing ----------------------------------------------------------------------------------------------
+
+
+def _unexplained(env: Environment) -> dict[str, Decimal]:
+    """Each account's balance less the sum of its transactions: what no transaction explains."""
+    state = env.apps["banking"].state
+    return {
+        key: account.balance
+        - sum((t.amount for t in state.transactions.values() if t.account_id == key), Decimal(0))
+        for key, account in state.accounts.items()
+    }
+
+
+def test_a_random_user_walks_every_screen() -> None:
+    env = bank_env(_seed())
+    user = RandomUser(random.Random(0))
+    for _ in range(3000):
+        user.step(env)  # raise_internal_errors: a crash or an undeclared transition fails the test
+    screens = {e.app_screen[1] for e in env.log if e.app_screen}
+    assert screens == {s.screen_name() for s in BankingApp.screens}
+    assert sum(e.ok for e in env.log) / len(env.log) > 0.5
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_every_balance_change_is_a_transaction_through_a_random_walk(seed: int) -> None:
+    """Random users, assistants and world events, the clock moving on: no money appears or vanishes
+    without a transaction, and no account goes below its overdraft."""
+    env = bank_env(_seed())
+    ok(env.call("user", "open_app", {"app_name": "banking"}))
+    rng = random.Random(seed)
+    user, assistant = RandomUser(rng), RandomAssistant(rng)
+    start = _unexplained(env)
+    moved = 0
+    for _ in range(600):
+        roll = rng.random()
+        if roll < 0.1:
+            args = {
+                "account_id": rng.choice(["acc-main", "acc-joint"]),
+                "description": "x",
+                "amount": round(rng.uniform(-300, 300), 2) or 1,
+                "card_id": None,
+            }
+            env.call("env", "banking__receive_transaction", args)
+        elif roll < 0.15:
+            env.advance(timedelta(days=rng.choice([1, 7, 31])))
+        else:
+            result = (user if roll < 0.55 else assistant).step(env)
+            moved += result.ok and result.entry is not None and result.entry.kind == "write"
+        assert _unexplained(env) == start
+        for account in env.apps["banking"].state.accounts.values():
+            assert account.available >= 0, account
+            assert account.balance == account.balance.quantize(Decimal("0.01"))
+    assert moved > 10  # the walk did write

@@ -177,7 +177,12 @@ class StandingOrder(BaseModel):
     payee_id: str
     amount: Money = Field(description="what each payment is, > 0")
     frequency: Frequency = "monthly"
-    next_payment: SimTime = Field(description="when it is next paid")
+    next_payment: SimTime = Field(description="when it is next paid; it moves on each time it is paid")
+    first_payment: SimTime | None = Field(
+        default=None,
+        description="when its first payment was set to go, kept as set up (checks read this, since "
+        "next_payment moves on as the order is paid); next_payment when left out",
+    )
     day_of_month: int | None = Field(
         default=None,
         ge=1,
@@ -192,6 +197,8 @@ class StandingOrder(BaseModel):
 
     @model_validator(mode="after")
     def _day_of_month(self) -> StandingOrder:
+        if self.first_payment is None:
+            self.first_payment = self.next_payment
         if self.frequency == "monthly" and self.day_of_month is None:
             self.day_of_month = self.next_payment.day
         if self.amount <= 0:
@@ -845,6 +852,7 @@ class BankingApp(App):
             amount=cents,
             frequency=frequency,
             next_payment=first,
+            first_payment=first,
             end_date=end,
             reference=reference.strip(),
         )
