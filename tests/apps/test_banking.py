@@ -199,6 +199,12 @@ def test_every_write_tool_has_a_harm_class_and_money_out_is_irreversible() -> No
     assert BankingApp.harm["cancel_standing_order"] == BankingApp.harm["dispute_transaction"] == "costly"
 
 
+def test_models_read_amounts_as_numbers() -> None:
+    spec = BankingApp.tools["pay_payee"]
+    assert "amount: number (at most two decimals)" in spec.signature
+    assert spec.parameters_schema["properties"]["amount"]["type"] == "number"
+
+
 def test_amounts_are_exact_and_shown_with_two_decimals(env: Environment) -> None:
     state = bank(env)
     assert state["accounts"]["acc-main"]["balance"] == "1000.00"
@@ -902,6 +908,29 @@ def test_a_frozen_card_declines_payments(env: Environment) -> None:
     assert booked["transaction_id"] == "t-web" and balance(env, "acc-main") == "980.01"
 
 
+def test_a_card_payment_above_what_is_available_is_declined(env: Environment) -> None:
+    declined = world(
+        env,
+        "receive_transaction",
+        account_id="acc-joint",
+        amount=-40.11,
+        description="Shop",
+        card_id="card-joint",
+    )
+    assert declined.startswith("Declined")  # frozen card
+    agent(env, "unfreeze_card", card_id="card-joint")
+    declined = world(
+        env,
+        "receive_transaction",
+        account_id="acc-joint",
+        amount=-40.11,
+        description="Shop",
+        card_id="card-joint",
+    )
+    assert "only $40.10 available" in declined and balance(env, "acc-joint") == "40.10"
+    assert last_notice(env).kind == "card_declined"
+
+
 def test_money_arriving_is_booked_and_told(env: Environment) -> None:
     world(
         env,
@@ -922,7 +951,6 @@ def test_money_arriving_is_booked_and_told(env: Environment) -> None:
         ({"amount": 0}, "cannot be 0"),
         ({"amount": -1, "card_id": "card-joint"}, "belongs to account acc-joint"),
         ({"amount": 1, "transaction_id": "t-cafe"}, "already exists"),
-        ({"amount": -1300}, "insufficient funds"),
     ],
 )
 def test_receive_transaction_errors_change_nothing(

@@ -108,8 +108,12 @@ class Account(BaseModel):
     name: str = Field(description='what the user calls it, e.g. "Everyday" or "Savings"')
     kind: AccountKind = "current"
     number: str = Field(default="", description='the account number as the app shows it, e.g. "****4821"')
-    balance: Money
-    overdraft_limit: Money = Field(default=ZERO, description="how far below zero the balance may go, >= 0")
+    balance: Money = Field(
+        description="what the account holds, e.g. 1250.5; below 0 only within the overdraft"
+    )
+    overdraft_limit: Money = Field(
+        default=0, validate_default=True, description="how far below zero the balance may go, >= 0"
+    )
 
     @property
     def available(self) -> Decimal:
@@ -1099,8 +1103,8 @@ class BankingApp(App):
         transaction_id: str | None = None,
     ) -> Transaction | str:
         """Book a transaction made outside the app: money arriving (a salary, a friend paying back) or a
-        card payment at a shop. The user is notified. A card payment with a frozen card is declined (the
-        user is told) and nothing is booked.
+        card payment at a shop. The user is notified. A card payment with a frozen card, or one above what
+        the account has available, is declined (the user is told) and nothing is booked.
 
         Args:
             account_id: the account.
@@ -1132,8 +1136,17 @@ class BankingApp(App):
                 data={"card_id": card.card_id, "amount": str(amount)},
             )
             return f"Declined: card {card.card_id} is frozen; nothing was booked."
-        if amount < 0:
-            self.check_payment(account, -amount)
+        if amount < 0 and -amount > account.available:
+            self.notify(
+                "card_declined" if card is not None else "payment_refused",
+                f"Declined: {fmt(-amount)} at {who}",
+                body=f"{account.name} has only {fmt(account.available)} available.",
+                data={"account_id": account_id, "amount": str(amount)},
+            )
+            return (
+                f"Declined: {account.label()} has only {fmt(account.available)} available; nothing was "
+                "booked."
+            )
         transaction = self._book(
             account,
             amount,
