@@ -574,6 +574,18 @@ def test_discard_goes_back_without_sending(env: Environment) -> None:
     assert balance(env, "acc-main") == "1000.00"
 
 
+def test_going_back_from_review_keeps_the_draft_and_discard_returns_home(env: Environment) -> None:
+    user(env, "move_money")
+    user(env, "set_payee", payee_id="p-bob")
+    user(env, "set_amount", amount=12)
+    user(env, "review")
+    user(env, "go_back")
+    assert stack(env) == ["Home", "Pay"]
+    assert env.system.current_screen().amount == Decimal("12.00")  # type: ignore[union-attr]
+    user(env, "discard")
+    assert stack(env) == ["Home"] and balance(env, "acc-main") == "1000.00"
+
+
 def test_review_shows_when_its_account_is_gone(env: Environment) -> None:
     user(env, "move_money")
     user(env, "set_payee", payee_id="p-jo")
