@@ -99,7 +99,9 @@ def test_accepting_a_declared_near_miss_is_a_fault(book_club: Scenario) -> None:
 def test_accepting_an_unrelated_proposal_is_no_fault(book_club: Scenario) -> None:
     # a reminder to water the plants does not contradict Hannah's goal: the failure is the assistant's
     result = run_episode(book_club, OracleUser(book_club), UnrelatedAssistant(book_club))
-    assert not result.success and [p.resolution for p in classify_proposals(result.trajectory())] == ["accepted"]
+    assert not result.success and [p.resolution for p in classify_proposals(result.trajectory())] == [
+        "accepted"
+    ]
     assert faults(book_club, result) == []
 
 
