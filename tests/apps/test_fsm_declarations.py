@@ -58,7 +58,7 @@ def test_mermaid_export_matches_the_declarations(name: str) -> None:
 def test_random_walk_reaches_every_screen_and_action_without_breaking_a_declaration() -> None:
     env = make_env(APPS, sample_world(), seed=1)
     user = RandomUser(random.Random(1))
-    for _ in range(10_000):
+    for _ in range(15_000):  # about 1,500 steps per app
         user.step(env)  # raise_internal_errors: any undeclared transition or crash fails the test
     seen_screens = {e.app_screen for e in env.log if e.app_screen}
     tried = {(e.app, e.tool) for e in env.log if e.actor == "user"}

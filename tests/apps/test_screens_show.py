@@ -76,7 +76,7 @@ def test_displays_are_compact_json_and_change_nothing_along_a_random_walk() -> N
     rng = random.Random(5)
     walker, assistant = RandomUser(rng), RandomAssistant(rng)
     looked: set[tuple[str, str]] = set()
-    for step in range(6000):
+    for step in range(12_000):  # ten apps: about a thousand steps each
         if step % 7 == 6:
             assistant.step(env)
         else:

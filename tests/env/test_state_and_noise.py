@@ -14,7 +14,8 @@ def test_snapshot_covers_every_app_and_diff_names_each_change() -> None:
     env = make_env(APPS, sample_world(), start_time=START)
     before = env.snapshot()
     assert set(before) == {"agent_ui", "files", *app_names()}
-    assert len(app_names()) == 9  # the nine apps with screens, plus files: the ten apps of the paper
+    # the nine apps with screens of the paper, plus Banking (beyond the paper); with Files, eleven
+    assert len(app_names()) == 10
     assert "system" not in before and "system" in env.snapshot(include_navigation=True)
     ok(
         env.call(

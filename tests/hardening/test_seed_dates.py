@@ -68,6 +68,22 @@ def seeds(stamp: str) -> list[tuple[str, dict[str, Any], str]]:
         ),
         ("shopping", {"orders": {"o-1": {**ORDER, "placed_at": stamp}}}, "order 'o-1'"),
         ("cab", {"rides": {"r-1": {**RIDE, "booked_at": stamp}}}, "ride 'r-1'"),
+        (
+            "banking",
+            {
+                "accounts": {"a-1": {"account_id": "a-1", "name": "Everyday", "balance": 10}},
+                "transactions": {
+                    "t-1": {
+                        "transaction_id": "t-1",
+                        "account_id": "a-1",
+                        "amount": -2,
+                        "description": "Cafe",
+                        "booked_at": stamp,
+                    }
+                },
+            },
+            "transaction 't-1'",
+        ),
     ]
 
 

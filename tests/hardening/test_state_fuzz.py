@@ -29,6 +29,8 @@ SCENARIOS = (
     "dinner_guest_nut_allergy_menu_note",  # notes
     "flat_chat_signed_lease_save_a_copy",  # files, messaging
     "tutor_details_shared_in_class_chat_save_contact",  # contacts
+    "rent_rises_replace_standing_order_from_first",  # banking (standing orders paid as time passes), email
+    "unrecognised_card_payment_freeze_and_dispute",  # banking (cards, disputes)
 )
 STEPS = 300
 

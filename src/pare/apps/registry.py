@@ -23,6 +23,7 @@ _APPS: dict[str, str] = {
     "shopping": "pare.apps.shopping:ShoppingApp",
     "cab": "pare.apps.cab:CabApp",
     "apartment": "pare.apps.apartment:ApartmentApp",
+    "banking": "pare.apps.banking:BankingApp",
 }
 
 

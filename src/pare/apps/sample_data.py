@@ -414,6 +414,144 @@ def _shopping() -> dict[str, Any]:
     return {"products": products, "cart": {"hoodie-m": 1}, "discount_codes": codes, "orders": orders}
 
 
+def _banking() -> dict[str, Any]:
+    accounts = {
+        "acc-everyday": {
+            "account_id": "acc-everyday",
+            "name": "Everyday",
+            "number": "****4821",
+            "balance": "1842.37",
+            "overdraft_limit": "500.00",
+        },
+        "acc-savings": {
+            "account_id": "acc-savings",
+            "name": "Savings",
+            "kind": "savings",
+            "number": "****9930",
+            "balance": "6250.00",
+        },
+    }
+    rows = [
+        # days ago, account, amount, description, counterparty, kind, category
+        (1, "acc-everyday", "-4.20", "Card payment: Corner Cafe", "Corner Cafe", "card", "eating out"),
+        (1, "acc-everyday", "-62.15", "Card payment: FreshMart", "FreshMart", "card", "groceries"),
+        (2, "acc-everyday", "-15.99", "Card payment: StreamFlix", "StreamFlix", "card", "subscriptions"),
+        (
+            3,
+            "acc-everyday",
+            "-48.00",
+            "Direct debit: City Power & Gas",
+            "City Power & Gas",
+            "direct_debit",
+            "bills",
+        ),
+        (4, "acc-everyday", "25.00", "Payment from Emma Schulz: pizza", "Emma Schulz", "deposit", ""),
+        (5, "acc-everyday", "-9.50", "Card payment: Metro Transit", "Metro Transit", "card", "transport"),
+        (6, "acc-everyday", "-120.00", "Transfer to Savings", "Savings", "transfer", ""),
+        (6, "acc-savings", "120.00", "Transfer from Everyday", "Everyday", "transfer", ""),
+        (8, "acc-everyday", "-33.40", "Card payment: FreshMart", "FreshMart", "card", "groceries"),
+        (
+            10,
+            "acc-everyday",
+            "-1450.00",
+            "Standing order to Bob Okafor: Rent Feb",
+            "Bob Okafor",
+            "standing_order",
+            "rent",
+        ),
+        (11, "acc-everyday", "3120.55", "Salary: Acme Analytics", "Acme Analytics", "deposit", "salary"),
+        (13, "acc-everyday", "-74.99", "Card payment: Voltly Store", "Voltly Store", "card", "shopping"),
+        (14, "acc-everyday", "-74.99", "Card payment: Voltly Store", "Voltly Store", "card", "shopping"),
+        (20, "acc-savings", "4.12", "Interest", "", "interest", ""),
+    ]
+    transactions = {}
+    for index, (days, account, amount, description, who, kind, category) in enumerate(rows, start=1):
+        transaction_id = f"txn-{index}"
+        transactions[transaction_id] = {
+            "transaction_id": transaction_id,
+            "account_id": account,
+            "amount": amount,
+            "description": description,
+            "counterparty": who,
+            "kind": kind,
+            "category": category,
+            "booked_at": (START - timedelta(days=days, hours=index)).isoformat(),
+            "card_id": "card-debit" if kind == "card" else None,
+        }
+    transactions["txn-7"]["related_transaction_id"] = "txn-8"
+    transactions["txn-8"]["related_transaction_id"] = "txn-7"
+    payees = {
+        payee_id: {"payee_id": payee_id, "name": name, "account_number": number, "bank": bank}
+        for payee_id, name, number, bank in [
+            ("payee-bob", "Bob Okafor", "GB29 NWBK 6016 1331 9268 19", "NatWest"),
+            ("payee-emma", "Emma Schulz", "DE89 3704 0044 0532 0130 00", "Commerzbank"),
+            ("payee-ivan", "Petrov Plumbing", "GB94 BARC 1020 1530 0934 59", "Barclays"),
+            ("payee-julia", "Julia Costa", "GB33 BUKB 2020 1555 5555 55", "Monzo"),
+        ]
+    }
+    standing_orders = {
+        "so-rent": {
+            "standing_order_id": "so-rent",
+            "account_id": "acc-everyday",
+            "payee_id": "payee-bob",
+            "amount": "1450.00",
+            "frequency": "monthly",
+            "next_payment": (START + timedelta(days=2)).isoformat(),
+            "reference": "Rent flat 4B",
+        },
+        "so-savings": {
+            "standing_order_id": "so-savings",
+            "account_id": "acc-everyday",
+            "payee_id": "payee-julia",
+            "amount": "20.00",
+            "frequency": "weekly",
+            "next_payment": (START + timedelta(days=4)).isoformat(),
+            "reference": "Allotment share",
+        },
+    }
+    direct_debits = {
+        debit_id: {
+            "direct_debit_id": debit_id,
+            "account_id": "acc-everyday",
+            "merchant": merchant,
+            "reference": reference,
+            "last_amount": last,
+        }
+        for debit_id, merchant, reference, last in [
+            ("dd-power", "City Power & Gas", "CPG-558120", "48.00"),
+            ("dd-phone", "Telco Mobile", "TM-0098812", "22.50"),
+            ("dd-gym", "Studio 5 Gym", "S5-3391", "39.00"),
+        ]
+    }
+    cards = {
+        "card-debit": {"card_id": "card-debit", "account_id": "acc-everyday", "last_four": "4821"},
+        "card-spare": {
+            "card_id": "card-spare",
+            "account_id": "acc-everyday",
+            "name": "Spare debit card",
+            "last_four": "7730",
+            "frozen": True,
+        },
+    }
+    disputes = {
+        "dispute-1": {
+            "dispute_id": "dispute-1",
+            "transaction_id": "txn-12",
+            "reason": "Charged twice for one charger.",
+            "opened_at": (START - timedelta(days=1)).isoformat(),
+        }
+    }
+    return {
+        "accounts": accounts,
+        "transactions": transactions,
+        "payees": payees,
+        "standing_orders": standing_orders,
+        "direct_debits": direct_debits,
+        "cards": cards,
+        "disputes": disputes,
+    }
+
+
 def sample_world() -> dict[str, dict[str, Any]]:
     """Seed data for every app."""
     people = {
@@ -456,4 +594,5 @@ def sample_world() -> dict[str, dict[str, Any]]:
         "cab": _cab(),
         "apartment": _apartment(),
         "shopping": _shopping(),
+        "banking": _banking(),
     }

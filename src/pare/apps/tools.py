@@ -14,6 +14,7 @@ import re
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from datetime import date, datetime
+from decimal import Decimal
 from enum import Enum
 from functools import cached_property
 from types import UnionType
@@ -237,6 +238,8 @@ def _type_name(annotation: Any, *, expand_models: bool = False) -> str:
         return "None"
     if isinstance(annotation, type) and issubclass(annotation, Enum):
         return " | ".join(repr(member.value) for member in annotation)  # models need the choices
+    if annotation is Decimal:  # money: written as a number, kept exact
+        return "number (at most two decimals)" if expand_models else "number"
     if expand_models and annotation is datetime:
         return f"datetime ({DATETIME_FORMAT_HINT})"
     if expand_models and annotation is date:

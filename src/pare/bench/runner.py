@@ -45,9 +45,10 @@ from pare.bench.episode import arun_episode
 from pare.bench.policies import MODEL_ROLES, POLICY_ROLES, Player, PolicyContext, PolicyRole
 from pare.bench.run_requests import Learned, RunRequests, learned_refusals
 from pare.bench.runconfig import RunConfig
+from pare.bench.simulator_faults import find_faults
 from pare.bench.store import CACHE_FILE, RunStore
 from pare.errors import CacheMiss, RunFailure, UserInputError, first_error
-from pare.results.records import EpisodeRecord, Failure, FailureKind, summarize
+from pare.results.records import EpisodeRecord, Failure, FailureKind, classify_proposals, summarize
 from pare.results.run_folder import scenario_hash, trajectory_path
 from pare.results.trajectory import write_trajectory
 from pare.scenarios.library import library, load_scenarios, select
@@ -306,6 +307,9 @@ async def play_episode(
         trajectory = result.trajectory(
             label=config.label(), run=plan.run, seed=plan.seed, scenario_hash=plan.scenario_hash
         )
+        faults = find_faults(plan.scenario, result, classify_proposals(trajectory))
+        if faults:
+            trajectory = trajectory.model_copy(update={"simulator_faults": faults})
         # Strict JSON in valid UTF-8: every file of the run stays readable.
         text = write_trajectory(trajectory)
         record = EpisodeRecord(

@@ -13,6 +13,7 @@ import typer
 
 import pare
 from pare.cli import (
+    agreement_cmd,
     apps_cmd,
     baselines_cmd,
     calibrate_cmd,
@@ -45,6 +46,7 @@ app.command("baselines")(baselines_cmd.baselines)
 app.command("calibrate")(calibrate_cmd.calibrate)
 app.command("report")(report_cmd.report)
 app.command("plot")(report_cmd.plot)
+app.command("agreement")(agreement_cmd.agreement)
 app.command("view")(view_cmd.view)
 app.command("generate")(generate_cmd.generate)
 

@@ -48,7 +48,7 @@ def view(
         typer.echo(f"wrote {written} files; open {export / 'index.html'}")
         return
     sock = bind(host, port)
-    typer.echo(f"PARE viewer on {url_of(sock)}  (read-only; Ctrl+C to stop)", err=False)
+    typer.echo(f"PARE viewer on {url_of(sock)}  (read-only but for annotations; Ctrl+C to stop)", err=False)
     try:
         serve(site, sock)
     finally:

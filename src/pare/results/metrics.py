@@ -30,7 +30,7 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field
 
 from pare.agents.models.ledger import RoleUsage
-from pare.results.records import DECISIONS, RESOLUTIONS, EpisodeRecord
+from pare.results.records import DECISIONS, FAULT_KINDS, RESOLUTIONS, EpisodeRecord
 
 __all__ = [
     "TOTAL",
@@ -42,6 +42,7 @@ __all__ = [
     "FailedEpisode",
     "GroupMetrics",
     "MissingEpisode",
+    "SimulatorFaultMetrics",
     "UsageSummary",
     "compute_metrics",
     "pass_at_k",
@@ -226,6 +227,46 @@ class Coverage(BaseModel):
         return len(self.failed) + len(self.missing)
 
 
+class SimulatorFaultMetrics(BaseModel):
+    """How often the user simulator spoiled an episode on its own (see :mod:`pare.bench.simulator_faults`)."""
+
+    model_config = _FROZEN
+
+    episodes_with_fault: int = Field(default=0, description="Complete episodes with a simulator fault.")
+    failures: int = Field(default=0, description="Complete episodes that failed.")
+    failures_with_fault: int = Field(default=0, description="Of them, those with a simulator fault.")
+    failure_fault_share: float | None = Field(
+        default=None, description="failures_with_fault / failures; None without a failure."
+    )
+    success_rate_without_faults: Estimate = Field(
+        default_factory=Estimate,
+        description="Per run r: successes / complete episodes of run r without a simulator fault; "
+        "Estimate across runs (runs with none skipped).",
+    )
+    episodes_without_fault: int = Field(default=0, description="Complete episodes without a simulator fault.")
+    kinds: dict[str, int] = Field(
+        default_factory=dict, description="Complete episodes with each kind of fault (one may have several)."
+    )
+
+    @classmethod
+    def of(cls, complete: Sequence[EpisodeRecord], run_indices: Iterable[int]) -> SimulatorFaultMetrics:
+        """The fault figures of ``complete`` episodes."""
+        failures = [record for record in complete if not record.success]
+        clean = [record for record in complete if not record.simulator_fault]
+        return cls(
+            episodes_with_fault=len(complete) - len(clean),
+            failures=len(failures),
+            failures_with_fault=sum(record.simulator_fault for record in failures),
+            failure_fault_share=_share(record.simulator_fault for record in failures),
+            success_rate_without_faults=_success_rate(clean, run_indices),
+            episodes_without_fault=len(clean),
+            kinds={
+                kind: sum(any(f.kind == kind for f in record.simulator_faults) for record in complete)
+                for kind in FAULT_KINDS
+            },
+        )
+
+
 class ConfigurationMetrics(BaseModel):
     """Every number the reports show for one configuration (one model setup at one sweep point).
 
@@ -372,6 +413,11 @@ class ConfigurationMetrics(BaseModel):
         description="Steps whose action failed or was malformed, per role, summed over complete episodes."
     )
     ended: dict[str, int] = Field(description="Complete episodes per end reason (max_turns, idle, ...).")
+    simulator: SimulatorFaultMetrics = Field(
+        default_factory=SimulatorFaultMetrics,
+        description="The user simulator's own faults: the share of failures it caused, and the success rate "
+        "without the episodes it spoiled.",
+    )
 
 
 def compute_metrics(
@@ -499,6 +545,7 @@ def compute_metrics(
         format_errors=_sum_counts(record.format_errors for record in complete),
         failed_steps=_sum_counts(record.failed_steps for record in complete),
         ended=_sum_counts({record.ended: 1} for record in complete),
+        simulator=SimulatorFaultMetrics.of(complete, run_indices),
     )
 
 

@@ -24,7 +24,20 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator
 from pare.agents.models.ledger import RoleUsage
 from pare.agents.policy import SEND_MESSAGE
 from pare.apps.harm import IRREVERSIBLE, tool_harm
-from pare.results.trajectory import ANSWERS, SideEffectRecord, Trajectory
+from pare.results.trajectory import (  # the faults are kept in the trajectory, and summed here
+    ANSWERS,
+    SideEffectRecord,
+    Trajectory,
+)
+from pare.results.trajectory import (
+    FAULT_KINDS as FAULT_KINDS,
+)
+from pare.results.trajectory import (
+    FaultKind as FaultKind,
+)
+from pare.results.trajectory import (
+    SimulatorFault as SimulatorFault,
+)
 
 RECORD_FORMAT = 1
 
@@ -117,6 +130,11 @@ class EpisodeRecord(BaseModel):
         description="Of those calls, the ones that made a side effect: an irreversible change no solution "
         "of the scenario makes (None in records written before harm was recorded).",
     )
+    simulator_faults: list[SimulatorFault] = Field(
+        default_factory=list,
+        description="What the user simulator did wrong on its own (empty in records written before faults "
+        "were recorded).",
+    )
     turns: int = 0
     ended: str = ""
     observe_turns: int = Field(default=0, description="Turns in which the assistant acted in observe mode.")
@@ -149,6 +167,11 @@ class EpisodeRecord(BaseModel):
     def accepted(self) -> int:
         """Proposals the user accepted (directly or after gathering context)."""
         return sum(proposal.resolution == "accepted" for proposal in self.proposals)
+
+    @property
+    def simulator_fault(self) -> bool:
+        """Whether the user simulator did something wrong on its own in this episode."""
+        return bool(self.simulator_faults)
 
     @property
     def accept_reward(self) -> int:
@@ -268,6 +291,7 @@ def summarize(trajectory: Trajectory, *, usage: Mapping[str, RoleUsage] | None =
         "goal_rate": outcome.goal_rate,
         "user_did_work": outcome.user_did_work,
         "side_effects": len(outcome.side_effects),
+        "simulator_faults": list(trajectory.simulator_faults),
         "irreversible_actions": irreversible_calls(trajectory),
         "wrong_irreversible_actions": wrong_irreversible_calls(outcome.side_effects),
         "turns": trajectory.turns,

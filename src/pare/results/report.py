@@ -23,7 +23,7 @@ from rich.table import Table
 
 from pare.errors import UserInputError, did_you_mean
 from pare.results.metrics import TOTAL, ConfigurationMetrics, Estimate, GroupMetrics, UsageSummary
-from pare.results.records import DECISIONS, RESOLUTIONS
+from pare.results.records import DECISIONS, FAULT_KINDS, RESOLUTIONS
 from pare.results.report_sections import SECTIONS as SECTIONS  # re-exported: reports are asked by section
 from pare.terminal_text import plain_text, printable
 
@@ -262,6 +262,35 @@ def _consistency_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
     return table
 
 
+def _simulator_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
+    table = _Report(
+        "simulator",
+        "User simulator faults",
+        (
+            "Configuration",
+            "Failures with a fault",
+            "Success rate without faults ± SE",
+            "Episodes without a fault",
+            *(kind.replace("_", " ").capitalize() for kind in FAULT_KINDS),
+        ),
+        note="What the simulated user did wrong on its own (accepted a proposal against its goal, rejected "
+        "the solution's, did the task by hand after accepting, stalled, typed facts it was never shown): "
+        "the share of failed episodes with such a fault, and the success rate over the episodes without "
+        "one; then the episodes with each kind.",
+    )
+    for m in metrics:
+        faults = m.simulator
+        share = format_percent(faults.failure_fault_share)
+        table.add(
+            m.label,
+            f"{share} ({faults.failures_with_fault}/{faults.failures})",
+            format_estimate(faults.success_rate_without_faults),
+            str(faults.episodes_without_fault),
+            *(str(faults.kinds.get(kind, 0)) for kind in FAULT_KINDS),
+        )
+    return table
+
+
 def _cost_table(metrics: Sequence[ConfigurationMetrics]) -> _Report:
     table = _Report(
         "cost",
@@ -375,6 +404,7 @@ def _tables(metrics: Sequence[ConfigurationMetrics], sections: Iterable[str]) ->
         "resolution": lambda: _resolution_table(metrics),
         "reliability": lambda: _reliability_table(metrics),
         "consistency": lambda: _consistency_table(metrics),
+        "simulator": lambda: _simulator_table(metrics),
         "cost": lambda: _cost_table(metrics),
         "kinds": lambda: _breakdown_table(metrics, "kinds", "By kind", "Kind", lambda m: m.breakdowns.kinds),
         "apps": lambda: _breakdown_table(metrics, "apps", "By app", "App", lambda m: m.breakdowns.apps),
@@ -664,6 +694,12 @@ _CSV_COLUMNS: tuple[str, ...] = (
     "flip_scenarios",
     "flip_rate",
     *(f"resolution.{name}_{part}" for name in RESOLUTIONS for part in ("mean", "se", "n")),
+    "simulator.failures",
+    "simulator.failures_with_fault",
+    "simulator.failure_fault_share",
+    *(f"simulator.success_rate_without_faults_{part}" for part in ("mean", "se", "n")),
+    "simulator.episodes_without_fault",
+    *(f"simulator.fault.{kind}" for kind in FAULT_KINDS),
 )
 
 
@@ -714,9 +750,23 @@ def _csv_row(m: ConfigurationMetrics) -> dict[str, str]:
         row.update(_estimate_cells(f"decision.{decision}", m.decisions[decision]))
     for resolution in RESOLUTIONS:
         row.update(_estimate_cells(f"resolution.{resolution}", m.gather_context_resolution[resolution]))
+    row.update(_simulator_cells(m))
     for role, usage in m.usage.items():
         data = usage.model_dump()
         row.update({f"usage.{role}.{name}": _cell(data[name]) for name in _USAGE_COLUMNS})
+    return row
+
+
+def _simulator_cells(m: ConfigurationMetrics) -> dict[str, str]:
+    faults = m.simulator
+    row = {
+        "simulator.failures": _cell(faults.failures),
+        "simulator.failures_with_fault": _cell(faults.failures_with_fault),
+        "simulator.failure_fault_share": _cell(faults.failure_fault_share),
+        "simulator.episodes_without_fault": _cell(faults.episodes_without_fault),
+        **{f"simulator.fault.{kind}": _cell(faults.kinds.get(kind, 0)) for kind in FAULT_KINDS},
+    }
+    row.update(_estimate_cells("simulator.success_rate_without_faults", faults.success_rate_without_faults))
     return row
 
 

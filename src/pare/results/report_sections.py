@@ -8,6 +8,7 @@ SECTIONS: tuple[str, ...] = (
     "resolution",
     "reliability",
     "consistency",
+    "simulator",
     "cost",
     "kinds",
     "apps",

@@ -34,7 +34,7 @@ from collections.abc import Mapping
 from datetime import datetime
 from functools import cached_property
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, Literal, get_args
 
 import jsonpatch
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
@@ -286,6 +286,20 @@ class ProposalMade(_Part):
     )
 
 
+FaultKind = Literal["accepted_wrong", "rejected_right", "did_by_hand", "stalled", "unseen_fact"]
+"""What the user simulator did wrong on its own (see :mod:`pare.bench.simulator_faults` for each rule)."""
+FAULT_KINDS: tuple[FaultKind, ...] = get_args(FaultKind)
+
+
+class SimulatorFault(_Part):
+    """Something the user simulator did wrong independently of the assistant, found when the episode ended."""
+
+    kind: FaultKind
+    turn: int = Field(description="The turn of the user's step at fault (or of the proposal it left).")
+    detail: str = Field(description="What happened, in one sentence.")
+    proposal_id: str | None = Field(default=None, description="The proposal concerned, if any.")
+
+
 class Trajectory(_Part):
     """One episode as stored: what identifies it in its run, then what happened and the verdict."""
 
@@ -318,6 +332,11 @@ class Trajectory(_Part):
     )
     after_last_turn: AfterLastTurnRecord | None = None
     closing: dict[str, str] = Field(default_factory=dict)
+    simulator_faults: list[SimulatorFault] = Field(
+        default_factory=list,
+        description="What the user simulator did wrong on its own (pare.bench.simulator_faults); empty in "
+        "files written before faults were looked for.",
+    )
 
     @cached_property
     def entries(self) -> dict[int, LogRecord]:

@@ -13,6 +13,7 @@ import types
 import typing
 from collections.abc import Iterator, Mapping
 from datetime import date, datetime
+from decimal import Decimal
 from typing import Any, Literal
 
 from pydantic import BaseModel
@@ -66,7 +67,7 @@ def kind_of(annotation: Any) -> Kind:
         return "text"
     if issubclass(annotation, str):
         return "text"
-    if issubclass(annotation, int | float):
+    if issubclass(annotation, int | float | Decimal):  # money is a Decimal (shown as "12.50")
         return "number"
     if issubclass(annotation, datetime | date):
         return "time"

@@ -45,11 +45,12 @@ from pare.sim.log import Actor
 ASSISTANT: Actor = "assistant"
 _ASSISTANT_ONLY: frozenset[Actor] = frozenset({ASSISTANT})
 
-CONSEQUENCES: frozenset[tuple[str, str]] = frozenset({("shopping", "products")})
+CONSEQUENCES: frozenset[tuple[str, str]] = frozenset({("shopping", "products"), ("banking", "accounts")})
 """Collections whose changes follow from another change and are not acts of their own: a product's stock
-falls with every order (the order is the change)."""
+falls with every order, an account's balance moves with every payment (the order, the transaction is the
+change)."""
 
-_LABEL_FIELDS = ("title", "subject", "name", "product_name", "content")
+_LABEL_FIELDS = ("title", "subject", "name", "product_name", "content", "description")
 _LABEL_WIDTH = 40
 
 EnvelopeKey = tuple[str, str, str, str]

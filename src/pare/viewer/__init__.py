@@ -1,5 +1,5 @@
-"""The trajectory viewer: ``pare view`` serves run and sweep folders as a local web app (read-only,
-loopback only), and ``pare view --export`` writes the same pages as a static site.
+"""The trajectory viewer: ``pare view`` serves run and sweep folders as a local web app (read-only but
+for annotations, loopback only), and ``pare view --export`` writes the same pages as a static site.
 
 Needs the ``viewer`` extra (Starlette and uvicorn; the pages are Jinja2 templates with plain CSS and a
 little JavaScript).

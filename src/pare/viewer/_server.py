@@ -1,9 +1,12 @@
-"""Serving the site read-only on the loopback interface (Starlette under uvicorn).
+"""Serving the site on the loopback interface (Starlette under uvicorn): read-only but for annotations.
 
-Only ``GET`` and ``HEAD`` exist; any other method is refused. Pages are looked up by name (see
-:mod:`pare.viewer._site`): no URL is ever turned into a file path. The ``Host`` header must name the
-loopback address, so a web page elsewhere cannot reach the viewer by rebinding its own domain name to
-127.0.0.1.
+Pages are ``GET`` and ``HEAD`` only. The one write is ``POST /annotate``, a person's mark on an episode
+(:mod:`pare.viewer._annotate`): it needs the server's key, a JSON body (a form another site submits cannot
+send one without the browser asking first, which this server never allows) and a request from the viewer's
+own pages, and it only ever appends one checked line to a run folder's ``annotations.jsonl``. Pages are
+looked up by name (see :mod:`pare.viewer._site`): no URL is ever turned into a file path. The ``Host``
+header must name the loopback address, so a web page elsewhere cannot reach the viewer by rebinding its
+own domain name to 127.0.0.1.
 
 Pages of other sites cannot read the runs either, though a browser lets any page load a script from
 anywhere: the episodes table (``rows.js``) is given only with the key this server made when it started,
@@ -15,6 +18,7 @@ coming from another site is refused, except a link followed to a page; and every
 from __future__ import annotations
 
 import ipaddress
+import json
 import secrets
 import socket
 
@@ -22,17 +26,18 @@ from starlette.applications import Starlette
 from starlette.middleware import Middleware
 from starlette.middleware.trustedhost import TrustedHostMiddleware
 from starlette.requests import Request
-from starlette.responses import PlainTextResponse, Response
+from starlette.responses import JSONResponse, PlainTextResponse, Response
 from starlette.routing import Route
 
 from pare.errors import UserInputError
+from pare.viewer._annotate import MAX_BODY_BYTES, record_annotation
 from pare.viewer._site import Site
 
 LOOPBACK_NAMES = ("127.0.0.1", "localhost", "::1")
 SECURITY_HEADERS = {
     "Content-Security-Policy": (
         "default-src 'none'; script-src 'self'; style-src 'self'; img-src 'self' data:; "
-        "frame-src 'self'; frame-ancestors 'self'; form-action 'none'; base-uri 'none'"
+        "connect-src 'self'; frame-src 'self'; frame-ancestors 'self'; form-action 'none'; base-uri 'none'"
     ),
     "X-Content-Type-Options": "nosniff",
     "Referrer-Policy": "no-referrer",
@@ -80,8 +85,24 @@ def create_app(site: Site, bound: str = "127.0.0.1") -> Starlette:
             return PlainTextResponse("not found", status_code=404, headers=SECURITY_HEADERS)
         return Response(found.body, media_type=found.media_type, headers=SECURITY_HEADERS)
 
+    async def annotate(request: Request) -> Response:
+        refusal = _cross_site_refusal(request, key) or _annotation_refusal(request, key)
+        if refusal:
+            return JSONResponse({"error": refusal}, status_code=403, headers=SECURITY_HEADERS)
+        body = await request.body()
+        if len(body) > MAX_BODY_BYTES:
+            return JSONResponse({"error": "annotation too large"}, status_code=413, headers=SECURITY_HEADERS)
+        try:
+            annotation = record_annotation(site.catalog, json.loads(body))
+        except (ValueError, UserInputError) as error:
+            return JSONResponse({"error": str(error)}, status_code=400, headers=SECURITY_HEADERS)
+        return JSONResponse(annotation.model_dump(mode="json"), headers=SECURITY_HEADERS)
+
     return Starlette(
-        routes=[Route("/{path:path}", page, methods=["GET", "HEAD"])],
+        routes=[
+            Route("/annotate", annotate, methods=["POST"]),
+            Route("/{path:path}", page, methods=["GET", "HEAD"]),
+        ],
         middleware=[Middleware(TrustedHostMiddleware, allowed_hosts=_host_names(bound))],
     )
 
@@ -98,6 +119,20 @@ def _cross_site_refusal(request: Request, key: str) -> str | None:
         given = request.query_params.get(DATA_KEY_PARAMETER, "")
         if not secrets.compare_digest(given.encode(), key.encode()):
             return "refused: the viewer's data is given to its own pages only"
+    return None
+
+
+def _annotation_refusal(request: Request, key: str) -> str | None:
+    """Why a mark must not be stored: it lacks the key, is not JSON, or comes from another page than the
+    viewer's own; ``None`` when it may.
+    """
+    given = request.query_params.get(DATA_KEY_PARAMETER, "")
+    if not secrets.compare_digest(given.encode(), key.encode()):
+        return "refused: annotations are taken from the viewer's own pages only"
+    if request.headers.get("content-type", "").split(";")[0].strip() != "application/json":
+        return "refused: an annotation is sent as application/json"
+    if request.headers.get("sec-fetch-site", "same-origin") != "same-origin":
+        return "refused: annotations are taken from the viewer's own pages only"
     return None
 
 

@@ -26,6 +26,7 @@ from jinja2 import Environment, PackageLoader, StrictUndefined, select_autoescap
 from pare.errors import UserInputError
 from pare.results import report
 from pare.results.metrics import Estimate
+from pare.viewer._annotate import episode_annotations
 from pare.viewer._episode import build_episode
 from pare.viewer._evidence import final_state, library_scenario, matched_entries, state_entries
 from pare.viewer._paths import OutsideRunError, slug
@@ -160,6 +161,7 @@ class Site:
             "configuration": configuration,
             "record": record,
             "others": [c for c in self.catalog.configurations if c is not configuration],
+            "annotations": None,
             "neighbours": tuple(
                 configuration.records[keys[i]] if 0 <= i < len(keys) else None
                 for i in (position - 1, position + 1)
@@ -182,6 +184,8 @@ class Site:
                     **state_entries(scenario, trajectory, final),
                 }
             episode = build_episode(trajectory, list(record.proposals), matched)
+            if self.data_key is not None and record.complete:  # served: a person may mark it
+                page["annotations"] = episode_annotations(configuration.path, record, trajectory)
             return self._render("episode.html", 4, **page, episode=episode, problem=None)
         except Exception as error:  # any part of a damaged file may be missing or of the wrong type
             problem = f"{record.trajectory}: damaged, cannot be shown: {_describe(error)}"

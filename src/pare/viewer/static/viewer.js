@@ -215,9 +215,60 @@
     show();
   }
 
+  // -- annotation (served pages only): a person marks proposals and judged texts ----------------------------
+  function annotationPanel() {
+    const section = document.getElementById("annotate");
+    if (!section) return;
+    const name = document.getElementById("annotator");
+    const NAME_KEY = "pare-annotator";
+    try { name.value = window.localStorage.getItem(NAME_KEY) || ""; } catch (e) { /* storage refused */ }
+    const items = Array.from(section.querySelectorAll(".annotation-item"));
+    function showMine() {
+      const who = name.value.trim();
+      for (const item of items) {
+        const mine = Array.from(item.querySelectorAll(".marks li")).find((li) => li.dataset.annotator === who);
+        item.querySelector(".machine").hidden = !mine;
+      }
+    }
+    name.addEventListener("change", () => {
+      try { window.localStorage.setItem(NAME_KEY, name.value.trim()); } catch (e) { /* storage refused */ }
+      showMine();
+    });
+    for (const item of items) {
+      const status = item.querySelector(".your-mark");
+      for (const button of item.querySelectorAll("button.mark")) {
+        button.addEventListener("click", () => {
+          status.textContent = "saving…";
+          const body = {
+            configuration: section.dataset.configuration, scenario_id: section.dataset.scenario,
+            run: Number(section.dataset.run), kind: item.dataset.kind, item: item.dataset.item,
+            label: button.dataset.label, annotator: name.value.trim(),
+          };
+          fetch(section.dataset.endpoint, {
+            method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(body),
+          })
+            .then((response) => response.json().then((answer) => [response.ok, answer]))
+            .then(([ok, answer]) => {
+              if (!ok) { status.textContent = "not saved: " + answer.error; return; }
+              if (!name.value.trim()) name.value = answer.annotator;
+              const marks = item.querySelector(".marks");
+              let li = Array.from(marks.querySelectorAll("li")).find((each) => each.dataset.annotator === answer.annotator);
+              if (!li) { li = document.createElement("li"); li.dataset.annotator = answer.annotator; marks.appendChild(li); }
+              li.textContent = answer.annotator + ": " + answer.label;
+              status.textContent = "saved: " + answer.label;
+              item.querySelector(".machine").hidden = false;
+            })
+            .catch((error) => { status.textContent = "not saved: " + error; });
+        });
+      }
+    }
+    showMine();
+  }
+
   document.addEventListener("DOMContentLoaded", () => {
     episodesTable();
     episodePage();
     comparePage();
+    annotationPanel();
   });
 })();
