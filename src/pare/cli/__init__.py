@@ -19,6 +19,7 @@ from pare.cli import (
     calibrate_cmd,
     doctor_cmd,
     generate_cmd,
+    regrade_cmd,
     report_cmd,
     run_cmd,
     scenarios_cmd,
@@ -43,6 +44,7 @@ app.command("run")(run_cmd.run)
 app.command("doctor")(doctor_cmd.doctor)
 app.command("sweep")(run_cmd.sweep)
 app.command("baselines")(baselines_cmd.baselines)
+app.command("regrade")(regrade_cmd.regrade)
 app.command("calibrate")(calibrate_cmd.calibrate)
 app.command("report")(report_cmd.report)
 app.command("plot")(report_cmd.plot)

@@ -44,7 +44,7 @@ RECORD_FORMAT = 1
 Decision = Literal["accept", "reject", "gather_context", "truncated"]
 Resolution = Literal["accepted", "rejected", "expired", "truncated"]
 EpisodeStatus = Literal["complete", "failed"]
-FailureKind = Literal["provider_unavailable", "cache_miss", "internal_error"]
+FailureKind = Literal["provider_unavailable", "cache_miss", "internal_error", "not_regradable"]
 
 DECISIONS: tuple[Decision, ...] = ("accept", "reject", "gather_context", "truncated")
 RESOLUTIONS: tuple[Resolution, ...] = ("accepted", "rejected", "expired", "truncated")
@@ -64,6 +64,27 @@ class ProposalRecord(BaseModel):
     user_steps_before_answer: int = Field(
         default=0, description="User steps between the proposal and its answer (or its end)."
     )
+
+
+class PreviousVerdict(BaseModel):
+    """What a re-graded episode's record said before ``pare regrade`` judged it again."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+    success: bool
+    goals: dict[str, bool] = Field(default_factory=dict)
+    side_effects: int = 0
+    scenario_hash: str = Field(description="The scenario version the episode was judged by.")
+
+    @classmethod
+    def of(cls, record: EpisodeRecord) -> PreviousVerdict:
+        """The verdict ``record`` holds."""
+        return cls(
+            success=record.success,
+            goals=dict(record.goals),
+            side_effects=record.side_effects,
+            scenario_hash=record.scenario_hash,
+        )
 
 
 class Failure(BaseModel):
@@ -151,6 +172,9 @@ class EpisodeRecord(BaseModel):
     )
     usage: dict[str, RoleUsage] = Field(default_factory=dict, description="Model usage per role.")
     trajectory: str | None = Field(default=None, description="The trajectory file, relative to the run.")
+    regraded_from: PreviousVerdict | None = Field(
+        default=None, description="In a re-graded run (pare regrade): the verdict the original run gave."
+    )
     wall_s: float = Field(default=0.0, description="Wall-clock seconds the episode took (not simulated).")
 
     @property

@@ -25,7 +25,8 @@ def episode_href(record: EpisodeRecord) -> str:
 
 def failure_labels(record: EpisodeRecord) -> list[str]:
     """What went wrong in an episode apart from its verdict: not run (and why), failed steps and
-    malformed answers per role, a user who did the work by hand, side effects of the assistant's.
+    malformed answers per role, a user who did the work by hand, side effects of the assistant's, a
+    verdict a re-grade changed.
     """
     labels = []
     if record.failure is not None:
@@ -38,6 +39,9 @@ def failure_labels(record: EpisodeRecord) -> list[str]:
         labels.append("user did the work")
     if record.side_effects:
         labels.append(f"side effects: {record.side_effects}")
+    before = record.regraded_from
+    if before is not None and (before.success != record.success or before.goals != record.goals):
+        labels.append(f"re-graded: was {'success' if before.success else 'failure'}")
     return labels
 
 
