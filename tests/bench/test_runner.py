@@ -17,8 +17,9 @@ from typing import Any
 import pytest
 
 import pare.bench.runner as runner_module
+from pare.bench.build import EpisodePlan
 from pare.bench.runconfig import build_config
-from pare.bench.runner import EpisodeOutput, EpisodePlan, run_benchmark
+from pare.bench.runner import EpisodeOutput, run_benchmark
 from pare.bench.store import RunStore
 from pare.cli import main
 from pare.errors import ProviderUnavailable, UserInputError

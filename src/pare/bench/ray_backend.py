@@ -16,16 +16,10 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from pare.bench.build import EpisodePlan
 from pare.bench.run_requests import Learned, RunRequests
 from pare.bench.runconfig import RunConfig
-from pare.bench.runner import (
-    REPORT_INTERVAL_S,
-    EpisodePlan,
-    LongestFirst,
-    ProgressSink,
-    play_apart,
-    report_written,
-)
+from pare.bench.runner import REPORT_INTERVAL_S, LongestFirst, ProgressSink, play_apart, report_written
 from pare.bench.store import RunStore
 from pare.errors import UserInputError
 from pare.install import install_command

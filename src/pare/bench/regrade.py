@@ -30,9 +30,9 @@ from typing import Any
 
 from pare.agents.models.config import ModelConfig
 from pare.agents.models.ledger import UsageLedger
+from pare.bench.build import EpisodeModel, RunModels
 from pare.bench.grading import grade
 from pare.bench.runconfig import Models, RunConfig
-from pare.bench.runner import EpisodeModel, RunModels
 from pare.bench.store import CACHE_FILE, provenance
 from pare.env import EnvConfig
 from pare.errors import UserInputError

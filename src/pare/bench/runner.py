@@ -1,4 +1,5 @@
-"""Many episodes: plan them, play them concurrently, store each as it finishes, resume what is missing.
+"""The batch layer of a run: plan its episodes, play them concurrently, store each as it finishes, resume
+what is missing. What plays each episode comes from the build layer (:mod:`pare.bench.build`).
 
 The unit of work is one episode: a scenario, a run index (1 to k) and the configuration. Episodes run as
 asyncio tasks under a bound (model calls are the bottleneck, the simulation itself takes well under a
@@ -32,21 +33,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
 
-from pare.agents.models.cache import ModelCallCache
-from pare.agents.models.client import ModelClient
-from pare.agents.models.config import ModelConfig
 from pare.agents.models.ledger import UsageLedger
-from pare.agents.models.limiter import EndpointLimiter, LimiterState
-from pare.agents.models.request_params import RequestParams
-from pare.agents.models.types import ChatMessage, Completion
-from pare.agents.policy import AssistantPolicy, UserPolicy
+from pare.agents.models.limiter import LimiterState
 from pare.bench import collector
+from pare.bench.build import EpisodePlan, RunModels, check_credentials, check_policies
 from pare.bench.episode import arun_episode
-from pare.bench.policies import MODEL_ROLES, POLICY_ROLES, Player, PolicyContext, PolicyRole
 from pare.bench.run_requests import Learned, RunRequests, learned_refusals
 from pare.bench.runconfig import RunConfig
 from pare.bench.simulator_faults import find_faults
-from pare.bench.store import CACHE_FILE, RunStore
+from pare.bench.store import RunStore
 from pare.errors import CacheMiss, RunFailure, UserInputError, first_error
 from pare.results.records import EpisodeRecord, Failure, FailureKind, classify_proposals, summarize
 from pare.results.run_folder import scenario_hash, trajectory_path
@@ -55,8 +50,7 @@ from pare.scenarios.library import library, load_scenarios, select
 from pare.scenarios.model import Scenario
 
 if TYPE_CHECKING:  # imported where a run has models: an oracle run never loads the actors or the prompts
-    from pare.agents.llm import ChatModel
-    from pare.scenarios.checks import Judge
+    pass
 
 RETRY_PAUSE_S = 2.0
 """Pause before an episode that failed for infrastructure reasons runs again (doubling each time)."""
@@ -65,26 +59,6 @@ REPORT_INTERVAL_S = 0.2
 
 
 # -- planning ---------------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class EpisodePlan:
-    """One episode to play."""
-
-    scenario: Scenario
-    run: int
-    seed: int
-    scenario_hash: str
-
-    @property
-    def key(self) -> tuple[str, int]:
-        """The episode's key in the store."""
-        return (self.scenario.id, self.run)
-
-    @property
-    def namespace(self) -> str:
-        """The model-call cache namespace: each run of a scenario samples its models on its own."""
-        return f"{self.scenario.id}/run-{self.run}"
-
-
 def select_scenarios(config: RunConfig) -> dict[str, Scenario]:
     """The scenarios the configuration names, by id (an empty selection is an error)."""
     selection = config.scenarios
@@ -123,125 +97,6 @@ def plan_episodes(
         for run in range(1, config.runs + 1)
         for scenario_id, scenario in sorted(scenarios.items())
     ]
-
-
-# -- models -----------------------------------------------------------------------------------------------
-@dataclass
-class EpisodeModel:
-    """A role's model as one episode sees it: the run's shared client, this episode's cache namespace,
-    and a ledger of this episode's own calls.
-    """
-
-    client: ModelClient
-    namespace: str
-    ledger: UsageLedger
-
-    async def complete(
-        self, messages: Sequence[ChatMessage], tools: Sequence[dict[str, Any]] | None = None
-    ) -> Completion:
-        """The model's answer (see :meth:`ModelClient.complete`)."""
-        return await self.client.complete(messages, tools, namespace=self.namespace, ledger=self.ledger)
-
-
-@dataclass
-class JudgeModel:
-    """A judge's model outside a run (the self-test gate asks it about reactive events' texts): each call
-    gets a client of its own and closes it, so there is nothing to close afterwards. In a run the judge
-    calls through the run's shared client instead (:meth:`RunModels.actors`), under its endpoint's limit.
-    """
-
-    config: ModelConfig
-    cache: ModelCallCache | None
-    namespace: str
-    ledger: UsageLedger
-    params: RequestParams | None = None
-    """The run's request parameters for the judge (what one call learns, the next ones know)."""
-
-    async def complete(
-        self, messages: Sequence[ChatMessage], tools: Sequence[dict[str, Any]] | None = None
-    ) -> Completion:
-        """The judge's answer."""
-        async with ModelClient(self.config, "judge", self.cache, params=self.params) as client:
-            return await client.complete(messages, tools, namespace=self.namespace, ledger=self.ledger)
-
-
-@dataclass
-class RunModels:
-    """The model clients of one run (one per configured role), shared by its episodes."""
-
-    config: RunConfig
-    cache: ModelCallCache | None
-    ledger: UsageLedger = field(default_factory=UsageLedger)
-    clients: dict[str, ModelClient] = field(default_factory=dict)
-    requests: RunRequests = field(default_factory=RunRequests)
-    """What each role's requests carry, shared by the role's clients."""
-    throttling: list[LimiterState] = field(default_factory=list)
-    """The endpoints' limiters as the run left them (set when the local backend finishes)."""
-    players: dict[PolicyRole, Player] = field(default_factory=dict)
-    """Each role's policy, resolved on the first episode (by name: in a Ray worker too)."""
-
-    @classmethod
-    def create(cls, config: RunConfig, run_dir: Path, requests: RunRequests | None = None) -> RunModels:
-        """Clients for every configured role, with the run's cache, sending ``requests`` (default: what is
-        known about each role's model beforehand).
-        """
-        cache = None
-        if config.models.roles() and config.cache != "off":
-            cache = ModelCallCache(
-                Path(config.cache_path) if config.cache_path else run_dir / CACHE_FILE, config.cache
-            )
-        models = cls(config, cache, requests=requests or RunRequests.create(config))
-        for role, model in config.models.roles().items():
-            params = models.requests.params[role]
-            models.clients[role] = ModelClient(model, role, cache, models.ledger, params=params)
-        return models
-
-    def limiters(self) -> list[EndpointLimiter]:
-        """The running loop's limiter of each endpoint the clients call (roles sharing one share it)."""
-        found: dict[int, EndpointLimiter] = {}
-        for client in self.clients.values():
-            limiter = client.limiter()
-            found.setdefault(id(limiter), limiter)
-        return list(found.values())
-
-    def limiter_states(self) -> list[LimiterState]:
-        """A snapshot of every endpoint's limiter (see :meth:`limiters`)."""
-        return [limiter.state() for limiter in self.limiters()]
-
-    async def aclose(self) -> None:
-        """Close every client's connections and the cache's."""
-        for client in self.clients.values():
-            await client.aclose()
-        if self.cache is not None:
-            self.cache.close()
-
-    def actors(
-        self, plan: EpisodePlan, ledger: UsageLedger
-    ) -> tuple[UserPolicy, AssistantPolicy, Judge | None]:
-        """The user, the assistant and the judge of one episode, built by the policies the configuration
-        names (by default: models where configured, else the oracle) from this episode's models.
-        """
-        config = self.config
-        models: dict[str, ChatModel] = {
-            role: EpisodeModel(client, plan.namespace, ledger) for role, client in self.clients.items()
-        }
-        configs = config.models.roles()
-        if not self.players:
-            self.players = {role: Player.resolve(role, config.policy(role)) for role in POLICY_ROLES}
-        built: dict[PolicyRole, Any] = {}
-        for role, player in self.players.items():
-            names = MODEL_ROLES[role]
-            context = PolicyContext(
-                role=role,
-                scenario=plan.scenario,
-                run=plan.run,
-                seed=plan.seed,
-                models={name: models[name] for name in names if name in models},
-                model_configs={name: configs[name] for name in names if name in configs},
-                max_format_retries=config.protocol.max_format_retries,
-            )
-            built[role] = player.build(context)
-        return built["user"], built["assistant"], built["judge"]
 
 
 # -- one episode ------------------------------------------------------------------------------------------
@@ -557,21 +412,6 @@ async def run_local(
         models.throttling = models.limiter_states()
         await models.aclose()
     return written
-
-
-def check_policies(config: RunConfig) -> None:
-    """Fail before anything runs (or any folder is made) when a role's policy cannot be found: an unknown
-    name, a module that does not import, an attribute it lacks (what each factory returns is checked as
-    the first episode builds it).
-    """
-    for role in POLICY_ROLES:
-        Player.resolve(role, config.policy(role))
-
-
-def check_credentials(config: RunConfig) -> None:
-    """Fail before anything runs (or any folder is made) when a role's API key is not in the environment."""
-    for role, model in config.models.roles().items():
-        ModelClient(model, role).api_key()
 
 
 def run_benchmark(

@@ -64,7 +64,8 @@ def baselines(
     Each baseline is one run (resumable) in its own folder under OUTPUT, with the user (the oracle, or
     --user-model) deciding as in any run; `pare report RUN OUTPUT` then shows a model beside its floor.
     """
-    from pare.bench.runner import check_policies, run_benchmark
+    from pare.bench.build import check_policies
+    from pare.bench.runner import run_benchmark
     from pare.cli.report_cmd import collect_metrics
     from pare.results.report import render_terminal
     from pare.scenarios.baselines import BASELINES

@@ -15,8 +15,9 @@ if TYPE_CHECKING:
 
 def print_plan(config: RunConfig, console: Console, *, as_json: bool = False) -> None:
     """Plan the run ``config`` describes (no provider called, no folder made) and print it."""
+    from pare.bench.build import check_policies
     from pare.bench.plan_estimate import plan_run
-    from pare.bench.runner import check_policies, select_scenarios
+    from pare.bench.runner import select_scenarios
     from pare.terminal_text import markup_safe
 
     check_policies(config)

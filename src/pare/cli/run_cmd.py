@@ -264,7 +264,8 @@ def run(
 
     With no model configured, the scenarios' oracle plays both roles: the whole pipeline, offline.
     """
-    from pare.bench.runner import check_policies, run_benchmark
+    from pare.bench.build import check_policies
+    from pare.bench.runner import run_benchmark
     from pare.terminal_text import make_console, markup_safe
 
     if output_format not in ("text", "json"):

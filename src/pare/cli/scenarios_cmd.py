@@ -371,7 +371,7 @@ def self_test(
     if judge is not None:
         from pare.agents.judge import ModelJudge
         from pare.agents.models.ledger import UsageLedger
-        from pare.bench.runner import JudgeModel
+        from pare.bench.build import JudgeModel
 
         model_judge = ModelJudge(JudgeModel(judge, None, f"gate/{scenario.id}", UsageLedger()), judge.model)
     verdict = check_scenario(scenario, judge=model_judge, mutants=mutants)

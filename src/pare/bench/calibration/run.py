@@ -28,6 +28,7 @@ from pare import __version__
 from pare.agents.models.ledger import UsageLedger
 from pare.agents.models.secrets import redact_secrets
 from pare.bench._store_writer import write_atomically
+from pare.bench.build import EpisodeModel, RunModels
 from pare.bench.calibration.cases import (
     CASE_KINDS,
     PER_SCENARIO,
@@ -38,7 +39,7 @@ from pare.bench.calibration.cases import (
 from pare.bench.calibration.play import MAX_STEPS, play_case
 from pare.bench.policies import MODEL_ROLES, Player, PolicyContext
 from pare.bench.runconfig import RunConfig, slug
-from pare.bench.runner import EpisodeModel, RunModels, select_scenarios
+from pare.bench.runner import select_scenarios
 from pare.bench.store import CACHE_FILE, provenance
 from pare.errors import CacheMiss, RunFailure, UserInputError
 from pare.output_paths import make_output_folder
