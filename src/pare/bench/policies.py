@@ -151,6 +151,12 @@ def _silent_user(context: PolicyContext) -> Any:
     return SilentUser()
 
 
+def _human_user(context: PolicyContext) -> Any:
+    raise UserInputError(
+        f"the '{HUMAN}' user is a person: it plays through 'pare play SCENARIO', which asks them each action"
+    )
+
+
 def _oracle_assistant(context: PolicyContext) -> Any:
     from pare.scenarios.oracle import OracleAssistant
 
@@ -194,6 +200,8 @@ class BuiltIn:
 
 MODEL = "model"
 ORACLE = "oracle"
+HUMAN = "human"
+"""A person in the user's seat (``pare play``); a run of many episodes cannot ask one."""
 DETERMINISTIC = "deterministic"
 
 BUILT_IN: dict[PolicyRole, dict[str, BuiltIn]] = {
@@ -203,6 +211,7 @@ BUILT_IN: dict[PolicyRole, dict[str, BuiltIn]] = {
         "slow": BuiltIn(_slow_user, "the oracle user with a harmless extra step before each of its own"),
         "busy": BuiltIn(_busy_user, "the oracle user who never waits (a harmless step instead)"),
         "silent": BuiltIn(_silent_user, "a user who only waits (never answers a proposal)"),
+        HUMAN: BuiltIn(_human_user, "a person, at the terminal or in the browser (pare play only)"),
     },
     "assistant": {
         MODEL: BuiltIn(

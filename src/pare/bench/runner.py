@@ -43,7 +43,7 @@ from pare.agents.models.types import ChatMessage, Completion
 from pare.agents.policy import AssistantPolicy, UserPolicy
 from pare.bench import collector
 from pare.bench.episode import arun_episode
-from pare.bench.policies import MODEL_ROLES, POLICY_ROLES, Player, PolicyContext, PolicyRole
+from pare.bench.policies import HUMAN, MODEL_ROLES, POLICY_ROLES, Player, PolicyContext, PolicyRole
 from pare.bench.run_requests import Learned, RunRequests, learned_refusals
 from pare.bench.runconfig import RunConfig
 from pare.bench.store import CACHE_FILE, RunStore
@@ -568,6 +568,11 @@ def check_policies(config: RunConfig) -> None:
     """
     for role in POLICY_ROLES:
         Player.resolve(role, config.policy(role))
+    if config.policy("user") == HUMAN:
+        raise UserInputError(
+            f"the '{HUMAN}' user is a person: play one scenario with 'pare play SCENARIO' (the same model "
+            "and policy flags choose the assistant); 'pare run' plays without anyone at the keyboard"
+        )
 
 
 def check_credentials(config: RunConfig) -> None:

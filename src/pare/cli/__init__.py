@@ -17,6 +17,7 @@ from pare.cli import (
     baselines_cmd,
     doctor_cmd,
     generate_cmd,
+    play_cmd,
     report_cmd,
     run_cmd,
     scenarios_cmd,
@@ -45,6 +46,7 @@ app.command("report")(report_cmd.report)
 app.command("plot")(report_cmd.plot)
 app.command("view")(view_cmd.view)
 app.command("generate")(generate_cmd.generate)
+app.command("play")(play_cmd.play)
 
 
 @app.command()

@@ -1,0 +1,115 @@
+"""A person in the user's seat (``pare play``): one episode of one scenario against the configured
+assistant, recorded in a run folder like any other episode.
+
+The configuration is a run configuration whose user policy is ``human`` (so the manifest, the label and
+the identity say who played the user). Each session adds one episode: the next run index of the scenario
+in the folder (run 1, then 2, ...), and the folder's plan grows to hold every scenario and run played in
+it, so ``pare report`` and ``pare view`` read it as they read any run.
+
+The episode is written when it ends, after its checks ran. A session left before then (``quit``, Ctrl-C,
+the end of the input) writes nothing: no half-played episode is ever read as a result.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from pare.agents.policy import UserPolicy
+from pare.bench.policies import HUMAN, Player
+from pare.bench.runconfig import MAX_RUNS, RunConfig
+from pare.bench.runner import EpisodeOutput, EpisodePlan, RunModels, play_episode, select_scenarios
+from pare.bench.store import RunStore
+from pare.errors import UserInputError
+from pare.results.run_folder import EPISODES, read_records, scenario_hash
+from pare.scenarios.model import Scenario
+
+PLAY_SETTINGS: tuple[tuple[str, object], ...] = (("policies.user", HUMAN), ("runs", 1), ("cache", "off"))
+"""What ``pare play`` sets in every configuration: a person plays the user; one episode; no model-call
+cache (the person's answers cannot be replayed, so neither can the assistant's calls that follow them)."""
+
+
+@dataclass(frozen=True)
+class Seat:
+    """The episode a person is about to play, and where it will be recorded."""
+
+    config: RunConfig
+    plan: EpisodePlan
+    folder: Path
+
+
+def prepare(config: RunConfig) -> Seat:
+    """The one scenario ``config`` selects, the run index its next episode takes in the run folder, and
+    the folder.
+
+    Raises:
+        UserInputError: The user is not played by a person, the selection is not exactly one scenario, or
+            the folder already holds the most runs a run may have.
+    """
+    if config.policy("user") != HUMAN:
+        raise UserInputError(f"pare play puts a person in the user's seat: policies.user must be '{HUMAN}'")
+    scenarios = select_scenarios(config)
+    if len(scenarios) != 1:
+        raise UserInputError(
+            f"pare play plays one scenario at a time; the selection holds {len(scenarios)}: "
+            f"{', '.join(sorted(scenarios)[:5])}"
+        )
+    scenario = next(iter(scenarios.values()))
+    folder = config.output_dir()
+    run = next_run(folder, scenario.id)
+    plan = EpisodePlan(scenario, run, config.episode_seed(scenario.id, run), scenario_hash(scenario))
+    return Seat(config.model_copy(update={"runs": run}), plan, folder)
+
+
+def next_run(folder: Path, scenario_id: str) -> int:
+    """The run index of the next episode of ``scenario_id`` in ``folder``: one past the last recorded.
+
+    Raises:
+        UserInputError: The folder already holds the most runs of the scenario a run may have.
+    """
+    file = folder / EPISODES
+    runs = (
+        [record.run for record in read_records(file) if record.scenario_id == scenario_id]
+        if file.exists()
+        else []
+    )
+    run = max(runs, default=0) + 1
+    if run > MAX_RUNS:
+        raise UserInputError(
+            f"{folder} already holds {MAX_RUNS} runs of {scenario_id}; choose another --output"
+        )
+    return run
+
+
+async def play(seat: Seat, user: UserPolicy) -> EpisodeOutput:
+    """Play the seat's episode with ``user`` (the person) against the configured assistant and judge.
+
+    Raises:
+        SeatLeft: The person left before the episode ended (nothing is recorded).
+        RunFailure: A model provider stayed down (nothing is recorded).
+        UserInputError: A mistake in the configuration (a key, a model, a policy).
+    """
+    config = seat.config
+    models = RunModels.create(config, seat.folder)
+    models.players = {
+        "user": Player("user", HUMAN, lambda _context: user),
+        "assistant": Player.resolve("assistant", config.policy("assistant")),
+        "judge": Player.resolve("judge", config.policy("judge")),
+    }
+    try:
+        return await play_episode(seat.plan, config, models)
+    finally:
+        await models.aclose()
+
+
+def record(seat: Seat, output: EpisodeOutput) -> Path:
+    """Write the played episode to the seat's run folder (the plan extended to hold it); the folder.
+
+    Raises:
+        UserInputError: The folder belongs to another configuration or cannot be written.
+    """
+    scenario: Scenario = seat.plan.scenario
+    with RunStore.open(seat.folder, seat.config, {scenario.id: scenario}, extend_plan=True) as store:
+        store.append(output.record, output.trajectory)
+        store.flush()
+    return seat.folder
