@@ -21,6 +21,7 @@ from pare.cli import main
 from pare.errors import UserInputError
 from pare.results.run_folder import load_run
 from pare.testing import ChatServer, proactive_play
+from pare.viewer import Catalog, Site
 
 SCENARIO = "dentist_moves_checkup"
 # The oracle's user steps (the email arrives in turn 1), the proposal accepted with no reason, then waits.
@@ -73,6 +74,13 @@ def test_a_person_plays_the_oracle_path_and_the_episode_is_recorded_as_a_human_r
     assert trajectory["user"] == "human"
     user_tools = [step["action"]["tool"] for step in trajectory["steps"] if step["actor"] == "user"]
     assert user_tools[:5] == ["open_app", "open_email", "wait", "accept_proposal", "wait"]
+
+    site = Site(Catalog.open([folder]))  # pare view shows it like any episode
+    (configuration,) = site.catalog.configurations
+    page = site.page(f"c/{configuration.cid}/e/{SCENARIO}/run-1.html")
+    assert page is not None
+    html = page.body.decode("utf-8")
+    assert "damaged" not in html and html.count('class="step step-user') == len(user_tools)
 
     shown = console.export_text()
     assert "You are the user" in shown and "Sam Rivera" in shown  # the persona and the goal come first

@@ -7,7 +7,8 @@ between processes, names can. A name is either
 
 * built in (:data:`BUILT_IN`): ``model`` (PARE's model-backed actor on the role's configured model),
   ``oracle`` (the scenario's solution), and the scripted players of the scenario self-test (``silent``,
-  ``unrelated``, ``slow``, ``busy``), useful as baselines; or
+  ``unrelated``, ``slow``, ``busy``), useful as baselines, and ``human``, a person in the user's
+  seat, who plays only through ``pare play``; or
 * an import path ``MODULE:FACTORY`` (``my_agents:make_assistant``, ``my_pkg.agents:Scaffold.build``).
   ``MODULE`` is imported as Python imports it (installed, on ``PYTHONPATH``, or in the current folder);
   ``FACTORY`` is an attribute of it, dotted for nested ones.
