@@ -3,6 +3,7 @@ person plays a scenario on the page, the episode is recorded, and closing the pa
 
 from __future__ import annotations
 
+import os
 import re
 import subprocess
 import sys
@@ -14,6 +15,8 @@ import pytest
 from pare.results.run_folder import load_run
 
 SCENARIO = "dentist_moves_checkup"
+SCREENSHOT_ENV = "PARE_PLAY_SCREENSHOT"
+"""Where to save a screenshot of the page with a proposal waiting (docs/images/play-browser.png)."""
 
 playwright = pytest.importorskip("playwright.sync_api", reason="Playwright is installed with the dev tools")
 from tests.viewer.test_browser import ARGS, CHROMIUM  # noqa: E402 - it needs Playwright too
@@ -80,6 +83,9 @@ def test_a_person_plays_on_the_phone_page_and_the_episode_is_recorded(
         expect(page.locator(".phone")).to_contain_text("Dr. Haddad")
         act("wait")
         expect(page.locator(".phone .proposal-sheet")).to_contain_text("Thursday 07:45")
+        if shot := os.environ.get(SCREENSHOT_ENV):  # the documentation's image is made this way
+            page.set_viewport_size({"width": 1280, "height": 900})
+            page.screenshot(path=shot, full_page=False)
         act("accept_proposal")
         for _ in range(10):
             expect(page.locator("#status")).to_contain_text(re.compile("Your turn|session is over"))

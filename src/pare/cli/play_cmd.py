@@ -20,7 +20,6 @@ from pare.cli.run_cmd import (
     ExecuteModel,
     ExecuteProvider,
     JudgeEndpoint,
-    JudgeModel,
     JudgeProvider,
     ObserveEndpoint,
     ObserveModel,
@@ -38,6 +37,16 @@ if TYPE_CHECKING:
 
     from pare.bench.play import Seat
     from pare.bench.runner import EpisodeOutput
+
+
+JudgeModel = Annotated[
+    str | None,
+    typer.Option(
+        "--judge-model",
+        help="Judge of free-text checks (default: their deterministic fallbacks).",
+        show_default=False,
+    ),
+]
 
 
 def play(

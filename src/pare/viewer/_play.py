@@ -54,6 +54,7 @@ PLAY_HEADERS = {
 }
 STATIC = {"viewer.css": "text/css", "play.css": "text/css"}
 _OWN_SITE = ("same-origin", "none")
+ANSWERS = ("accept_proposal", "reject_proposal")
 
 T = TypeVar("T")
 
@@ -189,7 +190,7 @@ class BrowserUser(UserPolicy):
         """One form per action on offer: its name, what it does, and its argument fields."""
         if self.view is None:
             return []
-        return [
+        forms = [
             {
                 "tool": tool.name,
                 "signature": tool.spec.signature,
@@ -198,6 +199,8 @@ class BrowserUser(UserPolicy):
             }
             for tool in self.view.tools
         ]
+        # the answers to a waiting proposal first: the page's most urgent choice, in view without scrolling
+        return sorted(forms, key=lambda form: form["tool"] not in ANSWERS)
 
     def snapshot(self) -> dict[str, Any]:
         """Where the episode stands, as ``GET /state.json`` gives it."""
