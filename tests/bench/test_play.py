@@ -7,6 +7,10 @@ from __future__ import annotations
 import asyncio
 import io
 import json
+import signal
+import subprocess
+import sys
+import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -202,3 +206,32 @@ def test_pare_play_refuses_a_selection_of_other_than_one_scenario_and_a_user_mod
     with pytest.raises(UserInputError, match="one scenario at a time; the selection holds 2"):
         prepare(build_config({}, overrides=two))
     assert main(["play", SCENARIO, "-o", str(tmp_path / "run"), "--set", "models.user.model=x"]) == 2
+
+
+@pytest.mark.parametrize("where", ["terminal", "browser"])
+def test_ctrl_c_stops_the_session_at_once_and_records_nothing(tmp_path: Path, where: str) -> None:
+    folder = tmp_path / "run"
+    command = [sys.executable, "-u", "-m", "pare", "play", SCENARIO, "-o", str(folder)]
+    ready = "Turn 1 of" if where == "terminal" else "http://127.0.0.1:"
+    if where == "browser":
+        command.append("--browser")
+    with subprocess.Popen(
+        command, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
+    ) as process:
+        assert process.stdout is not None
+        seen = []
+        for line in process.stdout:
+            seen.append(line)
+            if ready in line:
+                break
+        time.sleep(0.5)  # the person is being asked (a blocking read at the terminal)
+        process.send_signal(signal.SIGINT)
+        try:
+            code = process.wait(timeout=20)
+        finally:
+            process.kill()
+        rest = process.stdout.read()
+    assert code == 130, "".join(seen) + rest
+    assert "nothing was recorded" in rest
+    assert "Traceback" not in rest
+    assert not folder.exists()

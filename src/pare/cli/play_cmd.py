@@ -5,8 +5,9 @@ configured assistant (the oracle by default); the episode is recorded as a run.
 from __future__ import annotations
 
 import asyncio
+from collections.abc import Coroutine
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any, TypeVar
 
 import typer
 
@@ -31,6 +32,8 @@ from pare.cli.run_cmd import (
 )
 from pare.errors import UserInputError
 from pare.install import install_command
+
+T = TypeVar("T")
 
 if TYPE_CHECKING:
     from rich.console import Console
@@ -164,7 +167,7 @@ def _play_at_terminal(seat: Seat, console: Console) -> EpisodeOutput | None:
     scenario = seat.plan.scenario
     user = TerminalUser(console, persona=scenario.user.persona, goal=scenario.user.goal)
     try:
-        output = asyncio.run(play(seat, user))
+        output = _run_at_terminal(play(seat, user))
     except SeatLeft:
         console.print("[yellow]you left[/yellow]: the episode was not finished, so nothing was recorded.")
         return None
@@ -178,6 +181,25 @@ def _play_at_terminal(seat: Seat, console: Console) -> EpisodeOutput | None:
     for line in _settle(seat, output):
         console.print(line, markup=False, highlight=False, soft_wrap=True)
     return output
+
+
+def _run_at_terminal(episode: Coroutine[Any, Any, T]) -> T:
+    """Run ``episode`` in an event loop of its own, leaving Ctrl+C to Python's default handler.
+
+    ``asyncio.run`` answers Ctrl+C by cancelling the episode at its next pause, but a person deciding is
+    a blocking read with no pause: the interrupt would wait for the next Enter. Here it interrupts the
+    read at once, and the episode's model clients close on the way out.
+    """
+    loop = asyncio.new_event_loop()
+    try:
+        return loop.run_until_complete(episode)
+    finally:
+        try:
+            for task in asyncio.all_tasks(loop):
+                task.cancel()
+            loop.run_until_complete(loop.shutdown_asyncgens())
+        finally:
+            loop.close()
 
 
 def _play_in_browser(seat: Seat, console: Console, host: str, port: int) -> EpisodeOutput | None:

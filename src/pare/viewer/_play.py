@@ -328,6 +328,10 @@ def create_play_app(user: BrowserUser, *, bound: str = "127.0.0.1", key: str | N
     return app
 
 
+async def _awaited(episode: Callable[[], Awaitable[T]]) -> T:
+    return await episode()
+
+
 def _back() -> Response:
     return RedirectResponse("/", status_code=303, headers=PLAY_HEADERS)
 
@@ -380,9 +384,15 @@ async def serve_episode(
     config = uvicorn.Config(app, log_level="warning", access_log=False, lifespan="off")
     server = uvicorn.Server(config)
     serving = asyncio.create_task(server.serve(sockets=[sock]))
+    playing = asyncio.create_task(_awaited(episode))
     try:
+        await asyncio.wait({playing, serving}, return_when=asyncio.FIRST_COMPLETED)
+        if not playing.done():  # the server stopped first (Ctrl+C): the episode cannot go on
+            playing.cancel()
+            await asyncio.wait({playing})
+            raise KeyboardInterrupt
         try:
-            result = await episode()
+            result = playing.result()
         except SeatLeft:
             user.ended(Outcome(["You left before the session ended: nothing was recorded."]))
             await asyncio.sleep(0.5)  # the page that asked to leave is answered
