@@ -235,3 +235,15 @@ def test_ctrl_c_stops_the_session_at_once_and_records_nothing(tmp_path: Path, wh
     assert "nothing was recorded" in rest
     assert "Traceback" not in rest
     assert not folder.exists()
+
+
+def test_a_folder_the_episode_could_not_be_recorded_in_is_refused_before_the_person_plays(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    folder = tmp_path / "oracle"
+    assert main(["run", "-s", SCENARIO, "--runs", "1", "-o", str(folder), "--no-progress"]) == 0
+    capsys.readouterr()
+    assert main(["play", SCENARIO, "-o", str(folder)]) == 2
+    said = capsys.readouterr()
+    assert "holds runs of another configuration" in said.err
+    assert "Turn 1" not in said.out  # refused before the first turn

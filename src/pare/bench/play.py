@@ -21,7 +21,7 @@ from pare.bench.runconfig import MAX_RUNS, RunConfig
 from pare.bench.runner import EpisodeOutput, EpisodePlan, RunModels, play_episode, select_scenarios
 from pare.bench.store import RunStore
 from pare.errors import UserInputError
-from pare.results.run_folder import EPISODES, read_records, scenario_hash
+from pare.results.run_folder import EPISODES, MANIFEST, read_manifest, read_records, scenario_hash
 from pare.scenarios.model import Scenario
 
 PLAY_SETTINGS: tuple[tuple[str, object], ...] = (("policies.user", HUMAN), ("runs", 1), ("cache", "off"))
@@ -56,9 +56,34 @@ def prepare(config: RunConfig) -> Seat:
         )
     scenario = next(iter(scenarios.values()))
     folder = config.output_dir()
+    _check_folder(folder, config, scenario)
     run = next_run(folder, scenario.id)
     plan = EpisodePlan(scenario, run, config.episode_seed(scenario.id, run), scenario_hash(scenario))
     return Seat(config.model_copy(update={"runs": run}), plan, folder)
+
+
+def _check_folder(folder: Path, config: RunConfig, scenario: Scenario) -> None:
+    """Refuse, before the person plays, a folder the episode could not be recorded in: one made by another
+    configuration, or holding episodes of an earlier version of the scenario (the store would refuse it
+    once the episode is over, and the person's play would be lost).
+    """
+    manifest = folder / MANIFEST
+    if not manifest.exists():
+        return
+    if read_manifest(manifest).get("identity") != config.identity():
+        raise UserInputError(
+            f"{folder} holds runs of another configuration (other assistant, protocol, world or seed), so "
+            "the episode could not be recorded there; leave out --output to get this configuration's own "
+            "folder, or choose another"
+        )
+    file = folder / EPISODES
+    played = read_records(file) if file.exists() else []
+    wanted = scenario_hash(scenario)
+    if any(r.scenario_id == scenario.id and r.complete and r.scenario_hash != wanted for r in played):
+        raise UserInputError(
+            f"{folder} holds episodes of an earlier version of {scenario.id}, so the episode could not be "
+            "recorded beside them; choose another --output"
+        )
 
 
 def next_run(folder: Path, scenario_id: str) -> int:
