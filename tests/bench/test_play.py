@@ -247,3 +247,20 @@ def test_a_folder_the_episode_could_not_be_recorded_in_is_refused_before_the_per
     said = capsys.readouterr()
     assert "holds runs of another configuration" in said.err
     assert "Turn 1" not in said.out  # refused before the first turn
+
+
+def test_two_sessions_started_together_keep_both_episodes(tmp_path: Path) -> None:
+    folder = tmp_path / "run"
+    first, second = _seat(folder), _seat(folder)
+    assert first.plan.run == second.plan.run == 1
+    _play(first, [*ORACLE_PATH, *["wait"] * 10])
+    _play(second, ["wait"] * 10)  # finished later: recorded as run 2
+    loaded = load_run(folder)
+    assert [(r.run, r.success, r.trajectory) for r in loaded.records] == [
+        (1, True, f"trajectories/{SCENARIO}/run-1.json"),
+        (2, False, f"trajectories/{SCENARIO}/run-2.json"),
+    ]
+    assert (
+        json.loads((folder / f"trajectories/{SCENARIO}/run-2.json").read_text(encoding="utf-8"))["run"] == 2
+    )
+    assert loaded.runs == 2

@@ -12,7 +12,8 @@ the end of the input) writes nothing: no half-played episode is ever read as a r
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import json
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from pare.agents.policy import UserPolicy
@@ -21,7 +22,14 @@ from pare.bench.runconfig import MAX_RUNS, RunConfig
 from pare.bench.runner import EpisodeOutput, EpisodePlan, RunModels, play_episode, select_scenarios
 from pare.bench.store import RunStore
 from pare.errors import UserInputError
-from pare.results.run_folder import EPISODES, MANIFEST, read_manifest, read_records, scenario_hash
+from pare.results.run_folder import (
+    EPISODES,
+    MANIFEST,
+    read_manifest,
+    read_records,
+    scenario_hash,
+    trajectory_path,
+)
 from pare.scenarios.model import Scenario
 
 PLAY_SETTINGS: tuple[tuple[str, object], ...] = (("policies.user", HUMAN), ("runs", 1), ("cache", "off"))
@@ -134,7 +142,25 @@ def record(seat: Seat, output: EpisodeOutput) -> Path:
         UserInputError: The folder belongs to another configuration or cannot be written.
     """
     scenario: Scenario = seat.plan.scenario
-    with RunStore.open(seat.folder, seat.config, {scenario.id: scenario}, extend_plan=True) as store:
+    run = max(seat.plan.run, next_run(seat.folder, scenario.id))
+    if run != seat.plan.run:  # another session recorded this run meanwhile: take the next one, keep both
+        output = _renumbered(output, run)
+    config = seat.config.model_copy(update={"runs": run})
+    with RunStore.open(seat.folder, config, {scenario.id: scenario}, extend_plan=True) as store:
         store.append(output.record, output.trajectory)
         store.flush()
     return seat.folder
+
+
+def _renumbered(output: EpisodeOutput, run: int) -> EpisodeOutput:
+    """``output`` recorded as run ``run`` (its seed stays the one it was played with)."""
+    record = output.record
+    path = trajectory_path(record.scenario_id, run) if record.trajectory is not None else None
+    trajectory = output.trajectory
+    if trajectory is not None:
+        data = json.loads(trajectory)
+        data["run"] = run
+        trajectory = json.dumps(data, ensure_ascii=False, allow_nan=False, separators=(",", ":"))
+    return replace(
+        output, record=record.model_copy(update={"run": run, "trajectory": path}), trajectory=trajectory
+    )
