@@ -22,10 +22,11 @@ from pare.agents.models.limiter import EndpointLimiter, LimiterState
 from pare.agents.models.request_params import RequestParams
 from pare.agents.models.types import ChatMessage, Completion
 from pare.agents.policy import AssistantPolicy, UserPolicy
-from pare.bench.policies import MODEL_ROLES, POLICY_ROLES, Player, PolicyContext, PolicyRole
+from pare.bench.policies import HUMAN, MODEL_ROLES, POLICY_ROLES, Player, PolicyContext, PolicyRole
 from pare.bench.run_requests import RunRequests
 from pare.bench.runconfig import RunConfig
 from pare.bench.store import CACHE_FILE
+from pare.errors import UserInputError
 from pare.scenarios.model import Scenario
 
 if TYPE_CHECKING:  # imported where a run has models: an oracle run never loads the actors or the prompts
@@ -178,6 +179,11 @@ def check_policies(config: RunConfig) -> None:
     """
     for role in POLICY_ROLES:
         Player.resolve(role, config.policy(role))
+    if config.policy("user") == HUMAN:
+        raise UserInputError(
+            f"the '{HUMAN}' user is a person: play one scenario with 'pare play SCENARIO' (the same model "
+            "and policy flags choose the assistant); 'pare run' plays without anyone at the keyboard"
+        )
 
 
 def check_credentials(config: RunConfig) -> None:

@@ -7,7 +7,8 @@ between processes, names can. A name is either
 
 * built in (:data:`BUILT_IN`): ``model`` (PARE's model-backed actor on the role's configured model),
   ``oracle`` (the scenario's solution), and the scripted players of the scenario self-test (``silent``,
-  ``unrelated``, ``slow``, ``busy``), useful as baselines; or
+  ``unrelated``, ``slow``, ``busy``), useful as baselines, and ``human``, a person in the user's
+  seat, who plays only through ``pare play``; or
 * an import path ``MODULE:FACTORY`` (``my_agents:make_assistant``, ``my_pkg.agents:Scaffold.build``).
   ``MODULE`` is imported as Python imports it (installed, on ``PYTHONPATH``, or in the current folder);
   ``FACTORY`` is an attribute of it, dotted for nested ones.
@@ -163,6 +164,12 @@ def _silent_user(context: PolicyContext) -> Any:
     return SilentUser()
 
 
+def _human_user(context: PolicyContext) -> Any:
+    raise UserInputError(
+        f"the '{HUMAN}' user is a person: it plays through 'pare play SCENARIO', which asks them each action"
+    )
+
+
 def _oracle_assistant(context: PolicyContext) -> Any:
     from pare.scenarios.oracle import OracleAssistant
 
@@ -206,6 +213,8 @@ class BuiltIn:
 
 MODEL = "model"
 ORACLE = "oracle"
+HUMAN = "human"
+"""A person in the user's seat (``pare play``); a run of many episodes cannot ask one."""
 DETERMINISTIC = "deterministic"
 
 BUILT_IN: dict[PolicyRole, dict[str, BuiltIn]] = {
@@ -222,6 +231,7 @@ BUILT_IN: dict[PolicyRole, dict[str, BuiltIn]] = {
         "slow": BuiltIn(_slow_user, "the oracle user with a harmless extra step before each of its own"),
         "busy": BuiltIn(_busy_user, "the oracle user who never waits (a harmless step instead)"),
         "silent": BuiltIn(_silent_user, "a user who only waits (never answers a proposal)"),
+        HUMAN: BuiltIn(_human_user, "a person, at the terminal or in the browser (pare play only)"),
     },
     "assistant": {
         MODEL: BuiltIn(

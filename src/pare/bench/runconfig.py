@@ -152,7 +152,9 @@ class Policies(BaseModel):
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
-    user: str | None = Field(default=None, description="The user: model, oracle, slow, busy, silent, or M:F.")
+    user: str | None = Field(
+        default=None, description="The user: model, oracle, slow, busy, silent, human (pare play), or M:F."
+    )
     assistant: str | None = Field(
         default=None, description="The assistant: model, oracle, a baseline (silent, ...), or MODULE:FACTORY."
     )

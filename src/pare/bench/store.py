@@ -119,8 +119,12 @@ class RunStore:
         scenarios: Mapping[str, Scenario],
         *,
         sweep_point: Mapping[str, Any] | None = None,
+        extend_plan: bool = False,
     ) -> RunStore:
         """Open (or create) the run folder for ``config`` over ``scenarios``, ready to append.
+
+        With ``extend_plan`` the manifest's plan keeps the scenarios and runs it already lists and adds
+        these (``pare play`` records one scenario at a time); otherwise the plan is this configuration's.
 
         Refuses a folder made by a different configuration, or whose finished episodes ran a scenario
         that has changed since.
@@ -137,7 +141,7 @@ class RunStore:
             _repair_tail(path / EPISODES)
             store.records = latest_records(read_records(path / EPISODES))
             _check_scenarios_unchanged(path, store.records, hashes)
-            store.manifest = _manifest(config, hashes, previous, sweep_point)
+            store.manifest = _manifest(config, hashes, previous, sweep_point, extend_plan=extend_plan)
             store._write_manifest()
             store._writer = _start_writer(path, lock)
         except BaseException:
@@ -478,7 +482,14 @@ def _manifest(
     hashes: Mapping[str, str],
     previous: Mapping[str, Any] | None,
     sweep_point: Mapping[str, Any] | None,
+    *,
+    extend_plan: bool = False,
 ) -> dict[str, Any]:
+    planned, runs = dict(hashes), config.runs
+    earlier = (previous or {}).get("plan")
+    if extend_plan and isinstance(earlier, dict):
+        planned = {**dict(earlier.get("scenarios") or {}), **planned}
+        runs = max(runs, int(earlier.get("runs") or 1))
     sessions = list(previous.get("sessions", [])) if previous else []
     sessions.append(
         {
@@ -501,8 +512,8 @@ def _manifest(
         "judge": redact_secrets(config.judge_provenance()),
         "policies": config.policy_names(),
         "sweep_point": dict(sweep_point or (previous or {}).get("sweep_point", {})),
-        "plan": {"runs": config.runs, "scenarios": dict(hashes)},
-        "scenario_set_hash": scenario_set_hash(hashes),
+        "plan": {"runs": runs, "scenarios": dict(sorted(planned.items()))},
+        "scenario_set_hash": scenario_set_hash(planned),
         "provenance": provenance(),
         "sessions": sessions,
         # what the requests carried: the previous session's record until this session writes its own

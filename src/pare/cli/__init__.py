@@ -19,6 +19,7 @@ from pare.cli import (
     calibrate_cmd,
     doctor_cmd,
     generate_cmd,
+    play_cmd,
     regrade_cmd,
     report_cmd,
     run_cmd,
@@ -51,6 +52,7 @@ app.command("plot")(report_cmd.plot)
 app.command("agreement")(agreement_cmd.agreement)
 app.command("view")(view_cmd.view)
 app.command("generate")(generate_cmd.generate)
+app.command("play")(play_cmd.play)
 
 
 @app.command()
