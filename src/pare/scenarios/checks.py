@@ -777,7 +777,10 @@ class _JudgeRule(Rule):
         texts = self.texts(context)
         if not texts.read:
             if check.optional:  # nothing was sent, so nothing false was said
-                return True, f"no {texts.described} with a text in '{check.field}' (optional): nothing to judge"
+                return (
+                    True,
+                    f"no {texts.described} with a text in '{check.field}' (optional): nothing to judge",
+                )
             return False, f"no {texts.described} with a text in '{check.field}' to judge"
         candidates = [text for _, text in texts.candidates]
         counted = f"{len(candidates)} text(s) ({', '.join(f'#{entry.index}' for entry in texts.read)})"

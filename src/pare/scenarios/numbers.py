@@ -45,7 +45,15 @@ def number_pattern(written: str) -> re.Pattern[str]:
         code = re.match(r"(?:\+|00)\s*(\d+)", text)
         national = digits[len(code.group(1)) + (2 if text.startswith("00") else 0) :] if code else ""
         if code and len(national) >= 3:  # "+44 7700 900742" is also "07700 900742" and "7700 900742"
-            forms.append(r"(?:\+|00)" + _spaced(code.group(1)) + _SIGNS + r"(?:\(0\)" + _SIGNS + r")?" + _spaced(national))
+            forms.append(
+                r"(?:\+|00)"
+                + _spaced(code.group(1))
+                + _SIGNS
+                + r"(?:\(0\)"
+                + _SIGNS
+                + r")?"
+                + _spaced(national)
+            )
             forms.append(r"(?<![+\d])(?:0" + _SIGNS + r")?" + _spaced(national))
     elif digits.startswith("0") and len(digits) > 3:  # "07700 900742" is also "+44 7700 900742"
         forms.append(_CODE + _spaced(digits[1:]))

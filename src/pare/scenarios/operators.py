@@ -19,7 +19,6 @@ from functools import lru_cache, partial
 from typing import Any
 
 from pare.scenarios import meaning
-from pare.scenarios.numbers import NumberError, names_number, number_pattern
 from pare.scenarios.matchers import (
     Check,
     Chosen,
@@ -30,6 +29,7 @@ from pare.scenarios.matchers import (
     reading_moment,
     register_operator,
 )
+from pare.scenarios.numbers import NumberError, names_number, number_pattern
 from pare.scenarios.text_reasons import (
     clock_label,
     declines_label,
@@ -104,7 +104,9 @@ def _regex(pattern: re.Pattern[str], value: Any, start: datetime) -> bool:
 
 def _number_written(value: Any) -> str:
     if not isinstance(value, str | int) or isinstance(value, bool):
-        raise MatcherError(f"'mentions_number' needs a number written as text ('07700 900742'), got {value!r}")
+        raise MatcherError(
+            f"'mentions_number' needs a number written as text ('07700 900742'), got {value!r}"
+        )
     try:
         number_pattern(str(value))
     except NumberError as error:

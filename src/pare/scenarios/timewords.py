@@ -395,7 +395,7 @@ class _Reading:
         dated = [
             mention
             for start, stop, mention in self.taken
-            if stop <= at and mention.days and not _SENTENCE_END.search(self.text, stop, at)
+            if stop <= at and mention.days and not _SENTENCE_END.search(self.text, start, at)
         ]
         if not dated:
             return set()
