@@ -141,6 +141,22 @@ def test_judge_uses_the_model_when_given_and_the_fallback_otherwise() -> None:
     assert outcome.failures()[0].detail.endswith(" | the judge: It does not name a time.")
 
 
+def test_an_optional_judge_holds_when_nothing_is_sent_and_reads_what_is() -> None:
+    def optional(fallback: dict[str, Any], tool: str) -> dict[str, Any]:
+        judge = {"criterion": "is true", "action": {"tool": tool}, "fallback": fallback, "optional": True}
+        return {"judge": judge}
+
+    # nothing sent with that tool: nothing false was said
+    _, result = _oracle_run(_with_checks(optional({"contains": "friday"}, "email__send_email")))
+    assert result.success
+    assert "(optional): nothing to judge" in result.outcome.goals[0].checks[-1].detail
+    # the oracle's reply is sent: it is judged as ever
+    _, result = _oracle_run(_with_checks(optional({"contains": "friday"}, "email__reply_to_email")))
+    assert not result.success
+    _, result = _oracle_run(_with_checks(optional({"contains": "thursday"}, "email__reply_to_email")))
+    assert result.success
+
+
 def test_a_question_two_judge_checks_share_is_asked_once_and_a_failed_call_raises_as_itself() -> None:
     judged = {
         "criterion": "says yes to Thursday",

@@ -241,6 +241,11 @@ def test_a_date_earlier_in_the_text_does_not_swallow_a_later_weekday() -> None:
         ("Collect drycleaning", "dry-clean*", True),
         ("Collect dry   cleaning", "dry clean*", True),
         ("a dry day, cleaning later", "dry clean*", False),
+        # an abbreviation's stop may be left out with its space kept, or the space with its stop kept
+        ("Pick up Mum's gift from no 14", "no. 14", True),
+        ("Pick up Mum's gift from No.14", "no. 14", True),
+        ("Pick up Mum's gift from no14", "no. 14", False),
+        ("Pick up Mum's gift from no 145", "no. 14", False),
     ],
 )
 def test_spaces_and_hyphens_in_a_piece_find_each_other(text: str, piece: str, found: bool) -> None:

@@ -101,6 +101,16 @@ def test_the_nth_is_the_next_one_from_when_it_is_read() -> None:
     assert _days("the 31st", datetime(2025, 6, 5, tzinfo=UTC)) == [{date(2025, 7, 31)}]  # June has no 31st
 
 
+def test_the_nth_after_a_date_in_the_same_sentence_is_also_read_in_its_month() -> None:
+    june_16 = datetime(2025, 6, 16, 9, 0, tzinfo=UTC)
+    days = _days("I checked in on 2 June and out on the 5th.", june_16)
+    assert date(2025, 6, 5) in days[-1]  # the sentence set the month
+    assert date(2025, 7, 5) in days[-1]  # and the next 5th is still a reading
+    assert _days("I checked in on 2 June. Out on the 5th.", june_16)[-1] == {
+        date(2025, 7, 5)
+    }  # another sentence
+
+
 def test_half_nine_on_the_2nd_names_the_same_moment_as_0930_on_2_june() -> None:
     moment = datetime(2025, 6, 2, 9, 30, tzinfo=UTC)
     for text in (

@@ -49,6 +49,16 @@ def _after_sign(parts: list[str], at: int) -> bool:
     return " " in parts[at] and "-" not in parts[at] and bool(before) and not before[-1].isalnum()
 
 
+def _after_stop(parts: list[str], at: int) -> bool:
+    """Whether the separator ``parts[at]`` is a space after a word of letters that ends in a stop ("no.")."""
+    before = parts[at - 1] if at else ""
+    return _after_sign(parts, at) and before.endswith(".") and before[:-1].isalpha()
+
+
+def _before_space(parts: list[str], at: int) -> bool:
+    return at + 1 < len(parts) and parts[at + 1] not in ("", "-") and " " in parts[at + 1]
+
+
 @lru_cache(maxsize=4096)
 def word_pattern(piece: str) -> re.Pattern[str]:
     """A case-insensitive pattern finding ``piece`` at word boundaries (see the module docstring)."""
@@ -59,13 +69,22 @@ def word_pattern(piece: str) -> re.Pattern[str]:
         raise ValueError(f"{piece!r} has no text besides '*'")
     # A space in the piece also finds a hyphen, and a hyphen also a space or nothing: "dry clean*" and
     # "dry-clean*" both find "dry cleaning", "dry-cleaning" and (for the hyphen) "drycleaning".
-    # A space after a stop or other sign may also be left out: "no. 14" finds "no.14" as well.
+    # A space after a stop or other sign may also be left out: "no. 14" finds "no.14" as well; and the stop
+    # of an abbreviation may be left out, with the space: "no. 14" finds "no 14" (not "no14").
     parts = re.split(r"([ -])", core)
     body = "".join(
-        (r"[\s-]*" if part == " " and _after_sign(parts, at) else r"[\s-]+")
+        (
+            r"(?:\.[\s-]*|[\s-]+)"
+            if part == " " and _after_stop(parts, at)
+            else r"[\s-]*"
+            if part == " " and _after_sign(parts, at)
+            else r"[\s-]+"
+        )
         if part == " "
         else r"[\s-]?"
         if part == "-"
+        else re.escape(part[:-1])
+        if _before_space(parts, at) and _after_stop(parts, at + 1)
         else re.escape(part)
         for at, part in enumerate(parts)
     )
@@ -99,7 +118,9 @@ class WordFinder:
         if not core:
             raise ValueError(f"{piece!r} has no text besides '*'")
         parts = re.split(r"([ -]+)", core.lower())
-        plain = core.isascii() and bool(parts[0]) and bool(parts[-1])
+        # an abbreviation's stop that may be left out ("no. 14" finds "no 14") is for the pattern to find
+        abbreviated = any(word.endswith(".") and word[:-1].isalpha() for word in parts[:-1:2])
+        plain = core.isascii() and bool(parts[0]) and bool(parts[-1]) and not abbreviated
         self.words: tuple[str, ...] | None = tuple(parts[::2]) if plain else None
         """The piece's words, lowercased, as sought in ASCII text; ``None`` when only the pattern finds it."""
         self.gaps = tuple(

@@ -29,6 +29,7 @@ from pare.scenarios.matchers import (
     reading_moment,
     register_operator,
 )
+from pare.scenarios.numbers import NumberError, names_number, number_pattern
 from pare.scenarios.text_reasons import (
     clock_label,
     declines_label,
@@ -99,6 +100,22 @@ def _reader(read: Callable[[str, Any, datetime], bool]) -> Check:
 
 def _regex(pattern: re.Pattern[str], value: Any, start: datetime) -> bool:
     return any(pattern.search(_text(item)) is not None for item in _items(value))
+
+
+def _number_written(value: Any) -> str:
+    if not isinstance(value, str | int) or isinstance(value, bool):
+        raise MatcherError(
+            f"'mentions_number' needs a number written as text ('07700 900742'), got {value!r}"
+        )
+    try:
+        number_pattern(str(value))
+    except NumberError as error:
+        raise MatcherError(f"'mentions_number' {error}") from None
+    return str(value)
+
+
+def _read_number(text: str, written: str, start: datetime) -> bool:
+    return names_number(text, written)
 
 
 def _one_of(options: tuple[Chosen, ...], value: Any, start: datetime) -> bool:
@@ -461,6 +478,17 @@ for _operator in (
         reads="text",
         explain=why_not_found,
         label=regex_label,
+    ),
+    Operator(
+        "mentions_number",
+        "a phone number or another number of 3 or more digits, as text",
+        "names that number, digit by digit whatever its grouping: '07700 900742' is found in "
+        "'0770 090 0742', '07700-900-742' and '+44 7700 900742' (a '+' and a country code stand for a "
+        "leading 0), not in '07700 9007421'",
+        _reader(_read_number),
+        _number_written,
+        reads="text",
+        explain=lambda text, written, start: "no number in the text has those digits in that order",
     ),
     Operator(
         "one_of",

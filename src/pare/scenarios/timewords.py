@@ -283,6 +283,10 @@ def _weekday_readings(anchor: date, weekday: int, qualifier: str) -> frozenset[d
     return frozenset({first})
 
 
+_SENTENCE_END = re.compile(r"[!?\n]|\.(?=\s|$)")
+"""Where a sentence ends, for a bare "the 5th" that takes its month from a date before it."""
+
+
 def _next_nth(today: date, day: int) -> date | None:
     """The next ``day`` of a month on or after ``today``: this month's, or the following month's."""
     month_start = today.replace(day=1)
@@ -374,13 +378,29 @@ class _Reading:
             month, day = _month_number(match.group(1)), int(match.group(2))
             self.add(match.span(), _year_readings(today, month, day, match.group(3)))
         for match in self.scan(_THE_NTH):
-            self.add(match.span(), [d for d in [_next_nth(today, int(match.group(1)))] if d])
+            day = int(match.group(1))
+            readings = {d for d in [_next_nth(today, day)] if d} | self._month_before(match.start(), day)
+            self.add(match.span(), readings)
         for match in self.scan(_SLASH_DATE):
             first, second, year = int(match.group(1)), int(match.group(2)), match.group(3)
             self.add(
                 match.span(),
                 _year_readings(today, second, first, year) | _year_readings(today, first, second, year),
             )
+
+    def _month_before(self, at: int, day: int) -> set[date]:
+        """``day`` in the month of a date written earlier in the same sentence ("in on 2 June and out on
+        the 5th": 5 June), as a reading beside the next such day: the sentence has set the month.
+        """
+        dated = [
+            mention
+            for start, stop, mention in self.taken
+            if stop <= at and mention.days and not _SENTENCE_END.search(self.text, start, at)
+        ]
+        if not dated:
+            return set()
+        last = max(dated, key=lambda mention: mention.start)  # each of its readings sets a month
+        return {found for known in last.days if (found := _safe_date(known.year, known.month, day))}
 
     def add_weekdays(self) -> None:
         text, today = self.text, self.today
