@@ -183,3 +183,26 @@ def test_generate_through_the_litellm_backend(
     assert _generate(server, tmp_path / "out", library, *options) == 0
     assert "1 passed" in capsys.readouterr().out
     assert {request["model"] for request in server.requests} == {"pare-generator"}
+
+
+def test_the_generators_bar_is_a_batch_bar_counting_cost_like_a_runs() -> None:
+    from rich.console import Console
+
+    from pare.generate.folder import CandidateRecord
+    from pare.generate.progress import RichGenerationProgress
+
+    console = Console(record=True, width=200, force_terminal=False)
+    progress = RichGenerationProgress(console)
+    progress.started(6, 2)
+    progress.stage("candidate-003", "seed", 2)
+    priced = {"total": {"calls": 3, "known_cost_usd": 0.012, "unknown_cost_calls": 1}}
+    progress.finished(CandidateRecord(slot="candidate-003", index=3, status="passed", usage=priced))
+    progress.stopped()
+    text = console.export_text()
+    assert "resuming: 2 of 6 candidates are already finished" in text
+    assert "3/6" in text and "1 passed, 0 duplicate, 0 failed" in text
+    assert "cost $0.0120 + unpriced" in text
+    quiet = RichGenerationProgress(Console(record=True, width=200))
+    quiet.started(1, 0)
+    quiet.stopped()
+    assert "cost n/a" in quiet.console.export_text()  # no model called: not "$0"
