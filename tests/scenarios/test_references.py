@@ -82,3 +82,33 @@ def test_the_oracle_tries_a_transiently_failed_action_again() -> None:
         made = [entry for entry in result.env.log.entries if entry.tool == "add_calendar_event" and entry.ok]
         assert len(made) == 1  # retried until it worked, never made twice
     assert retried  # the seeds above do fail the referenced call at least once
+
+
+def _writes_then_attaches(reference: str) -> dict[str, Any]:
+    data = base()
+    data["oracle"]["interventions"][0]["actions"] = [
+        {
+            "id": "saved",
+            "tool": "files__write_file",
+            "args": {"path": "/Documents/plan.txt", "content": "Thursday"},
+        },
+        {
+            "tool": "email__reply_to_email",
+            "args": {"email_id": "e_ann", "content": "Thursday works!", "attachments": [reference]},
+        },
+    ]
+    return data
+
+
+def test_a_reference_inside_a_list_names_the_file_an_earlier_action_wrote() -> None:
+    scenario = parse(_writes_then_attaches("${saved.id}"))
+    result = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
+    assert result.success
+    sent = [email for email in result.env.snapshot()["email"]["emails"].values() if email["folder"] == "SENT"]
+    assert [email["attachments"] for email in sent] == [["/Documents/plan.txt"]]
+
+
+def test_a_reference_inside_a_list_to_no_earlier_action_is_refused_at_load() -> None:
+    refused = r"attachments: '\$\{saveed\.\.\.\}' names no earlier oracle action"
+    with pytest.raises(ScenarioError, match=refused):
+        parse(_writes_then_attaches("${saveed.id}"))

@@ -75,11 +75,16 @@ class _References:
         self.results: dict[str, Any] = {}
 
     def resolve(self, args: dict[str, Any], env: Environment) -> dict[str, Any]:
-        resolved = {}
-        for name, value in args.items():
-            ref = reference(value)
-            resolved[name] = value if ref is None else self._value(ref[0], ref[1], env)
+        resolved = {name: self._resolved(value, env) for name, value in args.items()}
         return dict(resolve_relative_times(resolved, self.scenario.start))
+
+    def _resolved(self, value: Any, env: Environment) -> Any:
+        # An argument or an item of a list argument: files to attach are a list of paths, some made by
+        # earlier actions (``attachments: ["${saved.id}", ...]``).
+        if isinstance(value, list):
+            return [self._resolved(item, env) for item in value]
+        ref = reference(value)
+        return value if ref is None else self._value(ref[0], ref[1], env)
 
     def _value(self, source: str, path: str, env: Environment) -> Any:
         written = "${" + source + (f".{path}" if path else "") + "}"

@@ -576,19 +576,20 @@ class _Validator:
     def _args(
         self, spec: ToolSpec, args: Mapping[str, Any], where: Path, *, refs_allowed: bool
     ) -> Iterator[Problem]:
-        refs = {name for name, value in args.items() if reference(value) is not None}
+        refs = {name for name, value in args.items() if _references_in(value)}
         for name in sorted(refs):
             if not refs_allowed:
                 yield Problem((*where, name), "values written ${...} can only be used in oracle steps")
                 continue
-            step, field = reference(args[name]) or ("", "")
-            if step not in self.action_ids and step not in self.event_ids:
-                hint = did_you_mean(step, [*self.action_ids, *self.event_ids])
-                yield Problem(
-                    (*where, name), f"'${{{step}...}}' names no earlier oracle action id or event id.{hint}"
-                )
-            elif not field and step in self.action_tools:
-                yield from self._whole_record(step, self.action_tools[step], (*where, name))
+            for step, field in _references_in(args[name]):
+                if step not in self.action_ids and step not in self.event_ids:
+                    hint = did_you_mean(step, [*self.action_ids, *self.event_ids])
+                    yield Problem(
+                        (*where, name),
+                        f"'${{{step}...}}' names no earlier oracle action id or event id.{hint}",
+                    )
+                elif not field and step in self.action_tools:
+                    yield from self._whole_record(step, self.action_tools[step], (*where, name))
         concrete = {name: value for name, value in args.items() if name not in refs}
         try:
             spec.params.model_validate(resolve_relative_times(concrete, self.start))
@@ -709,3 +710,11 @@ def _where_conditions(conditions: Mapping[str, Any], where: Path) -> Iterator[tu
                 yield from _where_conditions(alternative, (*where, name, number))
         else:
             yield (*where, name), raw
+
+
+def _references_in(value: Any) -> list[tuple[str, str]]:
+    """The ``${step.field}`` references an argument holds: itself, or items of a list (files to attach)."""
+    if isinstance(value, list):
+        return [found for item in value if (found := reference(item)) is not None]
+    found = reference(value)
+    return [] if found is None else [found]
