@@ -252,6 +252,7 @@ def check(
     score = MutationScore()
     breaches: list[str] = []
     warnings: list[str] = []
+    unread: list[str] = []
     total = 0.0
     with collector.long_lived_frozen():
         for scenario, (verdict, outcomes) in zip(
@@ -280,6 +281,7 @@ def check(
             score.add(scenario.id, verdict.mutants)
             breaches.extend(verdict.breaches())
             warnings.extend(f"{scenario.id}: {line}" for line in verdict.warnings)
+            unread.extend(f"{scenario.id}: {line}" for line in verdict.unread_sends)
             if verbose:
                 _print_details(console, scenario, verdict, outcomes)
     console.print(table)
@@ -287,6 +289,7 @@ def check(
         _print_score(console, score)
     for line in warnings:
         console.print(f"[yellow]warning[/yellow] {markup_safe(line)}", highlight=False)
+    _print_unread(console, unread, verbose=verbose)
     if breaches:
         console.print(f"[red]{len(breaches)} breach(es):[/red]")
         for line in breaches:
@@ -623,6 +626,23 @@ def similar(
             console.print(plain_text(f"  {pair.first} ~ {pair.second} ({pair.score:.2f})"))
         raise typer.Exit(1)
     console.print(f"no pair reaches {threshold:.2f}")
+
+
+def _print_unread(console: Console, unread: list[str], *, verbose: bool) -> None:
+    """The solutions' sends no judge check reads: each with ``-v``, else how many and where."""
+    from pare.terminal_text import markup_safe
+
+    if not unread:
+        return
+    if verbose:
+        for line in unread:
+            console.print(f"[yellow]unread send[/yellow] {markup_safe(line)}", highlight=False)
+    places = len({line.split(":", 1)[0] for line in unread})
+    console.print(
+        f"{len(unread)} message(s) of the solutions of {places} scenario(s) are read by no judge check, so a "
+        "false text to that person would pass (docs/writing-scenarios.md, Side effects; -v lists them)",
+        highlight=False,
+    )
 
 
 @app.command("schema")

@@ -776,6 +776,11 @@ class _JudgeRule(Rule):
         check = self.judge
         texts = self.texts(context)
         if not texts.read:
+            if check.optional:  # nothing was sent, so nothing false was said
+                return (
+                    True,
+                    f"no {texts.described} with a text in '{check.field}' (optional): nothing to judge",
+                )
             return False, f"no {texts.described} with a text in '{check.field}' to judge"
         candidates = [text for _, text in texts.candidates]
         counted = f"{len(candidates)} text(s) ({', '.join(f'#{entry.index}' for entry in texts.read)})"
@@ -1073,7 +1078,7 @@ for _form in (
         "judge",
         JudgeCheck,
         _JudgeRule,
-        positive=lambda judge: True,  # a text that meets its criterion must be there
+        positive=lambda judge: not judge.optional,  # a text that meets its criterion must be there
         needs_assistant=lambda judge: _assistants(judge.action),
     ),
 ):

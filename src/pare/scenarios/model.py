@@ -411,6 +411,11 @@ class JudgeCheck(_Strict):
         description="What is true in the scenario, given to the judge model with the text, so it can tell "
         "an invented detail (a time, place or number these contradict or lack) from a right one.",
     )
+    optional: bool = Field(
+        default=False,
+        description="Sending is optional: the check holds when no action matches, and what is sent must "
+        "meet the criterion (a courtesy message that, if sent, must be true). Not a positive check.",
+    )
 
     @field_validator("fallback")
     @classmethod
@@ -434,7 +439,7 @@ class JudgeCheck(_Strict):
 
     @model_serializer(mode="wrap")
     def _dump(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
-        return _without_unused(handler(self), "facts", self.facts)
+        return _without_unused(_without_unused(handler(self), "facts", self.facts), "optional", self.optional)
 
 
 def _without_unused(data: dict[str, Any], name: str, value: object) -> dict[str, Any]:

@@ -1,0 +1,67 @@
+"""Messages a scenario's solutions send that no judge check reads.
+
+The side-effect envelope (:mod:`pare.scenarios.side_effects`) compares changes by shape: once a solution
+emails or messages a person, any text to that person is inside the envelope, a false one too ("Done: I
+ordered the GreenLoop bags" when the order holds other bags). So whatever a solution tells a person must
+be read for its meaning by some judge check, whose fallback (in the gate, and in runs without a judge
+model) and judge model (in runs with one) then reject a wrong text to that person. A text that is part
+of the task is read by the goal that wants it; a courtesy message that some solutions send and others do
+not is read by an ``optional`` judge check, which holds when nothing is sent.
+
+The self-test gate asks this of the runs that make the envelope (the oracle and every passing variant):
+a message they send that no judge check reads is a breach of that run, naming the call and the people it
+reached. Only emails and messages count: a calendar invitation carries the event, which state checks
+read. What goes to the user's own address never counts.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Mapping, Sequence
+from typing import Any
+
+from pare.scenarios.checks import linked_entries
+from pare.scenarios.model import Scenario
+from pare.scenarios.told import SENDING_TOOLS, delivery
+from pare.sim.log import LogEntry
+
+
+def unread_sends(scenario: Scenario, log: Sequence[LogEntry], final: Mapping[str, Any]) -> Iterator[str]:
+    """One line per email or message the assistant sent in ``log`` (ending in the ``final`` state) to
+    someone other than the user, that no judge check of ``scenario`` reads.
+    """
+    judges = {
+        (goal.id, index) for goal in scenario.goals for index, check in enumerate(goal.checks) if check.judge
+    }
+    read = {
+        index
+        for key, indexes in linked_entries(scenario, log, final).items()
+        if key in judges
+        for index in indexes
+    }
+    own = {str(value).casefold() for value in _own_addresses(final)}
+
+    def app_state(app: str) -> Mapping[str, Any] | None:
+        data = final.get(app)
+        return data if isinstance(data, Mapping) else None
+
+    for entry in log:
+        if entry.actor != "assistant" or f"{entry.app}__{entry.tool}" not in SENDING_TOOLS:
+            continue
+        sent = delivery(entry, app_state)
+        if sent is None or entry.index in read:
+            continue
+        people = sorted(person for person in sent.people if person.casefold() not in own)
+        if people:
+            yield (
+                f"#{entry.index} {entry.app}__{entry.tool} to {', '.join(people)} is read by no judge check, "
+                f"so a false text to them would pass too: add a judge check with 'to: {people[0]}' (with "
+                "'optional: true' when telling them is optional) whose criterion and facts say what is true"
+            )
+
+
+def _own_addresses(final: Mapping[str, Any]) -> Iterator[Any]:
+    email, messaging = final.get("email"), final.get("messaging")
+    if isinstance(email, Mapping) and email.get("user_email"):
+        yield email["user_email"]
+    if isinstance(messaging, Mapping) and messaging.get("current_user_id"):
+        yield messaging["current_user_id"]

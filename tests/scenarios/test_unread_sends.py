@@ -1,0 +1,135 @@
+"""What a solution tells a person must be read by a judge check; an optional judge check reads a courtesy
+message that some solutions send and others do not.
+
+The side-effect envelope licenses sending to a person by shape alone, so once a passing solution messages
+Bob, a false message to Bob is inside it: these tests pin the two halves of the repair (the optional check
+that rejects the false text, and the gate's list of sends no judge check reads).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import pytest
+
+from pare.env import Environment
+from pare.errors import UserInputError
+from pare.scenarios import Scenario
+from pare.scenarios.build import build_environment
+from pare.scenarios.checks import evaluate
+from pare.scenarios.model import JudgeCheck
+from pare.scenarios.unread_sends import unread_sends
+from tests.scenarios.helpers import base, parse
+
+ANN = "ann@x.example"
+TOLD_ANN = {
+    "judge": {
+        "criterion": "Ann is told Thursday works.",
+        "action": {"to": [ANN, "user-ann"]},
+        "fallback": {"affirms": "thursday"},
+    }
+}
+BOB_TOLD_TRULY = {
+    "judge": {
+        "criterion": "What Bob is told is true: lunch is on Thursday, not Friday.",
+        "action": {"to": "user-bob"},
+        "optional": True,
+        "fallback": {"not": {"mentions_day": "day+4"}},
+    }
+}
+TO_ANN = ("email__reply_to_email", {"email_id": "e_ann", "content": "Thursday works."})
+TRUE_TO_BOB = (
+    "messaging__send_message",
+    {"user_id": "user-bob", "content": "Lunch with Ann is on Thursday."},
+)
+FALSE_TO_BOB = ("messaging__send_message", {"user_id": "user-bob", "content": "Lunch with Ann is on Friday."})
+
+
+def _scenario(*checks: dict[str, Any]) -> Scenario:
+    """The tiny scenario with a chat with Bob, and one goal holding ``checks``."""
+    data = base()
+    data["apps"] = ["email", "calendar", "messaging"]
+    data["seed"]["messaging"] = {
+        "users": {"user-me": "Me", "user-ann": "Ann", "user-bob": "Bob"},
+        "conversations": [{"conversation_id": "conv-bob", "participant_ids": ["user-me", "user-bob"]}],
+    }
+    data["goals"] = [{"id": "told", "description": "Ann knows.", "checks": list(checks)}]
+    return parse(data)
+
+
+def _played(scenario: Scenario, *calls: tuple[str, dict[str, Any]]) -> tuple[Environment, bool]:
+    """The world after the assistant's ``calls``, and whether the goal was met."""
+    env = build_environment(scenario)
+    env.advance_to(scenario.start.replace(minute=10))  # Ann's email has arrived
+    for tool, args in calls:
+        result = env.call("assistant", tool, args, mode="execute")
+        assert result.ok, result.error
+    outcome = evaluate(scenario, env.log.entries, env.snapshot(shared=True), attribution=env.attribution)
+    return env, outcome.success
+
+
+def test_an_optional_judge_check_holds_when_nothing_is_sent_and_rejects_a_false_text() -> None:
+    scenario = _scenario(TOLD_ANN, BOB_TOLD_TRULY)
+    assert _played(scenario, TO_ANN)[1]  # Bob need not be told
+    assert _played(scenario, TO_ANN, TRUE_TO_BOB)[1]
+    assert not _played(scenario, TO_ANN, FALSE_TO_BOB)[1]
+
+
+def test_a_goal_with_only_an_optional_judge_check_is_refused() -> None:
+    with pytest.raises(UserInputError, match="no positive check"):
+        _scenario(BOB_TOLD_TRULY)
+
+
+def test_a_judge_check_that_is_not_optional_dumps_as_before() -> None:
+    check = JudgeCheck.model_validate(TOLD_ANN["judge"])
+    assert "optional" not in check.model_dump()  # the content hash of every older scenario is unchanged
+    assert JudgeCheck.model_validate(BOB_TOLD_TRULY["judge"]).model_dump()["optional"] is True
+
+
+def _unread(scenario: Scenario, *calls: tuple[str, dict[str, Any]]) -> list[str]:
+    env, _ = _played(scenario, *calls)
+    return list(unread_sends(scenario, env.log.entries, env.snapshot(shared=True)))
+
+
+def test_a_message_no_judge_check_reads_is_named_with_whom_it_reached() -> None:
+    unread = _unread(_scenario(TOLD_ANN), TO_ANN, TRUE_TO_BOB)
+    assert len(unread) == 1  # the reply to Ann is read by the goal; the message to Bob by nothing
+    assert "user-bob" in unread[0] and "messaging__send_message" in unread[0]
+
+
+def test_a_message_an_optional_judge_check_reads_is_not_named() -> None:
+    assert _unread(_scenario(TOLD_ANN, BOB_TOLD_TRULY), TO_ANN, TRUE_TO_BOB) == []
+
+
+def test_what_goes_to_the_user_alone_is_never_named() -> None:
+    to_me = ("email__send_email", {"recipients": ["me@pare.example"], "subject": "Note", "content": "Thu."})
+    assert _unread(_scenario(TOLD_ANN), TO_ANN, to_me) == []
+
+
+def test_the_gate_warns_about_a_passing_variants_message_no_judge_check_reads() -> None:
+    from pare.bench.selftest import check_scenario
+
+    data = base()
+    data["apps"] = ["email", "calendar", "messaging"]
+    data["seed"]["messaging"] = {
+        "users": {"user-me": "Me", "user-bob": "Bob"},
+        "conversations": [{"conversation_id": "conv-bob", "participant_ids": ["user-me", "user-bob"]}],
+    }
+    reply = data["oracle"]["interventions"][0]
+    tells_bob = {
+        "tool": "messaging__send_message",
+        "args": {"user_id": "user-bob", "content": "Lunch is on."},
+    }
+    data["variants"] = [
+        {
+            "id": "and_bob",
+            "expect": "pass",
+            "why": "Bob may know.",
+            "interventions": [{**reply, "actions": [*reply["actions"], tells_bob]}],
+        }
+    ]
+    verdict = check_scenario(parse(data), runs=("oracle",))
+    to_bob = [line for line in verdict.unread_sends if "user-bob" in line]
+    assert len(to_bob) == 1 and to_bob[0].startswith("[variant:and_bob]")
+    assert verdict.run("variant:and_bob").ok  # listed, not a breach: the library is still being retrofitted
+    assert not any("user-bob" in line for line in verdict.warnings)
