@@ -36,7 +36,8 @@ text a goal looks for in the assistant's work that no screen of the user's shows
 (:mod:`pare.scenarios.user_reach`), an ``otherwise_ok`` that the variant's run never needed and, given a
 judge model, a triggering text that a reactive event's rule and the judge read apart. Listed apart, and
 not failing the gate either: the emails and messages of the oracle and passing variants that no judge
-check reads (:mod:`pare.scenarios.unread_sends`), through which a false text to that person would pass.
+check reads, through which a false text to that person would pass, and the reactive events that decide
+on free text by a rule alone (:mod:`pare.scenarios.unjudged`).
 """
 
 from __future__ import annotations
@@ -61,7 +62,7 @@ from pare.scenarios.mutants import rewrites as generated_rewrites
 from pare.scenarios.oracle import BusyUser, OracleAssistant, OracleUser, SlowUser, UnrelatedAssistant
 from pare.scenarios.side_effects import Envelope
 from pare.scenarios.stats import FREE_TEXT_FIELDS
-from pare.scenarios.unread_sends import unread_sends
+from pare.scenarios.unjudged import unjudged_events, unread_sends
 from pare.scenarios.user_reach import unseen_facts
 
 T = TypeVar("T")
@@ -159,8 +160,10 @@ class ScenarioVerdict:
     """The mutants and rewrites played (with mutants on), mutants first."""
     unread_sends: tuple[str, ...] = ()
     """The emails and messages of the oracle and passing variants that no judge check reads
-    (:mod:`pare.scenarios.unread_sends`): the envelope would let a false text to those people pass. Listed
+    (:mod:`pare.scenarios.unjudged`): the envelope would let a false text to those people pass. Listed
     apart from the warnings while the library is retrofitted."""
+    unjudged_events: tuple[str, ...] = ()
+    """The reactive events that decide on free text by their rule alone, with no ``judge`` criterion."""
 
     @property
     def ok(self) -> bool:
@@ -268,6 +271,7 @@ def check_scenario(
         (*warnings, *_stale_declarations(scenario, played_mutants, mutants=mutants)),
         played_mutants,
         tuple(unread),
+        tuple(unjudged_events(scenario)),
     )
 
 

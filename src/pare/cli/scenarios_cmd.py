@@ -253,6 +253,7 @@ def check(
     breaches: list[str] = []
     warnings: list[str] = []
     unread: list[str] = []
+    unjudged: list[str] = []
     total = 0.0
     with collector.long_lived_frozen():
         for scenario, (verdict, outcomes) in zip(
@@ -282,6 +283,7 @@ def check(
             breaches.extend(verdict.breaches())
             warnings.extend(f"{scenario.id}: {line}" for line in verdict.warnings)
             unread.extend(f"{scenario.id}: {line}" for line in verdict.unread_sends)
+            unjudged.extend(f"{scenario.id}: {line}" for line in verdict.unjudged_events)
             if verbose:
                 _print_details(console, scenario, verdict, outcomes)
     console.print(table)
@@ -289,7 +291,7 @@ def check(
         _print_score(console, score)
     for line in warnings:
         console.print(f"[yellow]warning[/yellow] {markup_safe(line)}", highlight=False)
-    _print_unread(console, unread, verbose=verbose)
+    _print_unjudged(console, unread, unjudged, verbose=verbose)
     if breaches:
         console.print(f"[red]{len(breaches)} breach(es):[/red]")
         for line in breaches:
@@ -628,21 +630,30 @@ def similar(
     console.print(f"no pair reaches {threshold:.2f}")
 
 
-def _print_unread(console: Console, unread: list[str], *, verbose: bool) -> None:
-    """The solutions' sends no judge check reads: each with ``-v``, else how many and where."""
+def _print_unjudged(console: Console, unread: list[str], unjudged: list[str], *, verbose: bool) -> None:
+    """The solutions' sends no judge check reads and the reactive events on free text with no judge: each
+    with ``-v``, else how many and where.
+    """
     from pare.terminal_text import markup_safe
 
-    if not unread:
-        return
     if verbose:
-        for line in unread:
-            console.print(f"[yellow]unread send[/yellow] {markup_safe(line)}", highlight=False)
-    places = len({line.split(":", 1)[0] for line in unread})
-    console.print(
-        f"{len(unread)} message(s) of the solutions of {places} scenario(s) are read by no judge check, so a "
-        "false text to that person would pass (docs/writing-scenarios.md, Side effects; -v lists them)",
-        highlight=False,
-    )
+        for label, lines in (("unread send", unread), ("unjudged event", unjudged)):
+            for line in lines:
+                console.print(f"[yellow]{label}[/yellow] {markup_safe(line)}", highlight=False)
+    if unread:
+        places = len({line.split(":", 1)[0] for line in unread})
+        console.print(
+            f"{len(unread)} message(s) of the solutions of {places} scenario(s) are read by no judge check, "
+            "so a false text to that person would pass (docs/writing-scenarios.md, Side effects; -v: each)",
+            highlight=False,
+        )
+    if unjudged:
+        places = len({line.split(":", 1)[0] for line in unjudged})
+        console.print(
+            f"{len(unjudged)} reactive event(s) of {places} scenario(s) decide on free text by their rule "
+            "alone, with no judge criterion (docs/writing-scenarios.md, Events; -v: each)",
+            highlight=False,
+        )
 
 
 @app.command("schema")

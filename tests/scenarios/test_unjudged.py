@@ -18,7 +18,7 @@ from pare.scenarios import Scenario
 from pare.scenarios.build import build_environment
 from pare.scenarios.checks import evaluate
 from pare.scenarios.model import JudgeCheck
-from pare.scenarios.unread_sends import unread_sends
+from pare.scenarios.unjudged import unjudged_events, unread_sends
 from tests.scenarios.helpers import base, parse
 
 ANN = "ann@x.example"
@@ -133,3 +133,18 @@ def test_the_gate_warns_about_a_passing_variants_message_no_judge_check_reads() 
     assert len(to_bob) == 1 and to_bob[0].startswith("[variant:and_bob]")
     assert verdict.run("variant:and_bob").ok  # listed, not a breach: the library is still being retrofitted
     assert not any("user-bob" in line for line in verdict.warnings)
+
+
+def test_a_reactive_event_on_free_text_without_a_judge_is_named_and_one_with_a_judge_is_not() -> None:
+    reaction = {
+        "id": "ann_answers",
+        "when": {"to": ANN},
+        "if_args": {"content": {"affirms": "thursday"}},
+        "tool": "email__receive_email",
+        "args": {"email_id": "e_yes", "sender": ANN, "subject": "Re", "content": "Great!"},
+    }
+    data = base()
+    data["events"].append(reaction)
+    assert [line for line in unjudged_events(parse(data)) if "'ann_answers'" in line and "content" in line]
+    data["events"][-1] = {**reaction, "judge": {"criterion": "The email says Thursday works."}}
+    assert list(unjudged_events(parse(data))) == []

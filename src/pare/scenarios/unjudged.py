@@ -1,4 +1,5 @@
-"""Messages a scenario's solutions send that no judge check reads.
+"""Texts whose meaning no judge reads: the solutions' messages no judge check reads, and the world's
+reactions decided on free text by a rule alone.
 
 The side-effect envelope (:mod:`pare.scenarios.side_effects`) compares changes by shape: once a solution
 emails or messages a person, any text to that person is inside the envelope, a false one too ("Done: I
@@ -6,12 +7,16 @@ ordered the GreenLoop bags" when the order holds other bags). So whatever a solu
 be read for its meaning by some judge check, whose fallback (in the gate, and in runs without a judge
 model) and judge model (in runs with one) then reject a wrong text to that person. A text that is part
 of the task is read by the goal that wants it; a courtesy message that some solutions send and others do
-not is read by an ``optional`` judge check, which holds when nothing is sent.
+not is read by an ``optional`` judge check, which holds when nothing is sent (:func:`unread_sends`).
+Only emails and messages count: a calendar invitation carries the event, which state checks read. What
+goes to the user's own address never counts.
 
-The self-test gate asks this of the runs that make the envelope (the oracle and every passing variant):
-a message they send that no judge check reads is a breach of that run, naming the call and the people it
-reached. Only emails and messages count: a calendar invitation carries the event, which state checks
-read. What goes to the user's own address never counts.
+A reactive event whose ``if_args`` reads free text (a reply's ``content``) by a matcher alone misjudges
+wording its author did not foresee even in runs with a judge model, which it would ask if it had a
+``judge`` criterion (:func:`unjudged_events`).
+
+The self-test gate lists both for the runs that make the envelope (the oracle and every passing variant)
+and for the scenario's events, apart from its warnings while the library is retrofitted.
 """
 
 from __future__ import annotations
@@ -21,6 +26,7 @@ from typing import Any
 
 from pare.scenarios.checks import linked_entries
 from pare.scenarios.model import Scenario
+from pare.scenarios.stats import FREE_TEXT_FIELDS
 from pare.scenarios.told import SENDING_TOOLS, delivery
 from pare.sim.log import LogEntry
 
@@ -65,3 +71,14 @@ def _own_addresses(final: Mapping[str, Any]) -> Iterator[Any]:
         yield email["user_email"]
     if isinstance(messaging, Mapping) and messaging.get("current_user_id"):
         yield messaging["current_user_id"]
+
+
+def unjudged_events(scenario: Scenario) -> Iterator[str]:
+    """One line per reactive event of ``scenario`` whose ``if_args`` read free text with no ``judge``."""
+    for event in scenario.events:
+        fields = sorted(name for name in event.if_args if name in FREE_TEXT_FIELDS)
+        if fields and event.judge is None:
+            yield (
+                f"event '{event.id}' decides on free text ({', '.join(fields)}) by its rule alone: give it a "
+                "'judge' criterion, so that runs with a judge model read the text for its meaning"
+            )
