@@ -148,3 +148,8 @@ def test_a_reactive_event_on_free_text_without_a_judge_is_named_and_one_with_a_j
     assert [line for line in unjudged_events(parse(data)) if "'ann_answers'" in line and "content" in line]
     data["events"][-1] = {**reaction, "judge": {"criterion": "The email says Thursday works."}}
     assert list(unjudged_events(parse(data))) == []
+
+
+def test_a_forward_without_words_of_its_own_is_not_named() -> None:
+    forward = ("email__forward_email", {"email_id": "e_ann", "recipients": ["bob@x.example"]})
+    assert _unread(_scenario(TOLD_ANN), TO_ANN, forward) == []

@@ -8,8 +8,9 @@ be read for its meaning by some judge check, whose fallback (in the gate, and in
 model) and judge model (in runs with one) then reject a wrong text to that person. A text that is part
 of the task is read by the goal that wants it; a courtesy message that some solutions send and others do
 not is read by an ``optional`` judge check, which holds when nothing is sent (:func:`unread_sends`).
-Only emails and messages count: a calendar invitation carries the event, which state checks read. What
-goes to the user's own address never counts.
+Only emails and messages with words of the assistant's own count: a calendar invitation carries the
+event, which state checks read; files sent without a word, and a forward without a note, carry texts the
+world wrote, whose choice the goals check. What goes to the user's own address never counts.
 
 A reactive event whose ``if_args`` reads free text (a reply's ``content``) by a matcher alone misjudges
 wording its author did not foresee even in runs with a judge model, which it would ask if it had a
@@ -53,6 +54,9 @@ def unread_sends(scenario: Scenario, log: Sequence[LogEntry], final: Mapping[str
     for entry in log:
         if entry.actor != "assistant" or f"{entry.app}__{entry.tool}" not in SENDING_TOOLS:
             continue
+        written = entry.args.get("content")
+        if not (isinstance(written, str) and written.strip()):
+            continue  # no words of the assistant's own: files alone, or a forward of the world's email
         sent = delivery(entry, app_state)
         if sent is None or entry.index in read:
             continue
