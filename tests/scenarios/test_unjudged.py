@@ -153,3 +153,23 @@ def test_a_reactive_event_on_free_text_without_a_judge_is_named_and_one_with_a_j
 def test_a_forward_without_words_of_its_own_is_not_named() -> None:
     forward = ("email__forward_email", {"email_id": "e_ann", "recipients": ["bob@x.example"]})
     assert _unread(_scenario(TOLD_ANN), TO_ANN, forward) == []
+
+
+def test_a_text_field_no_check_reads_is_named_and_one_read_by_text_is_not() -> None:
+    from pare.scenarios.unjudged import unread_fields
+
+    event = (
+        "calendar__add_calendar_event",
+        {
+            "title": "Lunch with Ann",
+            "start_datetime": "2025-03-06T12:30:00Z",
+            "end_datetime": "2025-03-06T13:30:00Z",
+            "location": "Luigi's",
+        },
+    )
+    at_the_time = {"state": {"path": "calendar.events", "where": {"start_datetime": "day+3 12:30"}}}
+    env, _ = _played(_scenario(TOLD_ANN, at_the_time), TO_ANN, event)
+    named = list(unread_fields(_scenario(TOLD_ANN, at_the_time), env.log.entries))
+    assert {line.split("'")[1] for line in named} == {"title", "location"}
+    by_text = {"state": {"path": "calendar.events", "where": {"_text": {"contains": "lunch"}}}}
+    assert list(unread_fields(_scenario(TOLD_ANN, by_text), env.log.entries)) == []

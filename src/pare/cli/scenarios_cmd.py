@@ -254,6 +254,7 @@ def check(
     warnings: list[str] = []
     unread: list[str] = []
     unjudged: list[str] = []
+    fields: list[str] = []
     total = 0.0
     with collector.long_lived_frozen():
         for scenario, (verdict, outcomes) in zip(
@@ -284,6 +285,7 @@ def check(
             warnings.extend(f"{scenario.id}: {line}" for line in verdict.warnings)
             unread.extend(f"{scenario.id}: {line}" for line in verdict.unread_sends)
             unjudged.extend(f"{scenario.id}: {line}" for line in verdict.unjudged_events)
+            fields.extend(f"{scenario.id}: {line}" for line in verdict.unread_fields)
             if verbose:
                 _print_details(console, scenario, verdict, outcomes)
     console.print(table)
@@ -291,7 +293,8 @@ def check(
         _print_score(console, score)
     for line in warnings:
         console.print(f"[yellow]warning[/yellow] {markup_safe(line)}", highlight=False)
-    _print_unjudged(console, unread, unjudged, verbose=verbose)
+    found = {"unread send": unread, "unread field": fields, "unjudged event": unjudged}
+    _print_unjudged(console, found, verbose=verbose)
     if breaches:
         console.print(f"[red]{len(breaches)} breach(es):[/red]")
         for line in breaches:
@@ -630,30 +633,28 @@ def similar(
     console.print(f"no pair reaches {threshold:.2f}")
 
 
-def _print_unjudged(console: Console, unread: list[str], unjudged: list[str], *, verbose: bool) -> None:
-    """The solutions' sends no judge check reads and the reactive events on free text with no judge: each
-    with ``-v``, else how many and where.
+_UNJUDGED = {
+    "unread send": "message(s) of the solutions are read by no judge check, so a false text to that person "
+    "would pass (docs/writing-scenarios.md, Side effects)",
+    "unread field": "text field(s) the solutions write into items are read by no check, so a wrong value "
+    "there would pass (docs/writing-scenarios.md, Checks)",
+    "unjudged event": "reactive event(s) decide on free text by their rule alone, with no judge criterion "
+    "(docs/writing-scenarios.md, Events)",
+}
+
+
+def _print_unjudged(console: Console, found: dict[str, list[str]], *, verbose: bool) -> None:
+    """What no judge or check reads (:mod:`pare.scenarios.unjudged`): each line with ``-v``, else how many
+    of each kind, in how many scenarios.
     """
     from pare.terminal_text import markup_safe
 
-    if verbose:
-        for label, lines in (("unread send", unread), ("unjudged event", unjudged)):
-            for line in lines:
-                console.print(f"[yellow]{label}[/yellow] {markup_safe(line)}", highlight=False)
-    if unread:
-        places = len({line.split(":", 1)[0] for line in unread})
-        console.print(
-            f"{len(unread)} message(s) of the solutions of {places} scenario(s) are read by no judge check, "
-            "so a false text to that person would pass (docs/writing-scenarios.md, Side effects; -v: each)",
-            highlight=False,
-        )
-    if unjudged:
-        places = len({line.split(":", 1)[0] for line in unjudged})
-        console.print(
-            f"{len(unjudged)} reactive event(s) of {places} scenario(s) decide on free text by their rule "
-            "alone, with no judge criterion (docs/writing-scenarios.md, Events; -v: each)",
-            highlight=False,
-        )
+    for label, lines in found.items():
+        for line in lines if verbose else ():
+            console.print(f"[yellow]{label}[/yellow] {markup_safe(line)}", highlight=False)
+        if lines:
+            places = len({line.split(":", 1)[0] for line in lines})
+            console.print(f"{len(lines)} {_UNJUDGED[label]}, in {places} scenario(s)", highlight=False)
 
 
 @app.command("schema")
