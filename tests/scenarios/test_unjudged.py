@@ -173,3 +173,10 @@ def test_a_text_field_no_check_reads_is_named_and_one_read_by_text_is_not() -> N
     assert {line.split("'")[1] for line in named} == {"title", "location"}
     by_text = {"state": {"path": "calendar.events", "where": {"_text": {"contains": "lunch"}}}}
     assert list(unread_fields(_scenario(TOLD_ANN, by_text), env.log.entries)) == []
+
+
+def test_an_optional_judge_checks_sentence_says_it_holds_without_a_text() -> None:
+    from pare.scenarios.checks import check_sentences
+
+    sentences = check_sentences(_scenario(TOLD_ANN, BOB_TOLD_TRULY))["told"]
+    assert "if there is one" in sentences[1] and "if there is one" not in sentences[0]
