@@ -34,7 +34,11 @@ and a surviving mutant or a failing rewrite is a breach like a misjudged variant
 Warnings do not fail the gate: a reactive reply that restates what the assistant was meant to find, a
 text a goal looks for in the assistant's work that no screen of the user's shows
 (:mod:`pare.scenarios.user_reach`), an ``otherwise_ok`` that the variant's run never needed and, given a
-judge model, a triggering text that a reactive event's rule and the judge read apart.
+judge model, a triggering text that a reactive event's rule and the judge read apart. Listed apart, and
+not failing the gate either: the emails and messages of the oracle and passing variants that no judge
+check reads, through which a false text to that person would pass, the text fields they write into items
+that no check reads, and the reactive events that decide on free text by a rule alone
+(:mod:`pare.scenarios.unjudged`).
 """
 
 from __future__ import annotations
@@ -59,6 +63,7 @@ from pare.scenarios.mutants import rewrites as generated_rewrites
 from pare.scenarios.oracle import BusyUser, OracleAssistant, OracleUser, SlowUser, UnrelatedAssistant
 from pare.scenarios.side_effects import Envelope
 from pare.scenarios.stats import FREE_TEXT_FIELDS
+from pare.scenarios.unjudged import unjudged_events, unread_fields, unread_sends
 from pare.scenarios.user_reach import unseen_facts
 
 T = TypeVar("T")
@@ -154,6 +159,14 @@ class ScenarioVerdict:
     warnings: tuple[str, ...] = ()
     mutants: tuple[MutantVerdict, ...] = ()
     """The mutants and rewrites played (with mutants on), mutants first."""
+    unread_sends: tuple[str, ...] = ()
+    """The emails and messages of the oracle and passing variants that no judge check reads
+    (:mod:`pare.scenarios.unjudged`): the envelope would let a false text to those people pass. Listed
+    apart from the warnings while the library is retrofitted."""
+    unjudged_events: tuple[str, ...] = ()
+    """The reactive events that decide on free text by their rule alone, with no ``judge`` criterion."""
+    unread_fields: tuple[str, ...] = ()
+    """The text fields the oracle and passing variants write into items that no check reads."""
 
     @property
     def ok(self) -> bool:
@@ -229,6 +242,9 @@ def check_scenario(
         apart: list[list[str]] = []
         if judge is not None:  # the judge is awaited in this loop too
             runner.run(_kept(_readings_apart(scenario, details, judge), apart))
+    solutions = {"oracle" if name is None else f"variant:{name}" for name in envelope_solutions(scenario)}
+    unread: list[str] = []
+    unread_items: list[str] = []
     for name, _, expected, why in plays:
         if name in broken:
             verdicts.append(RunVerdict(name, expected, None, (broken[name],), why=why))
@@ -239,6 +255,11 @@ def check_scenario(
         )
         verdict = _verdict(name, scenario, users[name], result, expected, why, fails.get(name, []))
         verdicts.append(_with_reactions(verdict, scenario, result, excused.get(name, frozenset())))
+        if name in solutions:  # what a solution tells a person widens the envelope: a check must read it
+            final = result.env.snapshot(shared=True)
+            log = result.env.log.entries
+            unread.extend(f"[{name}] {line}" for line in unread_sends(scenario, log, final))
+            unread_items.extend(f"[{name}] {line}" for line in unread_fields(scenario, log))
     warnings = [
         *restated_answers(scenario),
         *(fact.warning() for fact in unseen_facts(scenario)),
@@ -253,6 +274,9 @@ def check_scenario(
         tuple(_declaration_problems(scenario)),
         (*warnings, *_stale_declarations(scenario, played_mutants, mutants=mutants)),
         played_mutants,
+        tuple(unread),
+        tuple(unjudged_events(scenario)),
+        tuple(unread_items),
     )
 
 

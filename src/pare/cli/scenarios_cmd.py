@@ -252,6 +252,9 @@ def check(
     score = MutationScore()
     breaches: list[str] = []
     warnings: list[str] = []
+    unread: list[str] = []
+    unjudged: list[str] = []
+    fields: list[str] = []
     total = 0.0
     with collector.long_lived_frozen():
         for scenario, (verdict, outcomes) in zip(
@@ -280,6 +283,9 @@ def check(
             score.add(scenario.id, verdict.mutants)
             breaches.extend(verdict.breaches())
             warnings.extend(f"{scenario.id}: {line}" for line in verdict.warnings)
+            unread.extend(f"{scenario.id}: {line}" for line in verdict.unread_sends)
+            unjudged.extend(f"{scenario.id}: {line}" for line in verdict.unjudged_events)
+            fields.extend(f"{scenario.id}: {line}" for line in verdict.unread_fields)
             if verbose:
                 _print_details(console, scenario, verdict, outcomes)
     console.print(table)
@@ -287,6 +293,8 @@ def check(
         _print_score(console, score)
     for line in warnings:
         console.print(f"[yellow]warning[/yellow] {markup_safe(line)}", highlight=False)
+    found = {"unread send": unread, "unread field": fields, "unjudged event": unjudged}
+    _print_unjudged(console, found, verbose=verbose)
     if breaches:
         console.print(f"[red]{len(breaches)} breach(es):[/red]")
         for line in breaches:
@@ -623,6 +631,30 @@ def similar(
             console.print(plain_text(f"  {pair.first} ~ {pair.second} ({pair.score:.2f})"))
         raise typer.Exit(1)
     console.print(f"no pair reaches {threshold:.2f}")
+
+
+_UNJUDGED = {
+    "unread send": "message(s) of the solutions are read by no judge check, so a false text to that person "
+    "would pass (docs/writing-scenarios.md, Side effects)",
+    "unread field": "text field(s) the solutions write into items are read by no check, so a wrong value "
+    "there would pass (docs/writing-scenarios.md, Checks)",
+    "unjudged event": "reactive event(s) decide on free text by their rule alone, with no judge criterion "
+    "(docs/writing-scenarios.md, Events)",
+}
+
+
+def _print_unjudged(console: Console, found: dict[str, list[str]], *, verbose: bool) -> None:
+    """What no judge or check reads (:mod:`pare.scenarios.unjudged`): each line with ``-v``, else how many
+    of each kind, in how many scenarios.
+    """
+    from pare.terminal_text import markup_safe
+
+    for label, lines in found.items():
+        for line in lines if verbose else ():
+            console.print(f"[yellow]{label}[/yellow] {markup_safe(line)}", highlight=False)
+        if lines:
+            places = len({line.split(":", 1)[0] for line in lines})
+            console.print(f"{len(lines)} {_UNJUDGED[label]}, in {places} scenario(s)", highlight=False)
 
 
 @app.command("schema")

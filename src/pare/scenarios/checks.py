@@ -740,8 +740,9 @@ class _JudgeRule(Rule):
 
     def wanted(self) -> str:
         check = self.judge
+        optional = ", if there is one" if check.optional else ""  # nothing sent holds
         return (
-            f"'{check.field}' of {self.pattern.own_text} judged for: {check.criterion} "
+            f"'{check.field}' of {self.pattern.own_text}{optional} judged for: {check.criterion} "
             f"(without a judge model: {self.fallback_text})"
         )
 
