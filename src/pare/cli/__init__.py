@@ -18,6 +18,7 @@ from pare.cli import (
     baselines_cmd,
     calibrate_cmd,
     doctor_cmd,
+    export_cmd,
     generate_cmd,
     regrade_cmd,
     report_cmd,
@@ -50,6 +51,7 @@ app.command("report")(report_cmd.report)
 app.command("plot")(report_cmd.plot)
 app.command("agreement")(agreement_cmd.agreement)
 app.command("view")(view_cmd.view)
+app.command("export")(export_cmd.export)
 app.command("generate")(generate_cmd.generate)
 
 
