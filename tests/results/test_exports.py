@@ -97,10 +97,45 @@ def test_eee_instances_hold_the_messages_and_the_tokens_per_role(runs: Runs, tmp
         assert instance["metadata"][f"tokens.{role}.input"] == str(role_usage.prompt_tokens)
 
 
-def test_inspect_format_is_refused_with_the_reason(runs: Runs, tmp_path: Path, capsys) -> None:
-    assert main(["export", str(runs.oracle), "--format", "inspect", "-o", str(tmp_path / "x")]) == 2
-    assert "--format eee" in capsys.readouterr().err
-    assert not (tmp_path / "x").exists()
+def _export_inspect(run: Path, out: Path) -> dict[str, Any]:
+    assert main(["export", str(run), "--format", "inspect", "-o", str(out)]) == 0
+    (log_file,) = list(out.glob("*.json"))
+    log: dict[str, Any] = json.loads(log_file.read_text(encoding="utf-8"))
+    return log
+
+
+@pytest.mark.parametrize("which", ["oracle", "models"])
+def test_inspect_log_is_valid_against_inspects_log_schema(runs: Runs, tmp_path: Path, which: str) -> None:
+    log = _export_inspect(getattr(runs, which), tmp_path)
+    schema = json.loads((Path(__file__).parent / "inspect_schema" / "eval_log.schema.json").read_text())
+    jsonschema.Draft202012Validator(schema).validate(log)
+    assert log["status"] == "success"
+    assert sorted((s["id"], s["epoch"]) for s in log["samples"]) == [
+        ("dentist_moves_checkup", 1),
+        ("dentist_moves_checkup", 2),
+        ("five_a_side_kickoff_moved", 1),
+        ("five_a_side_kickoff_moved", 2),
+    ]
+
+
+def test_inspect_log_scores_each_episode_and_counts_tokens_per_role(runs: Runs, tmp_path: Path) -> None:
+    log = _export_inspect(runs.models, tmp_path)
+    loaded = load_run(runs.models)
+    metrics = compute_metrics(loaded.records, label=loaded.label, runs=loaded.runs, planned=loaded.planned)
+    (score,) = log["results"]["scores"]
+    assert score["metrics"]["accuracy"]["value"] == metrics.success_rate.mean == 0.0
+    assert {s["scores"]["pare_checks"]["value"] for s in log["samples"]} == {"I"}
+    user_tokens = sum(r.usage["user"].prompt_tokens for r in loaded.records)
+    assert log["stats"]["role_usage"]["user"]["input_tokens"] == user_tokens
+    assert log["eval"]["model"] == "test-assistant"
+    sample = next(s for s in log["samples"] if (s["id"], s["epoch"]) == ("dentist_moves_checkup", 1))
+    record = next(r for r in loaded.records if r.key == ("dentist_moves_checkup", 1))
+    assert record.trajectory is not None
+    trajectory = read_trajectory(loaded.path / record.trajectory)
+    assistant = [m for m in sample["messages"] if m["role"] == "assistant"]
+    steps = [step for step in trajectory.steps if step.actor == "assistant"]
+    assert [m["content"] for m in assistant] == [step.action.raw for step in steps]
+    assert [m["tool_calls"][0]["function"] for m in assistant] == [step.action.tool for step in steps]
 
 
 def _conversations(file: Path) -> list[dict[str, Any]]:

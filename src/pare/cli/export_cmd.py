@@ -13,11 +13,6 @@ from pare.errors import UserInputError
 
 RUN_FORMATS = ("eee", "sft", "inspect")
 SCENARIO_FORMATS = ("jsonl", "parquet")
-INSPECT_REFUSAL = (
-    "--format inspect is not offered: an Inspect log (EvalLog) is a model of Inspect's own task, solver "
-    "and scorer records that only inspect_ai can write and check, and PARE does not depend on it. Export "
-    "--format eee instead (Every Eval Ever converts Inspect logs to the same schema), see docs/exporting.md"
-)
 
 
 def export(
@@ -29,14 +24,14 @@ def export(
         ),
     ],
     output: Annotated[
-        Path, typer.Option("--output", "-o", help="The folder (eee, scenarios) or file (sft) to write.")
+        Path, typer.Option("--output", "-o", help="The folder (eee, inspect, scenarios) or file (sft).")
     ],
     form: Annotated[
         str | None,
         typer.Option(
             "--format",
             "-f",
-            help="Runs: eee (default) or sft. Scenarios: jsonl (default) or parquet.",
+            help="Runs: eee (default), inspect or sft. Scenarios: jsonl (default) or parquet.",
             show_default=False,
         ),
     ] = None,
@@ -61,8 +56,8 @@ def export(
     ] = False,
 ) -> None:
     """Write runs in the Every Eval Ever schema (--format eee: the metrics with their uncertainty and one
-    record per episode) or as chat-format JSON lines of the successful episodes per role (--format sft);
-    or, with the word 'scenarios', the scenario library as a dataset with its card.
+    record per episode), as Inspect logs (--format inspect) or as chat-format JSON lines of the successful
+    episodes per role (--format sft); or, with the word 'scenarios', the library as a dataset with a card.
     """
     if targets == ["scenarios"]:
         _export_scenarios(output, form or "jsonl", split)
@@ -72,10 +67,8 @@ def export(
             "'scenarios' exports the library on its own; name run folders in another command"
         )
     chosen = form or "eee"
-    if chosen == "inspect":
-        raise UserInputError(INSPECT_REFUSAL)
     if chosen not in RUN_FORMATS:
-        raise UserInputError(f"--format {chosen!r}: a run exports as {', '.join(RUN_FORMATS[:2])}")
+        raise UserInputError(f"--format {chosen!r}: a run exports as {', '.join(RUN_FORMATS)}")
     from pare.results.run_folder import load_run, run_folders
 
     runs = [load_run(folder) for folder in run_folders(Path(target) for target in targets)]
@@ -87,6 +80,13 @@ def export(
         output.parent.mkdir(parents=True, exist_ok=True)
         lines = export_sft(runs, output, roles=tuple(role or ROLES), include_failed=include_failed)
         typer.echo(f"wrote {lines} conversations to {output}")
+        return
+    if chosen == "inspect":
+        from pare.results.exports.inspect_log import export_inspect
+
+        for run in runs:
+            log = export_inspect(run, output)
+            typer.echo(f"{run.label}: {log.file} ({log.samples} samples)")
         return
     from pare.results.exports.eee import export_eee
 

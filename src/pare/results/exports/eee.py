@@ -27,7 +27,13 @@ from urllib.parse import urlparse
 
 from pare.agents.models.ledger import RoleUsage
 from pare.errors import UserInputError
-from pare.results.exports.episodes import Episode, complete_episodes, manifest_text, role_players
+from pare.results.exports.episodes import (
+    Episode,
+    complete_episodes,
+    first_start,
+    manifest_text,
+    role_players,
+)
 from pare.results.metrics import ConfigurationMetrics, Estimate, compute_metrics
 from pare.results.run_folder import LoadedRun
 from pare.results.trajectory import StepRecord
@@ -159,7 +165,7 @@ def _aggregate(
         "model_info": _model_info(model, details),
         "evaluation_results": _results(run, metrics),
     }
-    if started := _started(manifest):
+    if started := first_start(manifest):
         document["evaluation_timestamp"] = started
     return document
 
@@ -472,11 +478,3 @@ def _file_uuid(run: LoadedRun) -> str:
     """A version-4-shaped uuid derived from the run's identity (the schema's file names need one)."""
     seed = f"{manifest_text(run.manifest, 'identity_hash')}|{run.label}|{run.path.name}"
     return str(uuid.UUID(bytes=hashlib.sha256(seed.encode("utf-8")).digest()[:16], version=4))
-
-
-def _started(manifest: Mapping[str, Any]) -> str | None:
-    sessions = manifest.get("sessions")
-    if isinstance(sessions, list) and sessions and isinstance(sessions[0], dict):
-        started = sessions[0].get("started")
-        return str(started) if started else None
-    return None

@@ -73,3 +73,12 @@ def manifest_text(manifest: Mapping[str, Any], *keys: str) -> str | None:
     for key in keys:
         value = value.get(key) if isinstance(value, dict) else None
     return None if value is None else str(value)
+
+
+def first_start(manifest: Mapping[str, Any]) -> str | None:
+    """When the run's first session started (ISO 8601), as the manifest records it."""
+    sessions = manifest.get("sessions")
+    if isinstance(sessions, list) and sessions and isinstance(sessions[0], dict):
+        started = sessions[0].get("started")
+        return str(started) if started else None
+    return None
