@@ -180,3 +180,15 @@ def test_sft_conversations_are_the_models_own_answers_per_role(runs: Runs, tmp_p
     only_user = tmp_path / "user.jsonl"
     assert main(["export", str(run), "-f", "sft", "--role", "user", "-o", str(only_user)]) == 0
     assert [c["role"] for c in _conversations(only_user)] == ["user"]
+
+
+def test_bad_export_requests_are_refused_by_name(runs: Runs, tmp_path: Path, capsys) -> None:
+    out = str(tmp_path / "out")
+    assert main(["export", str(runs.oracle), "--format", "csv", "-o", out]) == 2
+    assert "'csv'" in capsys.readouterr().err
+    assert main(["export", str(runs.oracle), "--relationship", "friend", "-o", out]) == 2
+    assert "'friend'" in capsys.readouterr().err
+    assert main(["export", str(tmp_path / "nowhere"), "-o", out]) == 2
+    assert "nowhere" in capsys.readouterr().err
+    assert main(["export", str(runs.oracle), "-f", "sft", "--role", "judge", "-o", out]) == 2
+    assert "'judge'" in capsys.readouterr().err

@@ -77,7 +77,11 @@ def export(
 
         if output.is_dir():
             raise UserInputError(f"{output} is a folder; --format sft writes one JSON-lines file")
-        output.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            output.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as error:
+            reason = error.strerror or error
+            raise UserInputError(f"{output.parent}: cannot make the folder: {reason}") from None
         lines = export_sft(runs, output, roles=tuple(role or ROLES), include_failed=include_failed)
         typer.echo(f"wrote {lines} conversations to {output}")
         return
