@@ -18,6 +18,7 @@ from pare.cli import (
     baselines_cmd,
     calibrate_cmd,
     doctor_cmd,
+    export_cmd,
     generate_cmd,
     play_cmd,
     regrade_cmd,
@@ -51,6 +52,7 @@ app.command("report")(report_cmd.report)
 app.command("plot")(report_cmd.plot)
 app.command("agreement")(agreement_cmd.agreement)
 app.command("view")(view_cmd.view)
+app.command("export")(export_cmd.export)
 app.command("generate")(generate_cmd.generate)
 app.command("play")(play_cmd.play)
 

@@ -9,6 +9,7 @@ Paths::
                                             site's data key, see :mod:`pare.viewer._server`)
     c/<config>/e/<scenario>/run-<r>.html    one episode
     compare.html                            two configurations' runs of one episode side by side
+    leaderboard.html                        the configurations ranked (with two or more of them)
     static/viewer.css, static/viewer.js
 """
 
@@ -29,11 +30,12 @@ from pare.results.metrics import Estimate
 from pare.viewer._annotate import episode_annotations
 from pare.viewer._episode import build_episode
 from pare.viewer._evidence import final_state, library_scenario, matched_entries, state_entries
+from pare.viewer._leaderboard import leaderboard
 from pare.viewer._paths import OutsideRunError, slug
 from pare.viewer._rows import FILTERS, episode_href, filter_choices, rows, rows_script
 from pare.viewer._runs import Catalog, Configuration
 
-STATIC = ("viewer.css", "viewer.js")
+STATIC = ("viewer.css", "viewer.js", "leaderboard.js")
 NOTHING = "\N{EN DASH}"
 """What a table shows for a number that was not measured."""
 _EPISODE = re.compile(r"c/([^/]+)/e/([^/]+)/run-([1-9][0-9]{0,5})\.html")
@@ -81,6 +83,8 @@ class Site:
             return self._html(self.runs_page())
         if path == "compare.html":
             return self._html(self.compare_page())
+        if path == "leaderboard.html":
+            return self._html(self.leaderboard_page()) if self.has_leaderboard else None
         if path.startswith("static/") and path[len("static/") :] in STATIC:
             name = path[len("static/") :]
             body = resources.files("pare.viewer").joinpath("static", name).read_bytes()
@@ -105,12 +109,19 @@ class Site:
         """Every page of the site (for the static export)."""
         yield "index.html"
         yield "compare.html"
+        if self.has_leaderboard:
+            yield "leaderboard.html"
         yield from (f"static/{name}" for name in STATIC)
         for configuration in self.catalog.configurations:
             yield f"c/{configuration.cid}/index.html"
             yield f"c/{configuration.cid}/rows.js"
             for scenario, run in configuration.records:
                 yield f"c/{configuration.cid}/e/{slug(scenario)}/run-{run}.html"
+
+    @property
+    def has_leaderboard(self) -> bool:
+        """Whether the site ranks its configurations (it has two or more)."""
+        return len(self.catalog.configurations) >= 2
 
     def _html(self, text: str) -> Page:
         return Page(text.encode("utf-8"), _TYPES[".html"])
@@ -128,6 +139,13 @@ class Site:
             title="PARE runs",
             configurations=[(c, c.metrics) for c in self.catalog.configurations],
             params=sorted({name for c in self.catalog.configurations for name in c.sweep_point}),
+            leaderboard=self.has_leaderboard,
+        )
+
+    def leaderboard_page(self) -> str:
+        """The configurations ranked by success, sortable by every column."""
+        return self._render(
+            "leaderboard.html", 0, title="Leaderboard", rows=leaderboard(self.catalog.configurations)
         )
 
     def configuration_page(self, configuration: Configuration) -> str:
