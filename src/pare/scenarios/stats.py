@@ -11,11 +11,12 @@ from __future__ import annotations
 import math
 from collections import Counter
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from pare.scenarios.matchers import OPERATORS
 from pare.scenarios.model import TAGS, Check, Goal, Scenario
+from pare.scenarios.times import parse_time
 
 LIBRARY_SIZE = 150
 APP_SHARES: dict[str, tuple[float, float]] = {
@@ -102,6 +103,8 @@ class Coverage:
     judged_text_goals: int
     variants_passing: int
     variants_failing: int
+    story_days: dict[int, int] = field(default_factory=dict)
+    """Scenarios by the calendar days their story spans: from the start to the last timed event."""
 
     @property
     def judge_share(self) -> float:
@@ -196,7 +199,16 @@ def coverage(scenarios: Sequence[Scenario]) -> Coverage:
         judged_text_goals=judged,
         variants_passing=passing,
         variants_failing=failing,
+        story_days=dict(sorted(Counter(story_days(scenario) for scenario in scenarios).items())),
     )
+
+
+def story_days(scenario: Scenario) -> int:
+    """The calendar days a scenario's story spans: from its start to its last event at a set time (events
+    that react to actions follow them, within the same stretch).
+    """
+    times = [parse_time(event.at, scenario.start) for event in scenario.events if event.at is not None]
+    return (max(times).date() - scenario.start.date()).days + 1 if times else 1
 
 
 def format_coverage(report: Coverage) -> list[str]:
@@ -219,6 +231,11 @@ def format_coverage(report: Coverage) -> list[str]:
         f"({report.judge_share:.0%})"
     )
     lines.append(f"variants: {report.variants_passing} passing, {report.variants_failing} failing")
+    days = ", ".join(
+        f"{span} day{'s' if span > 1 else ''}: {count}" for span, count in report.story_days.items()
+    )
+    several = sum(count for span, count in report.story_days.items() if span > 1)
+    lines.append(f"story span (start to the last timed event): {days}; over several days: {several}")
     gaps = report.gaps()
     lines.append(f"gaps against the targets: {len(gaps)}" if gaps else "gaps against the targets: none")
     lines.extend(f"  - {gap}" for gap in gaps)
