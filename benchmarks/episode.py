@@ -40,6 +40,7 @@ import argparse
 import asyncio
 import functools
 import hashlib
+import inspect
 import json
 import os
 import statistics
@@ -283,15 +284,15 @@ def print_tokens(recordings: list[Recording]) -> None:
 
 class EpisodeWork:
     """Times the work each episode does once, whatever its length, during the timed passes: building
-    the environment, the actors' system prompts at the start, evaluating the goals and the state diff
-    at the end. The rest of an episode's time is its turns.
+    the environment, the actors' system prompts at the start, grading the episode (its goals and side
+    effects) and the state diff at the end. The rest of an episode's time is its turns.
     """
 
     PLACES: tuple[tuple[Any, str], ...] = (
         (episode_module, "build_environment"),
         (LLMUser, "start"),
         (LLMAssistant, "start"),
-        (episode_module, "evaluate"),
+        (episode_module, "grade"),
         (episode_module, "state_changes"),
     )
 
@@ -302,6 +303,20 @@ class EpisodeWork:
             setattr(owner, name, self._timed(getattr(owner, name)))
 
     def _timed(self, function: Callable[..., Any]) -> Callable[..., Any]:
+        if inspect.iscoroutinefunction(function):  # grading awaits the judge: time the awaited call
+
+            @functools.wraps(function)
+            async def timed_async(*args: Any, **kwargs: Any) -> Any:
+                if not self.counting:
+                    return await function(*args, **kwargs)
+                began = time.perf_counter()
+                try:
+                    return await function(*args, **kwargs)
+                finally:
+                    self.seconds += time.perf_counter() - began
+
+            return timed_async
+
         @functools.wraps(function)
         def timed(*args: Any, **kwargs: Any) -> Any:
             if not self.counting:
