@@ -112,3 +112,36 @@ def test_a_reference_inside_a_list_to_no_earlier_action_is_refused_at_load() -> 
     refused = r"attachments: '\$\{saveed\.\.\.\}' names no earlier oracle action"
     with pytest.raises(ScenarioError, match=refused):
         parse(_writes_then_attaches("${saveed.id}"))
+
+
+def test_a_user_step_names_what_it_made_for_the_users_later_steps() -> None:
+    from pare.agents.policy import SilentAssistant
+    from pare.scenarios.library import get_scenario
+
+    scenario = get_scenario("childminder_new_business_account_confirm_then_pay")
+    solution = scenario.by_hand()
+    settings = EpisodeSettings(max_turns=EpisodeSettings().max_turns + len(solution.user))
+    result = run_episode(scenario, OracleUser(scenario, solution), SilentAssistant(), settings)
+    banking = result.env.snapshot()["banking"]
+    (made,) = [payee for payee in banking["payees"].values() if payee["name"] == "Little Oaks Childminding"]
+    paid = [t for t in banking["transactions"].values() if t.get("reference") == "LO-1025"]
+    assert [t["payee_id"] for t in paid] == [made["payee_id"]]  # the pay screen got ${payee.id}
+    assert result.outcome.user_did_work and not result.success
+
+
+def _user_steps(reference: str, *, twice: bool = False) -> dict[str, Any]:
+    data = base()
+    data["oracle"]["user"] = [
+        {"id": "found", "tool": "open_app", "args": {"app_name": "email"}},
+        {"id": "found" if twice else "again", "tool": "search_emails", "args": {"query": reference}},
+        *data["oracle"]["user"],
+    ]
+    return data
+
+
+def test_a_user_step_reference_to_no_earlier_step_is_refused_at_load() -> None:
+    with pytest.raises(ScenarioError, match=r"'\$\{fuond\.\.\.\}' names no earlier oracle action"):
+        parse(_user_steps("${fuond.app}"))
+    with pytest.raises(ScenarioError, match="share the id 'found'"):
+        parse(_user_steps("thursday", twice=True))
+    parse(_user_steps("thursday"))  # ids of its own, named once: fine

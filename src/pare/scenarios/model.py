@@ -655,8 +655,12 @@ class Event(_Strict):
 
 
 class UserStep(_Strict):
-    """An action the oracle user takes (by its name on the screen), once ``when`` holds."""
+    """An action the oracle user takes (by its name on the screen), once ``when`` holds. ``id`` names its
+    result for later steps of the same list, as an oracle action's does (``${payee.id}`` for the id of
+    the payee the step added).
+    """
 
+    id: str | None = None
     tool: str = Field(description="The action's name as the user sees it: open_app, open_email, ...")
     args: dict[str, Any] = Field(default_factory=dict)
     when: Condition | None = None

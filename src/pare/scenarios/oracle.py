@@ -131,6 +131,8 @@ class OracleUser(UserPolicy):
         self.references = _References(scenario)
         self.conditions = Conditions(scenario, self.solution)
         self.env: Environment | None = None
+        self._named: str | None = None
+        """The id of the last step taken, when it has one: its result is kept for later ``${id...}``."""
 
     def start(self, env: Environment, budget: TurnBudget = DEFAULT_BUDGET) -> None:
         """Remember the environment (the oracle may look at the log to time its steps)."""
@@ -139,12 +141,16 @@ class OracleUser(UserPolicy):
     async def step(self, view: UserView, previous: ToolResult | None) -> Action:
         """Accept a pending proposal, else the next scripted step whose condition holds, else wait."""
         env = self._env()
+        if self._named is not None and previous is not None:
+            self.references.results[self._named] = previous.value
+        self._named = None
         if view.pending_proposal is not None:
             return Action("accept_proposal", {"reason": self._answer(view.pending_proposal)})
         if self.position < len(self.steps):
             step = self.steps[self.position]
             if step.when is None or self.conditions.hold(step.when, env):
                 self.position += 1
+                self._named = step.id
                 return Action(step.tool, self.references.resolve(step.args, env))
         return Action(WAIT)
 

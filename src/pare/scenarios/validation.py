@@ -302,6 +302,14 @@ class _Validator:
                 )
 
     def _user_steps(self, steps: Iterable[UserStep], at: Path) -> Iterator[Problem]:
+        # a step's id names its result for the later steps of the same list only
+        saved = list(self.action_ids), dict(self.action_tools)
+        try:
+            yield from self._user_step_list(steps, at)
+        finally:
+            self.action_ids, self.action_tools = saved
+
+    def _user_step_list(self, steps: Iterable[UserStep], at: Path) -> Iterator[Problem]:
         catalog = self.catalog
         for index, step in enumerate(steps):
             where: Path = (*at, index)
@@ -326,6 +334,11 @@ class _Validator:
             ]
             if all(problems):
                 yield from problems[0]
+            if step.id is not None:
+                if step.id in self.action_ids:
+                    yield Problem((*where, "id"), f"two steps or oracle actions share the id '{step.id}'")
+                self.action_ids.append(step.id)
+                self.action_tools[step.id] = specs[0]
 
     def _interventions(self, interventions: Iterable[Intervention], at: Path) -> Iterator[Problem]:
         catalog = self.catalog
