@@ -10,7 +10,7 @@ import pytest
 from pare.cli import main
 from pare.scenarios import library
 from pare.scenarios.library import BENCH_DIR, scenario_files
-from tests.scenarios.helpers import base, fair, to_yaml
+from tests.scenarios.helpers import base, fair, sound, to_yaml
 
 
 @pytest.fixture
@@ -27,7 +27,7 @@ def _write(folder: Path, data: dict[str, object]) -> Path:
 def test_check_passes_a_sound_scenario(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
 ) -> None:
-    _write(tmp_path, fair())
+    _write(tmp_path, sound())
     assert main(["scenarios", "check", str(tmp_path)]) == 0
     out = capsys.readouterr().out
     assert "tiny_reply" in out and "all 1 scenarios pass the gate" in out
@@ -41,7 +41,7 @@ def test_check_passes_a_sound_scenario(
 def test_check_fails_a_scenario_whose_checks_prove_nothing(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
 ) -> None:
-    weak = fair()
+    weak = sound()
     weak["id"] = "weak_checks"
     weak["goals"][0]["checks"] = [{"action": {"tool": "agent_ui__send_message_to_user"}}]  # any proposal
     _write(tmp_path, weak)
@@ -54,7 +54,7 @@ def test_check_fails_a_scenario_whose_checks_prove_nothing(
 def test_check_reports_a_broken_oracle(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
 ) -> None:
-    broken = fair()
+    broken = sound()
     broken["id"] = "late_oracle"
     broken["oracle"]["interventions"][0]["when"] = {
         "event": "ann_asks",
@@ -140,7 +140,7 @@ def test_stats_counts_the_library_and_names_the_gaps(
 def test_similar_finds_a_story_told_again_with_names_changed(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
 ) -> None:
-    original = fair()
+    original = sound()
     original["story"] = (
         "Ann emails Sam to ask whether Thursday works for the quarterly planning workshop in Leeds; the "
         "assistant should reply that it does, after checking the calendar."
@@ -152,7 +152,7 @@ def test_similar_finds_a_story_told_again_with_names_changed(
     _write(tmp_path, other)
     assert main(["scenarios", "similar", str(tmp_path), "--against", "themselves"]) == 0
     assert "no pair reaches 0.60" in capsys.readouterr().out
-    renamed = fair()
+    renamed = sound()
     renamed["id"] = "tiny_reply_again"
     renamed["story"] = original["story"].replace("Ann", "Joan").replace("Sam", "Kim").replace("Leeds", "York")
     _write(tmp_path, renamed)
@@ -245,7 +245,7 @@ def test_match_reports_a_broken_rule_as_the_loader_does(
 def test_the_gate_says_why_a_passing_variant_failed(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
 ) -> None:
-    data = fair()
+    data = sound()
     data["goals"].append(
         {
             "id": "moved",
@@ -277,7 +277,7 @@ def test_the_gate_says_why_a_passing_variant_failed(
 def test_check_lists_the_events_each_run_set_off_and_the_branch_each_reaction_took(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
 ) -> None:
-    _write(tmp_path, fair())
+    _write(tmp_path, sound())
     assert main(["scenarios", "check", "-v", str(tmp_path)]) == 0
     lines = capsys.readouterr().out.splitlines()
     reply = '09:12 ann_confirms (reply: "Great, see you!", after #8 assistant email.reply_to_email)'
@@ -293,7 +293,7 @@ def test_check_lists_the_events_each_run_set_off_and_the_branch_each_reaction_to
 def _with_unread_lunch() -> dict[str, Any]:
     """The fair scenario whose oracle also books a lunch no check reads (so some of its mutants survive),
     with one of them declared equivalent."""
-    data = fair()
+    data = sound()
     lunch = {
         "tool": "calendar__add_calendar_event",
         "args": {"title": "Lunch with Ann", "start_datetime": "day+3 12:30", "end_datetime": "day+3 13:30"},
@@ -314,8 +314,11 @@ def test_check_with_mutants_states_the_score_and_names_each_mutant(
     breaches = out[out.index("breach(es):") :]
     assert "tiny_reply: mutant drop_action:1.2 (left out calendar__add_calendar_event) passes" in breaches
     assert "shift_time:1.2:+1h" in breaches and "shift_time:1.2:+1d" not in breaches  # declared is fine
-    assert main(["scenarios", "check", str(tmp_path)]) == 0  # without --mutants none is played
-    capsys.readouterr()
+    # without --mutants none is played, but a lunch no check reads is a breach by itself
+    assert main(["scenarios", "check", str(tmp_path)]) == 1
+    out = capsys.readouterr().out
+    assert "mutant" not in out[out.index("breach(es):") :]
+    assert "unread field [oracle] #9 calendar__add_calendar_event writes 'title'" in out
     assert main(["scenarios", "check", "--mutants", "-v", str(tmp_path)]) == 1
     out = capsys.readouterr().out
     rows = {line.split("│")[1].strip(): line for line in out.splitlines() if line.count("│") > 4}
@@ -339,6 +342,6 @@ def test_stats_with_mutants_shows_the_mutation_score(
 def test_check_without_mutants_plays_none(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
 ) -> None:
-    _write(tmp_path, fair())
+    _write(tmp_path, sound())
     assert main(["scenarios", "check", str(tmp_path)]) == 0
     assert "mutants:" not in capsys.readouterr().out

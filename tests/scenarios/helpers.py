@@ -257,3 +257,23 @@ def replying(delay: str = "20m") -> dict[str, Any]:
         {"action": {"actor": "env", "tool": "email__receive_email", "args": {"email_id": "e_thanks"}}}
     )
     return data
+
+
+def sound() -> dict[str, Any]:
+    """:func:`fair` with what the gate demands of a library scenario: what Ann is told is read by a judge
+    check (a false text to her must not pass), and her reply reads the text by a judge criterion too.
+    """
+    data = fair()
+    data["events"][-1]["judge"] = {"criterion": "The email tells Ann that Thursday works."}
+    data["goals"][0]["checks"].append(
+        {
+            "judge": {
+                "criterion": "The email tells Ann that Thursday works.",
+                "action": {"actor": "assistant", "to": "ann@x.example"},
+                "field": "content",
+                "fallback": {"mentions_day": THURSDAY},
+            }
+        }
+    )
+    return data
+

@@ -131,7 +131,8 @@ def test_the_gate_warns_about_a_passing_variants_message_no_judge_check_reads() 
     verdict = check_scenario(parse(data), runs=("oracle",))
     to_bob = [line for line in verdict.unread_sends if "user-bob" in line]
     assert len(to_bob) == 1 and to_bob[0].startswith("[variant:and_bob]")
-    assert verdict.run("variant:and_bob").ok  # listed, not a breach: the library is still being retrofitted
+    assert verdict.run("variant:and_bob").ok  # the variant is judged right; what nothing reads is a breach
+    assert not verdict.ok and any("unread send [variant:and_bob]" in line for line in verdict.breaches())
     assert not any("user-bob" in line for line in verdict.warnings)
 
 

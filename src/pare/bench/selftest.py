@@ -161,8 +161,8 @@ class ScenarioVerdict:
     """The mutants and rewrites played (with mutants on), mutants first."""
     unread_sends: tuple[str, ...] = ()
     """The emails and messages of the oracle and passing variants that no judge check reads
-    (:mod:`pare.scenarios.unjudged`): the envelope would let a false text to those people pass. Listed
-    apart from the warnings while the library is retrofitted."""
+    (:mod:`pare.scenarios.unjudged`): the envelope would let a false text to those people pass. A breach,
+    as are the two below: what a solution writes, a check must read."""
     unjudged_events: tuple[str, ...] = ()
     """The reactive events that decide on free text by their rule alone, with no ``judge`` criterion."""
     unread_fields: tuple[str, ...] = ()
@@ -171,7 +171,21 @@ class ScenarioVerdict:
     @property
     def ok(self) -> bool:
         """Whether every run went as demanded, and every mutant and rewrite played was judged as it must."""
-        return not self.problems and all(run.ok for run in self.runs) and not self.misjudged_mutants
+        return (
+            not self.problems
+            and all(run.ok for run in self.runs)
+            and not self.misjudged_mutants
+            and not self.unread
+        )
+
+    @property
+    def unread(self) -> tuple[str, ...]:
+        """What a solution writes that no check reads: messages, events' free text, items' text fields."""
+        return (
+            *(f"unread send {line}" for line in self.unread_sends),
+            *(f"unjudged event {line}" for line in self.unjudged_events),
+            *(f"unread field {line}" for line in self.unread_fields),
+        )
 
     @property
     def misjudged_mutants(self) -> list[MutantVerdict]:
@@ -189,6 +203,7 @@ class ScenarioVerdict:
             if not run.ok:
                 lines.extend(_run_breaches(self.scenario_id, run))
         lines.extend(_mutant_breach(self.scenario_id, mutant) for mutant in self.misjudged_mutants)
+        lines.extend(f"{self.scenario_id}: {line}" for line in self.unread)
         return lines
 
 

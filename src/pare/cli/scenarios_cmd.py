@@ -294,7 +294,7 @@ def check(
     for line in warnings:
         console.print(f"[yellow]warning[/yellow] {markup_safe(line)}", highlight=False)
     found = {"unread send": unread, "unread field": fields, "unjudged event": unjudged}
-    _print_unjudged(console, found, verbose=verbose)
+    _print_unjudged(console, found)
     if breaches:
         console.print(f"[red]{len(breaches)} breach(es):[/red]")
         for line in breaches:
@@ -643,15 +643,11 @@ _UNJUDGED = {
 }
 
 
-def _print_unjudged(console: Console, found: dict[str, list[str]], *, verbose: bool) -> None:
-    """What no judge or check reads (:mod:`pare.scenarios.unjudged`): each line with ``-v``, else how many
-    of each kind, in how many scenarios.
+def _print_unjudged(console: Console, found: dict[str, list[str]]) -> None:
+    """How many of each kind of what no judge or check reads (:mod:`pare.scenarios.unjudged`), in how many
+    scenarios: each is also a breach, listed with the others.
     """
-    from pare.terminal_text import markup_safe
-
     for label, lines in found.items():
-        for line in lines if verbose else ():
-            console.print(f"[yellow]{label}[/yellow] {markup_safe(line)}", highlight=False)
         if lines:
             places = len({line.split(":", 1)[0] for line in lines})
             console.print(f"{len(lines)} {_UNJUDGED[label]}, in {places} scenario(s)", highlight=False)
