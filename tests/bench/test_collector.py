@@ -102,9 +102,9 @@ def test_the_gate_in_process_gives_the_collector_back(tmp_path: Path) -> None:
     """The gate freezes what each scenario's self-test leaves (collector.settle) inside the gate's own
     frozen block: the caller's process gets its collector back as it was."""
     from pare.cli import main
-    from tests.scenarios.helpers import fair, to_yaml
+    from tests.scenarios.helpers import sound, to_yaml
 
-    scenario = fair()
+    scenario = sound()
     (tmp_path / f"{scenario['id']}.yaml").write_text(to_yaml(scenario))
     gc.enable()
     assert main(["scenarios", "check", "-j", "1", str(tmp_path)]) == 0

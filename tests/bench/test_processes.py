@@ -9,7 +9,7 @@ import pytest
 from pare.bench.processes import available_cores, map_in_processes, resolve_jobs
 from pare.cli import main
 from pare.errors import UserInputError
-from tests.scenarios.helpers import fair, to_yaml
+from tests.scenarios.helpers import sound, to_yaml
 
 
 def square_or_refuse(number: int) -> int:
@@ -40,7 +40,7 @@ def test_the_gate_says_the_same_on_several_processes(
 ) -> None:
     monkeypatch.setenv("COLUMNS", "200")
     for index in range(3):
-        data = fair()
+        data = sound()
         data["id"] = f"tiny_reply_{index}"
         (tmp_path / f"tiny_reply_{index}.yaml").write_text(to_yaml(data))
     outputs = []

@@ -6,7 +6,7 @@ import pytest
 
 from pare.bench.episode import EpisodeResult
 from pare.bench.selftest import check_scenario
-from tests.scenarios.helpers import REPLY, fair, intervention, parse
+from tests.scenarios.helpers import REPLY, intervention, parse, sound
 
 
 def test_the_gate_keeps_every_result_without_formatting_it(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -20,7 +20,7 @@ def test_the_gate_keeps_every_result_without_formatting_it(monkeypatch: pytest.M
         return "<episode>"
 
     monkeypatch.setattr(EpisodeResult, "__repr__", counted)
-    verdict = check_scenario(parse(fair()))
+    verdict = check_scenario(parse(sound()))
     assert verdict.ok, verdict.breaches()
     assert set(verdict.details) == {run.run for run in verdict.runs}
     assert formatted == []
@@ -42,7 +42,7 @@ def _asks_then_answers(**extra: object) -> dict[str, object]:
 
 
 def test_a_correct_variant_the_world_corrected_is_a_breach() -> None:
-    data = fair()
+    data = sound()
     data["variants"].append(_asks_then_answers())
     verdict = check_scenario(parse(data))
     run = verdict.run("variant:asks_then_answers")
@@ -59,7 +59,7 @@ def test_a_correct_variant_the_world_corrected_is_a_breach() -> None:
 
 
 def test_a_variant_may_say_why_the_correction_is_part_of_its_solution() -> None:
-    data = fair()
+    data = sound()
     data["variants"].append(
         _asks_then_answers(otherwise_ok={"ann_confirms": "Ann asks; the answer follows."})
     )
@@ -69,7 +69,7 @@ def test_a_variant_may_say_why_the_correction_is_part_of_its_solution() -> None:
 
 
 def test_an_excuse_the_variant_never_needed_is_warned_about() -> None:
-    data = fair()
+    data = sound()
     data["variants"][0]["otherwise_ok"] = {"ann_confirms": "A fresh email is never corrected."}
     verdict = check_scenario(parse(data))
     assert verdict.ok, verdict.breaches()
@@ -80,7 +80,7 @@ def test_an_excuse_the_variant_never_needed_is_warned_about() -> None:
 
 
 def test_the_oracle_must_never_get_a_correction() -> None:
-    data = fair()
+    data = sound()
     data["oracle"]["interventions"] = [intervention(HOLDING, REPLY)]
     verdict = check_scenario(parse(data), runs=("oracle",), variants=False)
     oracle = verdict.run("oracle")
@@ -89,7 +89,7 @@ def test_the_oracle_must_never_get_a_correction() -> None:
 
 
 def test_a_wrong_variant_may_get_the_correction() -> None:
-    verdict = check_scenario(parse(fair()))
+    verdict = check_scenario(parse(sound()))
     declines = verdict.run("variant:declines")
     assert declines.ok and ("ann_confirms", "otherwise") in [(e.event, e.branch) for e in declines.events]
 
@@ -98,7 +98,7 @@ def test_a_wrong_variant_may_get_the_correction() -> None:
 def test_a_scripted_call_that_fails_is_a_breach_whatever_the_variant_expects(expect: str) -> None:
     # a wrong variant that "fails" only because its own call broke proves nothing about the checks
     delete = {"tool": "email__delete_email", "args": {"email_id": "e_ann"}}  # the third finds nothing
-    data = fair()
+    data = sound()
     data["variants"].append(
         {"id": "broken", "expect": expect, "why": "w", "interventions": [intervention(REPLY, *[delete] * 3)]}
     )

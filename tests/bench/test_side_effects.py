@@ -14,7 +14,7 @@ from pare.scenarios import OracleAssistant, OracleUser, Scenario, load_scenarios
 from pare.scenarios.loader import ScenarioError
 from pare.scenarios.model import OracleAction, Solution
 from pare.scenarios.side_effects import Change, Envelope
-from tests.scenarios.helpers import fair, parse
+from tests.scenarios.helpers import parse, sound
 
 LIBRARY = {scenario.id: scenario for scenario in load_scenarios()}
 
@@ -154,18 +154,18 @@ def test_the_oracle_and_a_declared_correct_alternative_have_no_side_effects() ->
 
 def test_a_correct_alternative_only_a_variant_declares_does_not_trip_it() -> None:
     # The fair scenario's oracle replies to Ann; its passing variant sends Ann a fresh email instead.
-    scenario = parse(fair())
+    scenario = parse(sound())
     variant = scenario.solution("fresh_email")
     result = play(scenario, variant)
     assert result.success and not result.outcome.side_effects
     # without that variant, the same solution is still fine: same person, same kind of change
-    trimmed = fair()
+    trimmed = sound()
     trimmed["variants"] = [v for v in trimmed["variants"] if v["id"] != "fresh_email"]
     assert play(parse(trimmed), variant).outcome.side_effects == ()
 
 
 def test_a_change_the_scenario_allows_with_a_reason_is_not_a_side_effect() -> None:
-    data = fair()
+    data = sound()
     extra = {
         "tool": "email__send_email",
         "args": {"recipients": ["carol@x.example"], "subject": "FYI", "content": "Lunch?"},
@@ -173,7 +173,7 @@ def test_a_change_the_scenario_allows_with_a_reason_is_not_a_side_effect() -> No
     data["variants"][0]["interventions"][0]["actions"].append(extra)  # a passing variant that writes to Carol
     data["variants"][0]["expect"] = "pass"
     eager = parse(data).solution("fresh_email")
-    plain = fair()
+    plain = sound()
     result = play(parse(plain), eager)
     assert [change.target for change in result.outcome.side_effects] == ["carol@x.example"]
     plain["allowed_changes"] = [
@@ -201,7 +201,7 @@ def test_a_change_the_scenario_allows_with_a_reason_is_not_a_side_effect() -> No
     ],
 )
 def test_the_loader_refuses_a_bad_allowance(allowance: dict[str, Any], message: str) -> None:
-    data = fair()
+    data = sound()
     data["allowed_changes"] = [allowance]
     with pytest.raises(ScenarioError) as caught:
         parse(data)
@@ -263,7 +263,7 @@ def test_the_envelope_keeps_the_fields_each_edit_may_write() -> None:
     ],
 )
 def test_what_counts_as_a_change_of_its_own(extra: dict[str, Any], named: list[str]) -> None:
-    scenario = parse(fair())
+    scenario = parse(sound())
     result = play(scenario, over_eager(scenario, extra))
     assert [change.describe() for change in result.outcome.side_effects] == named
     assert result.success == (not named)
@@ -276,7 +276,7 @@ def test_the_gate_accepts_a_near_miss_that_fails_through_a_side_effect(
     from pare.cli import main
     from tests.scenarios.helpers import REPLY, intervention, to_yaml
 
-    data = fair()
+    data = sound()
     extra = {
         "tool": "messaging__send_message",
         "args": {"user_id": "user-dana", "content": "Lunch Thursday?"},
@@ -399,7 +399,7 @@ def test_a_side_effect_that_can_be_undone_is_not_named_irreversible(
 
 def test_a_message_sent_in_a_group_renamed_afterwards_is_still_an_irreversible_side_effect() -> None:
     # the conversation's own latest change is the rename; the message went by its own, earlier call
-    data = fair()
+    data = sound()
     data["apps"].append("messaging")
     data["seed"]["messaging"] = {
         "current_user_id": "user-me",

@@ -12,7 +12,7 @@ from pare.bench.selftest import check_scenario
 from pare.env import EnvConfig
 from pare.scenarios import OracleAssistant, OracleUser, Scenario
 from pare.scenarios.oracle import BusyUser
-from tests.scenarios.helpers import THANKS, base, fair, parse, replying
+from tests.scenarios.helpers import THANKS, base, parse, replying, sound
 
 
 def play(scenario: Scenario, settings: EpisodeSettings, *, busy: bool = False) -> Any:
@@ -157,7 +157,7 @@ def test_same_seed_same_trajectory_with_a_busy_user_and_replies_after_the_end() 
 
 
 def test_the_gate_demands_the_busy_users_replies_arrive() -> None:
-    verdict = check_scenario(parse(fair()))
+    verdict = check_scenario(parse(sound()))
     busy = verdict.run("busy_user")
     assert busy.ok and busy.expected_success
 
@@ -165,9 +165,9 @@ def test_the_gate_demands_the_busy_users_replies_arrive() -> None:
     # not when she answers two days later, past the horizon (the oracle user waits after the reply, so
     # the clock jumps to her answer).
     settings = EpisodeSettings(max_turns=8)
-    verdict = check_scenario(parse(fair()), settings, runs=("busy_user",), variants=False)
+    verdict = check_scenario(parse(sound()), settings, runs=("busy_user",), variants=False)
     assert verdict.ok and verdict.run("busy_user").after_last_turn == ("ann_confirms",)
-    data = fair()
+    data = sound()
     data["events"][1]["delay"] = "2d"
     verdict = check_scenario(parse(data), settings, runs=("oracle", "busy_user"), variants=False)
     assert verdict.run("oracle").ok and verdict.run("busy_user").success

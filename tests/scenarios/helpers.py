@@ -276,4 +276,3 @@ def sound() -> dict[str, Any]:
         }
     )
     return data
-

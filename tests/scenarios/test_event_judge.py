@@ -19,7 +19,7 @@ from pare.cli import main
 from pare.scenarios import OracleAssistant, OracleUser, ScenarioError
 from pare.scenarios.checks import JudgeVerdict
 from pare.testing import ChatServer, Reply, completion
-from tests.scenarios.helpers import fair, intervention, parse, to_yaml
+from tests.scenarios.helpers import fair, intervention, parse, sound, to_yaml
 
 CRITERION = "accepts Thursday"
 FACTS = ["Ann asked whether Thursday works."]
@@ -31,6 +31,13 @@ def _judged(**extra: Any) -> dict[str, Any]:
     assert event["id"] == "ann_confirms"
     event["judge"] = {"criterion": CRITERION, "facts": FACTS}
     event["if_args"].update(extra)
+    return data
+
+
+def _gated(**extra: Any) -> dict[str, Any]:
+    """:func:`_judged` with what the gate also demands: what Ann is told read by a judge check."""
+    data = _judged(**extra)
+    data["goals"][0]["checks"].append(sound()["goals"][0]["checks"][-1])
     return data
 
 
@@ -92,7 +99,7 @@ def test_the_judge_must_read_a_field_the_rule_tests() -> None:
 
 
 def test_the_gate_names_texts_the_rule_and_the_judge_read_apart() -> None:
-    data = _judged()
+    data = _gated()
     hedge = {
         "tool": "email__reply_to_email",
         "args": {"email_id": "e_ann", "content": "Thursday? I will check."},
@@ -122,7 +129,7 @@ def test_pare_scenarios_check_asks_a_judge_model_on_a_local_server(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.setenv("COLUMNS", "200")
-    (tmp_path / "tiny_reply.yaml").write_text(to_yaml(_judged()))
+    (tmp_path / "tiny_reply.yaml").write_text(to_yaml(_gated()))
     asked: list[str] = []
 
     def refuses(body: dict[str, Any]) -> Reply:

@@ -10,13 +10,13 @@ from rich.console import Console
 from pare.bench.selftest import check_scenario
 from pare.cli.review_cmd import gate_table
 from pare.scenarios.user_reach import reachable_texts, unseen_facts
-from tests.scenarios.helpers import REPLY, fair, parse
+from tests.scenarios.helpers import REPLY, parse, sound
 
 CODE_IN_A_DOCUMENT = {"files": {"/Documents/keybox.txt": {"content": "Key box by the door, code 4471."}}}
 
 
 def _code_wanted(data: dict[str, Any]) -> dict[str, Any]:
-    """``fair()`` whose goal also wants the key box code 4471 in the reply, as the oracle sends it."""
+    """``sound()`` whose goal also wants the key box code 4471 in the reply, as the oracle sends it."""
     answer = {**REPLY, "args": {**REPLY["args"], "content": "Yes, Thursday works! The key box code is 4471."}}
     data["oracle"]["interventions"][0]["actions"] = [answer]
     data["goals"][0]["checks"][0]["state"]["where"]["content"] = {
@@ -36,7 +36,7 @@ def _with_seed(data: dict[str, Any], app: str, seed: dict[str, Any]) -> dict[str
 
 
 def test_a_fact_only_in_a_document_is_warned_about_and_the_gate_still_passes() -> None:
-    scenario = parse(_with_seed(_code_wanted(fair()), "files", CODE_IN_A_DOCUMENT))
+    scenario = parse(_with_seed(_code_wanted(sound()), "files", CODE_IN_A_DOCUMENT))
     (fact,) = unseen_facts(scenario)
     assert (fact.goal, fact.check, fact.field) == ("replied", 0, "content")
     assert "4471" in fact.matcher
@@ -46,7 +46,7 @@ def test_a_fact_only_in_a_document_is_warned_about_and_the_gate_still_passes() -
 
 
 def test_the_review_shows_the_warning_beside_the_gates_runs() -> None:
-    scenario = parse(_with_seed(_code_wanted(fair()), "files", CODE_IN_A_DOCUMENT))
+    scenario = parse(_with_seed(_code_wanted(sound()), "files", CODE_IN_A_DOCUMENT))
     console = Console(width=400, record=True, file=io.StringIO())
     console.print(gate_table(scenario))
     (line,) = [line for line in console.export_text().splitlines() if "(warning)" in line]
@@ -54,7 +54,7 @@ def test_the_review_shows_the_warning_beside_the_gates_runs() -> None:
 
 
 def test_the_same_fact_in_a_message_the_user_can_open_is_not() -> None:
-    data = _with_seed(_code_wanted(fair()), "files", CODE_IN_A_DOCUMENT)
+    data = _with_seed(_code_wanted(sound()), "files", CODE_IN_A_DOCUMENT)
     data["seed"]["email"]["emails"].append(
         {
             "email_id": "e2",
@@ -68,7 +68,7 @@ def test_the_same_fact_in_a_message_the_user_can_open_is_not() -> None:
 
 
 def test_a_listings_address_and_a_rides_fare_are_on_the_users_screens() -> None:
-    data = _code_wanted(fair())
+    data = _code_wanted(sound())
     data["goals"][0]["checks"][0]["state"]["where"]["content"] = {"contains_any": ["keeper*"]}
     data = _with_seed(
         data,
@@ -117,7 +117,7 @@ def test_a_listings_address_and_a_rides_fare_are_on_the_users_screens() -> None:
 
 
 def test_what_no_screen_lists_does_not_count() -> None:
-    data = _code_wanted(fair())
+    data = _code_wanted(sound())
     data["goals"][0]["checks"][0]["state"]["where"]["content"] = {"contains": "KEEPER"}
     data = _with_seed(
         data,
@@ -130,7 +130,7 @@ def test_what_no_screen_lists_does_not_count() -> None:
 
 
 def test_the_phones_own_words_and_alternatives_with_a_visible_fact_are_not_flagged() -> None:
-    data = _code_wanted(fair())
+    data = _code_wanted(sound())
     where = data["goals"][0]["checks"][0]["state"]["where"]
     del where["content"]
     where["any_of"] = [{"content": {"contains": "4471"}}, {"subject": {"contains_any": ["thursday", "thu"]}}]
@@ -140,14 +140,14 @@ def test_the_phones_own_words_and_alternatives_with_a_visible_fact_are_not_flagg
 
 
 def test_only_what_the_assistant_must_write_is_read() -> None:
-    data = _code_wanted(fair())
+    data = _code_wanted(sound())
     data["goals"][0]["checks"][0]["state"]["where"]["content"] = {"not": {"contains": "4471"}}
     data["goals"][0]["checks"][1]["state"]["where"]["content"] = {"contains": "9999"}  # a count of 0
     assert list(unseen_facts(parse(data))) == []
 
 
 def test_what_the_user_typed_in_their_own_steps_is_theirs_to_know() -> None:
-    data = _code_wanted(fair())
+    data = _code_wanted(sound())
     assert [fact.field for fact in unseen_facts(parse(data))] == ["content"]
     # the user typed the code themselves (a search for it) before the assistant used it: nothing on trust
     data["oracle"]["user"].insert(1, {"tool": "search_emails", "args": {"query": "code 4471"}})

@@ -12,11 +12,11 @@ from pare.bench import run_episode
 from pare.bench.selftest import check_scenario
 from pare.scenarios import OracleAssistant, OracleUser
 from pare.scenarios.oracle import SlowUser
-from tests.scenarios.helpers import REPLY, fair, intervention, parse
+from tests.scenarios.helpers import REPLY, fair, intervention, parse, sound
 
 
 def test_a_fair_scenario_passes_every_run_of_the_gate() -> None:
-    verdict = check_scenario(parse(fair()))
+    verdict = check_scenario(parse(sound()))
     assert verdict.ok, verdict.breaches()
     runs = {run.run: run for run in verdict.runs}
     assert list(runs) == [
@@ -38,21 +38,23 @@ def test_a_fair_scenario_passes_every_run_of_the_gate() -> None:
 
 
 def test_a_variant_judged_otherwise_than_declared_is_a_breach() -> None:
-    data = fair()
+    data = sound()
     data["variants"][1]["expect"] = "pass"
     del data["variants"][1]["fails"]
     data["variants"].append({**data["variants"][2], "id": "wrong_person_2"})
     verdict = check_scenario(parse(data))
     assert not verdict.ok
-    assert verdict.breaches() == [
+    first, judged = verdict.breaches()  # the state check, then the judge check's fallback on what Ann read
+    assert first == (
         "tiny_reply [variant:declines]: check failed: replied[0] email.emails: 0 of 4 items match "
         "{folder: equals 'SENT', recipients: contains ['ann@x.example'], "
         "content: mentions_day 'day+3 00:00'}, 0 of them made by the assistant; wanted at least 1"
-    ]
+    )
+    assert judged.startswith("tiny_reply [variant:declines]: check failed: replied[2] no judge model")
 
 
 def test_a_near_miss_must_fail_the_goals_it_names() -> None:
-    data = fair()
+    data = sound()
     data["goals"].append(
         {"id": "polite", "description": "d", "checks": [{"action": {"app": "email", "kind": "write"}}]}
     )
@@ -65,7 +67,7 @@ def test_a_near_miss_must_fail_the_goals_it_names() -> None:
 
 
 def test_the_gate_demands_variants_and_by_hand_steps() -> None:
-    data = fair()
+    data = sound()
     data["variants"] = data["variants"][1:2]
     data["oracle"]["by_hand"] = []
     verdict = check_scenario(parse(data))
@@ -77,7 +79,7 @@ def test_the_gate_demands_variants_and_by_hand_steps() -> None:
 
 
 def test_the_by_hand_user_gets_turns_for_every_step_and_each_must_be_played() -> None:
-    data = fair()
+    data = sound()
     # Longer than the default 10 turns: still played to the end, and still failing (the work is the user's).
     data["oracle"]["by_hand"] = [{"tool": "get_current_time"}] * 12 + data["oracle"]["by_hand"]
     runs = {run.run: run for run in check_scenario(parse(data)).runs}
@@ -90,16 +92,16 @@ def test_the_by_hand_user_gets_turns_for_every_step_and_each_must_be_played() ->
 
 
 def test_a_reactive_event_that_never_fires_is_a_breach() -> None:
-    data = fair()
+    data = sound()
     data["events"][1]["when"]["args"]["email_id"] = "e1"
     breaches = check_scenario(parse(data)).breaches()
     assert "tiny_reply [oracle]: reactive event 'ann_confirms' never fired in the oracle run" in breaches[0]
 
 
 def test_a_reply_that_restates_the_answer_is_warned_about() -> None:
-    data = fair()
+    data = sound()
     event = data["events"][1]
-    del event["if_args"], event["otherwise"]
+    del event["if_args"], event["otherwise"], event["judge"]
     event["args"]["content"] = "Thursday then, great!"
     (warning,) = check_scenario(parse(data)).warnings
     assert "reactive event 'ann_confirms' fires on any matching action" in warning
@@ -107,7 +109,7 @@ def test_a_reply_that_restates_the_answer_is_warned_about() -> None:
 
 
 def test_the_world_reacts_to_what_was_written() -> None:
-    scenario = parse(fair())
+    scenario = parse(sound())
     right = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
     assert "ann_confirms" in right.env.scheduler.completed
     assert "ann_confirms_otherwise" not in right.env.scheduler.completed
@@ -119,7 +121,7 @@ def test_the_world_reacts_to_what_was_written() -> None:
 
 
 def test_a_corrected_reply_still_gets_the_answer_and_the_correction_comes_once() -> None:
-    data = fair()
+    data = sound()
     data["oracle"]["interventions"] = [
         intervention(
             {**REPLY, "args": {"email_id": "e_ann", "content": "Friday?"}},
@@ -134,7 +136,7 @@ def test_a_corrected_reply_still_gets_the_answer_and_the_correction_comes_once()
 
 
 def test_the_users_own_work_is_not_the_assistants() -> None:
-    scenario = parse(fair())
+    scenario = parse(fair())  # its one state check is the one the user's own reply cannot meet
     result = run_episode(scenario, OracleUser(scenario, scenario.by_hand()), SilentAssistant())
     assert not result.success and result.outcome.user_did_work
     (failure,) = result.outcome.failures()
@@ -148,20 +150,20 @@ def test_the_users_own_work_is_not_the_assistants() -> None:
 
 
 def test_silence_is_not_the_user_doing_the_work() -> None:
-    scenario = parse(fair())
+    scenario = parse(sound())
     result = run_episode(scenario, OracleUser(scenario), SilentAssistant())
     assert not result.success and not result.outcome.user_did_work
 
 
 def test_world_events_are_not_attributed_to_anyone() -> None:
-    scenario = parse(fair())
+    scenario = parse(sound())
     result = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
     assert result.env.attribution.mark(("email", "emails", "e_ann")) is None  # arrived from the world
     assert result.env.attribution.mark(("email", "emails", "e_conf")) is None
 
 
 def test_the_slow_user_looks_at_the_clock_before_each_step_and_answer() -> None:
-    scenario = parse(fair())
+    scenario = parse(sound())
     result = run_episode(scenario, SlowUser(scenario), OracleAssistant(scenario))
     tools = [step.action.tool for step in result.steps if step.actor == "user" and step.action.tool != "wait"]
     assert tools == [
@@ -176,7 +178,7 @@ def test_the_slow_user_looks_at_the_clock_before_each_step_and_answer() -> None:
 
 
 def test_a_scenario_without_slack_fails_the_slow_user_run() -> None:
-    data = fair()
+    data = sound()
     steps = [{"tool": "go_back"}, {"tool": "open_email", "args": {"email_id": "e_ann"}}] * 3
     data["oracle"]["user"] = [*data["oracle"]["user"], *steps]
     data["oracle"]["interventions"][0]["when"] = {
@@ -203,7 +205,7 @@ def test_a_scenario_without_slack_fails_the_slow_user_run() -> None:
     ],
 )
 def test_replies_are_read_for_meaning(content: str, passes: bool) -> None:
-    data = fair()
+    data = sound()
     data["variants"].append(
         {
             "id": "worded",
@@ -218,7 +220,7 @@ def test_replies_are_read_for_meaning(content: str, passes: bool) -> None:
 
 def no_proposal() -> dict[str, Any]:
     """Ann's question is for the user to answer: the right move is to watch and wait."""
-    data = fair()
+    data = sound()
     data["id"] = "ann_asks_sam_himself"
     data["kind"] = "no_proposal"
     data["events"] = data["events"][:1]
