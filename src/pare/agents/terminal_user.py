@@ -57,6 +57,20 @@ def observation_text(previous: ToolResult | None, view: UserView) -> str:
     return "\n\n".join(parts)
 
 
+def closing_text(ending: Ending, previous: ToolResult | None, notifications: list[str]) -> str:
+    """What a person in the user's seat is shown when the session ends: the last action's result, what
+    arrived since, and that it is over (as the user model's closing observation says it).
+    """
+    lines = []
+    if previous is not None:
+        lines.append(readable(f"Observation: {previous.observation()}"))
+    if notifications:
+        lines.append("New notifications:")
+        lines.extend(f"- {note}" for note in notifications)
+    lines.append(ending.text())
+    return "\n".join(lines)
+
+
 def readable(text: str) -> str:
     """``text`` with what the screen displays as indented JSON, for a person to read."""
     head, marker, tail = text.partition(ON_SCREEN)
@@ -128,14 +142,7 @@ class TerminalUser(UserPolicy):
         """Show the result of the last action, what arrived since, and that the session is over."""
         from pare.terminal_text import plain_text
 
-        lines = []
-        if previous is not None:
-            lines.append(readable(f"Observation: {previous.observation()}"))
-        if notifications:
-            lines.append("New notifications:")
-            lines.extend(f"- {note}" for note in notifications)
-        lines.append(ending.text())
-        self.console.print(plain_text("\n".join(lines)))
+        self.console.print(plain_text(closing_text(ending, previous, notifications)))
         return None
 
     # -- showing and asking --------------------------------------------------------------------------------

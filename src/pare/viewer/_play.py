@@ -34,7 +34,7 @@ from starlette.routing import Route
 
 from pare.agents.human_input import HumanInputError, SeatLeft, action_from_fields, argument_fields
 from pare.agents.policy import DEFAULT_BUDGET, Action, Ending, TurnBudget, UserPolicy
-from pare.agents.terminal_user import HUMAN, observation_text, readable
+from pare.agents.terminal_user import HUMAN, closing_text, observation_text, readable
 from pare.env import Environment, ToolResult, UserView
 from pare.results.trajectory import ActionRecord, LogRecord, StepRecord, ViewRecord
 from pare.viewer._episode import Phone, _Screen
@@ -126,14 +126,7 @@ class BrowserUser(UserPolicy):
 
     def finish(self, ending: Ending, previous: ToolResult | None, notifications: list[str]) -> str | None:
         """Show the end of the session with the last result and what arrived since."""
-        lines = []
-        if previous is not None:
-            lines.append(readable(f"Observation: {previous.observation()}"))
-        if notifications:
-            lines.append("New notifications:")
-            lines.extend(f"- {note}" for note in notifications)
-        lines.append(ending.text())
-        self.ending = "\n".join(lines)
+        self.ending = closing_text(ending, previous, notifications)
         self._show("ended")
         return None
 
