@@ -20,9 +20,8 @@ A reactive event whose ``if_args`` reads free text (a reply's ``content``) by a 
 wording its author did not foresee even in runs with a judge model, which it would ask if it had a
 ``judge`` criterion (:func:`unjudged_events`).
 
-The self-test gate lists the first two for the runs that make the envelope (the oracle and every passing
-variant) and the third for the scenario's events, apart from its warnings while the library is
-retrofitted.
+The self-test gate looks for the first two in the runs that make the envelope (the oracle and every
+passing variant) and for the third in the scenario's events; each one found is a breach.
 """
 
 from __future__ import annotations
