@@ -9,7 +9,9 @@ import typer
 
 from pare.cli.report_cmd import Format
 from pare.cli.run_cmd import (
+    CacheFlag,
     ConfigFile,
+    ProtocolFlag,
     Sets,
     UserEndpoint,
     UserModel,
@@ -60,15 +62,11 @@ def calibrate(
     user_endpoint: UserEndpoint = None,
     user_policy: UserPolicyName = None,
     user_trust: UserTrustFlag = None,
-    protocol: Annotated[
-        str | None, typer.Option("--protocol", help="The turn protocol's preset: pare (default) or paper.")
-    ] = None,
+    protocol: ProtocolFlag = None,
     concurrency: Annotated[
         int | None, typer.Option("--concurrency", "-j", help="Cases at once (default 8).")
     ] = None,
-    cache: Annotated[
-        str | None, typer.Option("--cache", help="Model-call cache: off, read_write (default), replay.")
-    ] = None,
+    cache: CacheFlag = None,
     output: Annotated[
         str | None,
         typer.Option(

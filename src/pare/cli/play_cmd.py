@@ -25,6 +25,7 @@ from pare.cli.run_cmd import (
     ObserveEndpoint,
     ObserveModel,
     ObserveProvider,
+    ProtocolFlag,
     Sets,
     collect_overrides,
     load_config,
@@ -80,9 +81,7 @@ def play(
     judge_provider: JudgeProvider = None,
     judge_endpoint: JudgeEndpoint = None,
     assistant_policy: AssistantPolicyName = None,
-    protocol: Annotated[
-        str | None, typer.Option("--protocol", help="The turn protocol's preset: pare (default) or paper.")
-    ] = None,
+    protocol: ProtocolFlag = None,
     max_turns: Annotated[
         int | None, typer.Option("--max-turns", help="Turns in the episode (default 10).")
     ] = None,

@@ -71,6 +71,18 @@ AssistantPolicyName = Annotated[
     ),
 ]
 
+ProtocolFlag = Annotated[
+    str | None,
+    typer.Option(
+        "--protocol",
+        help="The turn protocol's preset: pare (default) or paper (the paper's, as far as it specifies "
+        "it: docs/paper-conformance.md); the protocol flags and settings given override it.",
+        show_default=False,
+    ),
+]
+CacheFlag = Annotated[
+    str | None, typer.Option("--cache", help="Model-call cache: off, read_write (default), replay.")
+]
 UserTrustFlag = Annotated[
     str | None,
     typer.Option(
@@ -206,14 +218,7 @@ def run(
     judge_endpoint: JudgeEndpoint = None,
     user_policy: UserPolicyName = None,
     assistant_policy: AssistantPolicyName = None,
-    protocol: Annotated[
-        str | None,
-        typer.Option(
-            "--protocol",
-            help="The turn protocol's preset: pare (default) or paper (the paper's, as far as it specifies "
-            "it: docs/paper-conformance.md); the protocol flags and settings given override it.",
-        ),
-    ] = None,
+    protocol: ProtocolFlag = None,
     user_trust: UserTrustFlag = None,
     max_turns: Annotated[
         int | None, typer.Option("--max-turns", help="Turns per episode (default 10).")
@@ -238,9 +243,7 @@ def run(
     concurrency: Annotated[
         int | None, typer.Option("--concurrency", "-j", help="Episodes at once (default 8).")
     ] = None,
-    cache: Annotated[
-        str | None, typer.Option("--cache", help="Model-call cache: off, read_write (default), replay.")
-    ] = None,
+    cache: CacheFlag = None,
     output: Annotated[
         str | None, typer.Option("--output", "-o", help="Run folder (default runs/<label>-<identity>).")
     ] = None,
