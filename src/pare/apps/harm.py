@@ -24,6 +24,7 @@ class is defined; a test checks that every write tool of every registered app ha
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Literal, get_args
 
@@ -78,9 +79,11 @@ def unclassified_writes(app: type[App]) -> list[str]:
     return sorted(name for name, spec in app.tools.items() if spec.kind == "write" and spec.harm is None)
 
 
+@functools.cache
 def tool_harm(app: str, tool: str) -> Harm | None:
     """The class of ``app``'s flat tool ``tool`` (``None`` for a read, an unknown app or tool, and the
     phone's own apps' calls): what a logged call of it risked, whatever app instances an episode had.
+    Kept per name: every logged call of every episode asks it, and app classes do not change.
     """
     from pare.apps.registry import (  # the registry imports the apps, which import this
         app_names,
