@@ -22,7 +22,7 @@ in the same order, under the same ids (``<scenario>/<kind>:<name>``).
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from typing import Any, Literal
 
@@ -135,20 +135,25 @@ def _wrong_variant_proposals(scenario: Scenario) -> Iterator[tuple[str, Solution
             yield variant.id, solution, target, variant.why
 
 
-def _variants(scenario: Scenario) -> Iterator[CalibrationCase]:
-    if scenario.kind != "proposal":
-        return
-    for name, solution, target, why in _wrong_variant_proposals(scenario):
-        proposal = solution.interventions[target].proposal
-        yield CalibrationCase(scenario, "variant", name, "reject", proposal, solution, target, why)
+def _wrong_proposals(
+    case_kind: CaseKind, scenario_kind: str
+) -> Callable[[Scenario], Iterator[CalibrationCase]]:
+    """The failing variants' proposals as cases to reject: ``variant`` cases in proposal scenarios,
+    ``tempting`` ones (a proposal where none is right) in no-proposal scenarios.
+    """
+
+    def cases(scenario: Scenario) -> Iterator[CalibrationCase]:
+        if scenario.kind != scenario_kind:
+            return
+        for name, solution, target, why in _wrong_variant_proposals(scenario):
+            proposal = solution.interventions[target].proposal
+            yield CalibrationCase(scenario, case_kind, name, "reject", proposal, solution, target, why)
+
+    return cases
 
 
-def _tempting(scenario: Scenario) -> Iterator[CalibrationCase]:
-    if scenario.kind != "no_proposal":
-        return
-    for name, solution, target, why in _wrong_variant_proposals(scenario):
-        proposal = solution.interventions[target].proposal
-        yield CalibrationCase(scenario, "tempting", name, "reject", proposal, solution, target, why)
+_variants = _wrong_proposals("variant", "proposal")
+_tempting = _wrong_proposals("tempting", "no_proposal")
 
 
 def _mutants(scenario: Scenario) -> Iterator[CalibrationCase]:
