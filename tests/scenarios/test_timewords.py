@@ -268,3 +268,21 @@ def test_a_message_is_read_as_of_when_it_was_sent() -> None:
     with written_at(JUNE_5):
         assert late.test("on the 2nd", JUNE_1)  # said on 5 June, "the 2nd" is 2 July
     assert not late.test("on the 2nd", JUNE_1)  # said on 1 June, it is 2 June
+
+
+def test_last_weekday_and_yesterday_are_read_back_from_when_the_text_was_sent() -> None:
+    thursday_10_july = datetime(2025, 7, 10, 9, 0, tzinfo=UTC)
+    assert _days("The photo was taken last Saturday", thursday_10_july) == [{date(2025, 7, 5)}]
+    assert _days("this past Saturday", thursday_10_july) == [{date(2025, 7, 5)}]
+    assert _days("last Thursday", thursday_10_july) == [{date(2025, 7, 3)}]  # a week ago, not today
+    assert _days("Saturday", thursday_10_july) == [{date(2025, 7, 12)}]  # a bare weekday still looks ahead
+    assert _days("I sent it yesterday", thursday_10_july) == [{date(2025, 7, 9)}]
+    assert _days("the day before yesterday", thursday_10_july) == [{date(2025, 7, 8)}]
+
+
+def test_the_nth_of_a_named_month_relative_to_now_is_that_months() -> None:
+    thursday_10_july = datetime(2025, 7, 10, 9, 0, tzinfo=UTC)
+    assert _days("taken on the 5th of this month", thursday_10_july) == [{date(2025, 7, 5)}]
+    assert _days("due the 3rd of next month", thursday_10_july) == [{date(2025, 8, 3)}]
+    assert _days("paid on the 28th of last month", thursday_10_july) == [{date(2025, 6, 28)}]
+    assert _days("the 5th", thursday_10_july) == [{date(2025, 8, 5)}]  # alone: the next 5th, as before

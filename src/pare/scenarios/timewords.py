@@ -8,9 +8,12 @@ what they find (a stretch of text read by the first is not read again by the sec
   ambiguous form, which a single parse cannot: "at 6" is 06:00 or 18:00, "next Thursday" the coming one or
   the one after, "20/03" either order. They also cover what the library reads wrongly or not at all:
 
-  - a weekday is the next such day *on or after* the reference day (the library skips today);
+  - a weekday is the next such day *on or after* the reference day (the library skips today); "last
+    Saturday" (or "this past Saturday") is the latest one *before* it, "yesterday" and "last night" the
+    day before;
   - "the 2nd" is the next 2nd on or after the reference day: said on 5 June it is 2 July, said on
-    1 June it is 2 June (the library picks a fixed month);
+    1 June it is 2 June (the library picks a fixed month); "the 5th of this month" (of next, of last
+    month) is that month's;
   - "half nine" is 09:30 or 21:30 (British usage: half past nine), "quarter past 3", "ten to four",
     "20 past 3", "nine o'clock", "at nine";
   - "8 in the evening", "8 tonight", "9 in the morning", "11 at night": the part of the day picks the
@@ -65,18 +68,31 @@ _WORD_START = r"(?<![^\W\d_])"
 _NOT_A_PRICE = r"(?<![\d$£€.:])"
 
 _FULL_WEEKDAY = re.compile(
-    _WORD_START + r"(next\s+|this\s+)?(" + "|".join(_WEEKDAYS) + r")" + _WORD_END, re.I
+    _WORD_START
+    + r"(next\s+|this\s+past\s+|this\s+|last\s+|past\s+)?("
+    + "|".join(_WEEKDAYS)
+    + r")"
+    + _WORD_END,
+    re.I,
 )
 _SHORT_WEEKDAY = re.compile(_WORD_START + r"(" + "|".join(_WEEKDAY_ABBREVIATIONS) + r")" + _WORD_END + r"\.?")
 _RELATIVE_DAY = re.compile(
     _WORD_START
-    + r"(the\s+day\s+after\s+tomorrow|tomorrow|today|tonight|this\s+(?:morning|afternoon|evening))"
+    + r"(the\s+day\s+after\s+tomorrow|the\s+day\s+before\s+yesterday|tomorrow|yesterday|last\s+night|today|"
+    + r"tonight|this\s+(?:morning|afternoon|evening))"
     + _WORD_END,
     re.I,
 )
+_RELATIVE_OFFSETS = {"the day after tomorrow": 2, "tomorrow": 1, "yesterday": -1, "last night": -1,
+                     "the day before yesterday": -2}  # fmt: skip
+"""Days from the reference day that each relative word names (the others name that day itself)."""
 _DAY_MONTH = re.compile(r"(?<!\d)" + _ORDINAL + r"(?:\s+of)?\s+" + _MONTH_WORD + r"(?:\s+(\d{4}))?", re.I)
 _MONTH_DAY = re.compile(_MONTH_WORD + r"\s+" + _ORDINAL + r"(?![\d:])(?:,?\s+(\d{4}))?", re.I)
-_THE_NTH = re.compile(_WORD_START + r"the\s+(\d{1,2})(?:st|nd|rd|th)" + _WORD_END, re.I)
+_THE_NTH = re.compile(
+    _WORD_START + r"the\s+(\d{1,2})(?:st|nd|rd|th)" + _WORD_END + r"(?:\s+of\s+(this|next|last)\s+month)?",
+    re.I,
+)
+""""the 2nd" and "the 5th of this month" (or of next or last month, which say the month)."""
 _ISO_DATE = re.compile(r"(?<!\d)(\d{4})-(\d{2})-(\d{2})(?!\d)")
 _SLASH_DATE = re.compile(r"(?<![\d/])(\d{1,2})/(\d{1,2})(?:/(\d{2,4}))?(?![\d/])")
 
@@ -277,14 +293,27 @@ def _year_readings(anchor: date, month: int, day: int, year: str | None) -> froz
 
 
 def _weekday_readings(anchor: date, weekday: int, qualifier: str) -> frozenset[date]:
+    said = " ".join(qualifier.lower().split())
+    if said in ("last", "past", "this past"):  # "last Saturday": the latest one before today
+        return frozenset({anchor - timedelta(days=(anchor.weekday() - weekday - 1) % 7 + 1)})
     first = anchor + timedelta(days=(weekday - anchor.weekday()) % 7)
-    if qualifier.strip().lower() == "next":  # "next Thursday": this coming one or the one after
+    if said == "next":  # "next Thursday": this coming one or the one after
         return frozenset({first, first + timedelta(days=7)})
     return frozenset({first})
 
 
 _SENTENCE_END = re.compile(r"[!?\n]|\.(?=\s|$)")
 """Where a sentence ends, for a bare "the 5th" that takes its month from a date before it."""
+
+
+def _nth_of_month(today: date, day: int, which: str) -> date | None:
+    """``day`` of this month, of next month or of last month ("the 5th of last month")."""
+    month_start = today.replace(day=1)
+    if which == "next":
+        month_start = (month_start + timedelta(days=32)).replace(day=1)
+    elif which == "last":
+        month_start = (month_start - timedelta(days=1)).replace(day=1)
+    return _safe_date(month_start.year, month_start.month, day)
 
 
 def _next_nth(today: date, day: int) -> date | None:
@@ -323,7 +352,7 @@ _HINTS: dict[re.Pattern[str], tuple[str, ...]] = {
     _NAMED_TIME: ("noon", "midday", "midnight"),
     _FULL_WEEKDAY: ("day",),
     _SHORT_WEEKDAY: ("mon", "tue", "wed", "thu", "fri", "sat", "sun"),
-    _RELATIVE_DAY: ("tomorrow", "today", "tonight", "this"),
+    _RELATIVE_DAY: ("tomorrow", "today", "tonight", "this", "yesterday", "last night"),
 }
 """What a text must hold (in lower case) for each pattern to match in it, any one of them: most texts lack
 most, and a substring test costs far less than a search (the patterns are tried on every text read)."""
@@ -379,6 +408,9 @@ class _Reading:
             self.add(match.span(), _year_readings(today, month, day, match.group(3)))
         for match in self.scan(_THE_NTH):
             day = int(match.group(1))
+            if match.group(2):  # "of this month" says which month
+                self.add(match.span(), [d for d in [_nth_of_month(today, day, match.group(2).lower())] if d])
+                continue
             readings = {d for d in [_next_nth(today, day)] if d} | self._month_before(match.start(), day)
             self.add(match.span(), readings)
         for match in self.scan(_SLASH_DATE):
@@ -424,8 +456,8 @@ class _Reading:
 
     def add_relative_days(self) -> None:
         for match in self.scan(_RELATIVE_DAY):
-            word = match.group(1).lower()
-            offset = 2 if word.startswith("the") else 1 if word == "tomorrow" else 0
+            word = " ".join(match.group(1).lower().split())
+            offset = _RELATIVE_OFFSETS.get(word, 0)
             self.add(match.span(), [self.today + timedelta(days=offset)])
 
     def add_ranges(self) -> None:
