@@ -435,3 +435,31 @@ def test_a_message_sent_in_a_group_renamed_afterwards_is_still_an_irreversible_s
         "irreversible: sent to tom reid <user-tom> (messaging.conversations: 'Lunch Thursday?')",
     ]
     assert summarize(result.trajectory())["wrong_irreversible_actions"] == 1
+
+
+def test_more_of_an_item_than_any_solution_buys_is_a_side_effect_and_says_how_many() -> None:
+    scenario = LIBRARY["bike_inner_tubes_match_tyre_note"]
+    oracle = scenario.solution()
+    bought = [
+        action.args
+        for intervention in oracle.interventions
+        for action in intervention.actions
+        if action.tool == "shopping__add_to_cart"
+    ]
+    assert bought, "the scenario's oracle buys something"
+    item, quantity = bought[0]["item_id"], int(bought[0].get("quantity", 1))
+
+    def more(action: OracleAction) -> OracleAction:
+        if action.tool != "shopping__add_to_cart" or action.args["item_id"] != item:
+            return action
+        return action.model_copy(update={"args": {**action.args, "quantity": quantity + 9}})
+
+    interventions = tuple(
+        intervention.model_copy(update={"actions": [more(action) for action in intervention.actions]})
+        for intervention in oracle.interventions
+    )
+    result = play(scenario, Solution("bulk", oracle.user, interventions))
+    texts = [change.describe() for change in result.outcome.side_effects]
+    assert texts == [f"9 x new {item} in shopping.orders" + texts[0].split("shopping.orders", 1)[1]], texts
+    assert not result.success
+    assert result.to_dict()["outcome"]["side_effects"][0]["quantity"] == 9

@@ -247,6 +247,7 @@ class SideEffectRecord(_Verdict):
         description="The class of the tool whose call made it: reversible, costly, irreversible.",
     )
     order: int | None = Field(default=None, description="The log index of the call that made it.")
+    quantity: int = Field(default=1, description="For a new item: how many of its shape beyond the envelope.")
     text: str = ""
 
 

@@ -7,7 +7,9 @@ named at the level of its shape, so that two runs of the same solution name the 
 ids, timestamps and wording differ:
 
 * ``added``: a new item in a collection (``calendar.events``); for collections of plain values (a cart
-  keyed by item id, the saved apartments' ids) and for orders, also which entry (the item bought). A new
+  keyed by item id, the saved apartments' ids) and for orders, also which entry (the item bought) and how
+  many of it (a cart line's or an order line's quantity: ten bags of salt are ten new items of one shape,
+  so a solution that buys one does not license ten). A new
   file holding the content of a file that was there at the start is no change: a copy (made to attach a
   file under another name) adds nothing and reaches nobody;
 * ``changed`` / ``removed``: an existing item, by its key (``ev-dentist``); one allowance, since deleting
@@ -79,6 +81,8 @@ class Change:
     harm: Harm | None = None
     """How bad it is if wrong: the harm class of the tool whose call made it (``None``: not known, as
     for a change made through a user's screen)."""
+    quantity: int = 1
+    """For ``added``: how many new items of its shape it is (an order line of 3 is 3)."""
 
     @property
     def key(self) -> EnvelopeKey:
@@ -99,6 +103,7 @@ class Change:
         where = f"{self.app}.{self.collection}"
         if self.kind == "added":
             what = f"new {self.target}" if self.target else "new item"
+            what = f"{self.quantity} x {what}" if self.quantity != 1 else what
             return f"{what} in {where}" + (f": {self.detail}" if self.detail else "")
         text = f"{self.kind} {where} {self.target}" + (f" ({self.detail})" if self.detail else "")
         return text + (f": {', '.join(self.fields)}" if self.fields else "")
@@ -115,6 +120,7 @@ class Change:
             "fields": list(self.fields),
             "harm": self.harm,
             "order": self.order,
+            "quantity": self.quantity,
             "text": self.describe(),
         }
 
@@ -146,7 +152,10 @@ class Envelope:
         counts: dict[EnvelopeKey, int] = {}
         fields: dict[EnvelopeKey, frozenset[str]] = {}
         for changes in solutions:
-            for key, count in Counter(change.key for change in changes).items():
+            added: Counter[EnvelopeKey] = Counter()
+            for change in changes:
+                added[change.key] += change.quantity if change.kind == "added" else 1
+            for key, count in added.items():
                 counts[key] = max(counts.get(key, 0), count if key[2] == "added" else 1)
             for change in changes:
                 if change.kind == "changed":
@@ -170,11 +179,15 @@ class Envelope:
         rewrites = self._rewrites(kept)
         for change in sorted(kept, key=lambda change: change.order):
             key = change.key
-            seen[key] += 1
+            before = seen[key]
+            seen[key] += change.quantity if change.kind == "added" else 1
             if key in self.counts and not (key[2] == "added" and seen[key] > self.counts[key]):
                 extra = self._unlicensed_fields(change)
                 if extra:
                     found.append(replace(change, fields=extra))
+                continue
+            if key in self.counts and before < self.counts[key]:  # part of a quantity is licensed
+                found.append(replace(change, quantity=seen[key] - self.counts[key]))
                 continue
             place = (change.app, change.collection)
             if change.kind == "removed" and change in rewrites.removals:
@@ -402,7 +415,8 @@ class _Collection:
     def added(self, key: str, item: Any, order: int) -> Iterator[Change]:
         app, field = self.app, self.field
         if not isinstance(item, Mapping):  # a cart line, a saved apartment: which one is the change
-            yield self.change("added", key, "", order)
+            count = item if (app, field) == ("shopping", "cart") and isinstance(item, int) else 1
+            yield replace(self.change("added", key, "", order), quantity=max(1, count))
         elif (app, field) == ("email", "emails"):
             yield from self.sent(email_addressees(item), _label(item), order)
         elif (app, field) == ("messaging", "conversations"):
@@ -413,7 +427,9 @@ class _Collection:
         elif (app, field) == ("shopping", "orders"):
             for line in item.get("items") or []:
                 if isinstance(line, Mapping):
-                    yield self.change("added", str(line.get("item_id")), _label(line), order)
+                    count = line.get("quantity")
+                    change = self.change("added", str(line.get("item_id")), _label(line), order)
+                    yield replace(change, quantity=count if isinstance(count, int) and count > 1 else 1)
         else:
             yield self.change("added", "", _label(item), order)
             if (app, field) == ("calendar", "events"):
