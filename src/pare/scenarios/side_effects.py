@@ -427,9 +427,9 @@ class _Collection:
         elif (app, field) == ("shopping", "orders"):
             for line in item.get("items") or []:
                 if isinstance(line, Mapping):
-                    count = line.get("quantity")
+                    bought = line.get("quantity")
                     change = self.change("added", str(line.get("item_id")), _label(line), order)
-                    yield replace(change, quantity=count if isinstance(count, int) and count > 1 else 1)
+                    yield replace(change, quantity=bought if isinstance(bought, int) and bought > 1 else 1)
         else:
             yield self.change("added", "", _label(item), order)
             if (app, field) == ("calendar", "events"):
