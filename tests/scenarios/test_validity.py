@@ -120,7 +120,7 @@ def test_the_world_reacts_to_what_was_written() -> None:
     assert result.env.snapshot()["email"]["emails"]["e_what"]["content"] == "Which day?"
 
 
-def test_a_corrected_reply_still_gets_the_answer_and_the_correction_comes_once() -> None:
+def test_a_reply_corrected_before_the_question_back_was_due_gets_no_question() -> None:
     data = sound()
     data["oracle"]["interventions"] = [
         intervention(
@@ -132,7 +132,25 @@ def test_a_corrected_reply_still_gets_the_answer_and_the_correction_comes_once()
     scenario = parse(data)
     result = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
     fired = [entry.event_id for entry in result.env.log if entry.actor == "env" and entry.ok]
+    assert fired == ["ann_asks", "ann_confirms"]  # the right answer came within the otherwise's 5 minutes
+    assert result.env.scheduler.withdrawn == {"ann_confirms_otherwise": "ann_confirms"}
+    assert check_scenario(scenario).ok  # the gate lists no otherwise branch for it
+
+
+def test_a_reply_corrected_after_the_question_back_gets_both_and_the_question_once() -> None:
+    data = sound()
+    wrong = {**REPLY, "args": {"email_id": "e_ann", "content": "Friday?"}}
+    later = {
+        **intervention(REPLY),
+        "when": {"event": "ann_confirms_otherwise"},
+        "proposal": "Tell Ann: Thursday.",
+    }
+    data["oracle"]["interventions"] = [intervention(wrong, wrong), later]
+    scenario = parse(data)
+    result = run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
+    fired = [entry.event_id for entry in result.env.log if entry.actor == "env" and entry.ok]
     assert fired == ["ann_asks", "ann_confirms_otherwise", "ann_confirms"]
+    assert not result.env.scheduler.withdrawn
 
 
 def test_the_users_own_work_is_not_the_assistants() -> None:

@@ -61,6 +61,36 @@ def test_condition_on_the_log_fires_once_after_its_delay_whoever_acts() -> None:
     assert fired(env) == [("pong", "09:40"), ("after-pong", "09:41")]
 
 
+def test_an_event_withdrawn_by_another_is_not_delivered_once_that_one_is_set_off_first() -> None:
+    env = make_env([NotebookApp()])
+
+    def says(text: str) -> WhenLogged:
+        return WhenLogged(lambda entry: entry.args.get("text") == text, delay=timedelta(minutes=10))
+
+    env.schedule(ScheduledEvent("answer", says("right"), arrive("thanks")))
+    env.schedule(ScheduledEvent("question", says("vague"), arrive("which?"), withdrawn_by="answer"))
+    ok(env.call("assistant", "notebook__add_item", {"text": "vague"}, mode="execute"))
+    env.advance(timedelta(minutes=5))
+    ok(env.call("assistant", "notebook__add_item", {"text": "right"}, mode="execute"))
+    env.advance(timedelta(minutes=30))
+    assert fired(env) == [("answer", "09:15")]  # the question was due at 09:10, after the answer came
+    assert env.scheduler.withdrawn == {"question": "answer"}
+    assert env.scheduler.pending == 0
+
+
+def test_an_event_already_delivered_is_not_withdrawn() -> None:
+    env = make_env([NotebookApp()])
+    env.schedule(ScheduledEvent("answer", WhenLogged(lambda e: e.args.get("text") == "right"), arrive("ok")))
+    condition = WhenLogged(lambda e: e.args.get("text") == "vague", delay=timedelta(minutes=1))
+    env.schedule(ScheduledEvent("question", condition, arrive("which?"), withdrawn_by="answer"))
+    ok(env.call("assistant", "notebook__add_item", {"text": "vague"}, mode="execute"))
+    env.advance(timedelta(minutes=5))
+    ok(env.call("assistant", "notebook__add_item", {"text": "right"}, mode="execute"))
+    env.advance(timedelta(minutes=5))
+    assert [event for event, _ in fired(env)] == ["question", "answer"]
+    assert not env.scheduler.withdrawn
+
+
 def test_failed_call_can_still_satisfy_only_conditions_that_ask_for_it() -> None:
     env = make_env([NotebookApp()])
     env.schedule(ScheduledEvent("e", WhenLogged(lambda e: e.tool == "add_item" and e.ok), arrive("x")))

@@ -67,8 +67,8 @@ def world_events(scenario: Scenario, env: Environment) -> tuple[WorldEvent, ...]
         if event.otherwise is not None:
             branches.append(("otherwise", event.otherwise_id, event.otherwise.args))
         for branch, fired_id, args in branches:
-            if fired_id is None or fired_id not in scheduler.set_off:
-                continue
+            if fired_id is None or fired_id not in scheduler.set_off or fired_id in scheduler.withdrawn:
+                continue  # an otherwise withdrawn before it was due: the rest of the answer came in time
             entry = env.log[scheduler.set_off[fired_id]]
             cause = f"#{entry.index} {entry.actor} {entry.app}.{entry.tool}"
             at = fired.get(fired_id)

@@ -106,7 +106,9 @@ class _Reactive:
             call = otherwise.action
             reaction = EventAction(call.app, call.tool, _fresh(call.args))
             condition = WhenLogged(trigger.misses, otherwise.delay, otherwise.description)
-            events.append(ScheduledEvent(otherwise.event_id, condition, reaction))
+            # a first message that says too little is answered with a question only if the rest of the
+            # answer has not come by the time the question would be sent
+            events.append(ScheduledEvent(otherwise.event_id, condition, reaction, withdrawn_by=self.event_id))
         return events
 
 

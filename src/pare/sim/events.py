@@ -74,6 +74,9 @@ class ScheduledEvent:
     event_id: str
     trigger: Trigger
     action: EventAction
+    withdrawn_by: str | None = None
+    """An event whose log condition, met while this one is still due, withdraws it: a reactive event's
+    ``otherwise`` (the counterpart's question back) is not sent once the rest of the answer has come."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -107,6 +110,9 @@ class EventScheduler:
         self._held: dict[str, list[LogEntry]] = {}
         """Events whose condition could not tell yet on an entry, each with that entry and every entry
         observed since, to be tested in order by :meth:`retest`."""
+        self.withdrawn: dict[str, str] = {}
+        """Events withdrawn before they were due (see :attr:`ScheduledEvent.withdrawn_by`), each with the
+        event that withdrew it."""
 
     def add(self, event: ScheduledEvent) -> None:
         """Schedule ``event``. An ``AfterEvent`` may name an event added later; :meth:`validate` checks."""
@@ -176,6 +182,20 @@ class EventScheduler:
         self._conditions.remove(event)
         self.set_off[event.event_id] = entry.index
         self._push(entry.time + _when_logged(event).delay, event.event_id)
+        self._withdraw_for(event.event_id)
+
+    def _withdraw_for(self, event_id: str) -> None:
+        """Take out of the schedule the events due later that ``event_id``'s being set off withdraws."""
+        kept = []
+        for item in self._heap:
+            waiting = self._events[item[2]]
+            if waiting.withdrawn_by == event_id:
+                self.withdrawn[waiting.event_id] = event_id
+            else:
+                kept.append(item)
+        if len(kept) != len(self._heap):
+            self._heap = kept
+            heapq.heapify(self._heap)
 
     @property
     def undecided(self) -> bool:
@@ -259,7 +279,7 @@ class EventScheduler:
 
     @property
     def pending(self) -> int:
-        """Events not yet fired: scheduled, waiting on another event, or waiting on a condition."""
+        """Events not yet fired (nor withdrawn): scheduled, waiting on another event, or on a condition."""
         return len(self._heap) + sum(len(v) for v in self._dependents.values()) + len(self._conditions)
 
 
