@@ -30,13 +30,24 @@ HOLDING = {"tool": "email__reply_to_email", "args": {"email_id": "e_ann", "conte
 """A first reply that names no day: the world asks back ("Which day?")."""
 
 
+def _holding_then_answer() -> list[dict[str, object]]:
+    """A holding reply, then the answer once Ann has asked back (an answer before her question is due
+    withdraws it)."""
+    answer = {
+        **intervention(REPLY),
+        "when": {"event": "ann_confirms_otherwise"},
+        "proposal": "Tell Ann: Thursday.",
+    }
+    return [intervention(HOLDING), answer]
+
+
 def _asks_then_answers(**extra: object) -> dict[str, object]:
     """A correct variant whose first reply gets Ann's correction, then gives the answer."""
     return {
         "id": "asks_then_answers",
         "expect": "pass",
         "why": "A holding reply, then Thursday, still tells Ann.",
-        "interventions": [intervention(HOLDING, REPLY)],
+        "interventions": _holding_then_answer(),
         **extra,
     }
 
@@ -81,7 +92,7 @@ def test_an_excuse_the_variant_never_needed_is_warned_about() -> None:
 
 def test_the_oracle_must_never_get_a_correction() -> None:
     data = sound()
-    data["oracle"]["interventions"] = [intervention(HOLDING, REPLY)]
+    data["oracle"]["interventions"] = _holding_then_answer()
     verdict = check_scenario(parse(data), runs=("oracle",), variants=False)
     oracle = verdict.run("oracle")
     assert oracle.success and not oracle.ok
