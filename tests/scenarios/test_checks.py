@@ -383,3 +383,13 @@ def test_the_verdict_alone_is_not_explained(monkeypatch: Any) -> None:
     scenario, result = _oracle_run(data)
     monkeypatch.setattr(explain, "explain", refuse)
     assert not checks.goals_met(scenario, result.env.log.entries, result.env.snapshot())
+
+
+def test_a_judge_reads_a_field_an_edit_sets_inside_its_updates() -> None:
+    from pare.scenarios.checks import judged_text
+
+    edit = {"reminder_id": "rem-1", "updates": {"description": "Twice a day", "title": "Exercises"}}
+    assert judged_text(edit, "description") == "Twice a day"  # update_reminder's new description
+    assert judged_text({"description": "Daily", "updates": {"description": "x"}}, "description") == "Daily"
+    assert judged_text({"updates": {"due_datetime": "2025-06-01"}}, "description") is None
+    assert judged_text({"content": None}, "content") is None

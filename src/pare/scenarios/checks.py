@@ -728,6 +728,18 @@ class _Texts:
     """When each call in ``read`` was made."""
 
 
+def judged_text(args: Mapping[str, Any], field: str) -> str | None:
+    """The text a judge check reads in a call's ``args``: the argument ``field``, or for an edit, the
+    ``field`` among its ``updates`` (a reminder's description rewritten by ``update_reminder``).
+    """
+    text = args.get(field)
+    if isinstance(text, str):
+        return text
+    updates = args.get("updates")
+    changed = updates.get(field) if isinstance(updates, Mapping) else None
+    return changed if isinstance(changed, str) else None
+
+
 class _JudgeRule(Rule):
     cost = 2
 
@@ -752,7 +764,8 @@ class _JudgeRule(Rule):
         pattern, described = self.pattern.of(context)
         reader = context.reader
         found = [(entry, pattern.arguments(entry, reader)) for entry in pattern.find(context.log, reader)]
-        read = [(entry, args[check.field]) for entry, args in found if isinstance(args.get(check.field), str)]
+        texts = [(entry, judged_text(args, check.field)) for entry, args in found]
+        read = [(entry, text) for entry, text in texts if text is not None]
         candidates: list[tuple[tuple[int, ...], str]] = [((entry.index,), text) for entry, text in read]
         if check.together and len(candidates) > 1:
             # one answer sent in parts is judged as the whole
@@ -810,7 +823,7 @@ class _JudgeRule(Rule):
         """The matching calls that carry a text to judge."""
         pattern, field = self.pattern.own, self.judge.field
         found = pattern.find(log, reader)
-        return [e.index for e in found if isinstance(pattern.arguments(e, reader).get(field), str)]
+        return [e.index for e in found if judged_text(pattern.arguments(e, reader), field) is not None]
 
     def _holds(self, text: str, sent: datetime, start: datetime) -> bool:
         """Whether the fallback accepts ``text`` read as of ``sent`` (a text in parts: as of its first)."""
