@@ -56,6 +56,32 @@ def test_a_split_exports_as_parquet(tmp_path: Path) -> None:
     assert sorted(table.column("id").to_pylist()) == sorted(splits()["smoke"])
 
 
+@pytest.mark.parametrize("data_format", ["jsonl", "parquet"])
+def test_hugging_face_datasets_loads_both_formats(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, data_format: str
+) -> None:
+    datasets = pytest.importorskip(
+        "datasets", reason="the hf extra is not installed (pip install -e '.[hf]')"
+    )
+    if data_format == "parquet":
+        pytest.importorskip("pyarrow", reason="the parquet extra is not installed")
+    monkeypatch.setenv("HF_HUB_OFFLINE", "1")  # a local file: nothing to fetch
+    out = tmp_path / "smoke"
+    assert main(["export", "scenarios", "--split", "smoke", "--format", data_format, "-o", str(out)]) == 0
+    (data_file,) = _card(out)["configs"][0]["data_files"]
+    builder = "json" if data_format == "jsonl" else "parquet"
+    loaded = datasets.load_dataset(
+        builder, data_files=str(out / data_file["path"]), split="train", cache_dir=str(tmp_path / "cache")
+    )
+    smoke = splits()["smoke"]
+    assert loaded.num_rows == len(smoke)
+    assert sorted(loaded["id"]) == sorted(smoke)
+    scenarios = library()
+    for row in loaded:
+        assert row["content_hash"] == scenarios[row["id"]].content_hash()
+        assert parse_scenario(row["scenario"]).content_hash() == row["content_hash"]
+
+
 def test_an_unknown_dataset_format_is_refused(tmp_path: Path, capsys) -> None:
     assert main(["export", "scenarios", "--format", "csv", "-o", str(tmp_path / "x")]) == 2
     assert "jsonl or parquet" in capsys.readouterr().err
