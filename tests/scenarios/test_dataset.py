@@ -27,7 +27,7 @@ def _rows(folder: Path, path: str) -> list[dict[str, Any]]:
         import datasets  # type: ignore[import-not-found]
     except ImportError:  # the test tools do not include it: read the file as it would
         return [json.loads(line) for line in (folder / path).read_text(encoding="utf-8").splitlines()]
-    return list(datasets.load_dataset(str(folder), split="train"))
+    return list(datasets.load_dataset(str(folder), split="train", cache_dir=str(folder.parent / "hf-cache")))
 
 
 def test_the_library_exports_as_json_lines_with_a_card_and_reads_back(tmp_path: Path) -> None:
