@@ -37,7 +37,7 @@ def _rollout(env: PareEnv, server: ChatServer, monkeypatch: pytest.MonkeyPatch) 
             return await env.run_episode(task, context)
 
     episode = asyncio.run(play())
-    assert episode.ok, episode.errors
+    assert episode.ok, episode.errors or [error.message for trace in episode.traces for error in trace.errors]
     (trace,) = episode.traces
     return trace
 
@@ -69,9 +69,8 @@ def test_a_rollout_plays_the_scenario_through_the_interception_and_is_rewarded_b
     assert trace.metrics["acceptance_rate"] == 1.0  # the oracle user accepted the one proposal
 
 
-def test_the_oracle_s_answers_through_the_client_are_rewarded_one(monkeypatch: pytest.MonkeyPatch) -> None:
-    env = load_environment(scenarios=[SCENARIO], seed=5)
-    task = next(iter(env.taskset))
+def _oracle_replay(task: Any) -> Any:
+    """A chat server's handler answering with the oracle assistant's actions for ``task``, in order."""
     texts = asyncio.run(oracle_texts(get_scenario(SCENARIO), task.data.seed, "assistant"))
     answers = iter(texts)
     lock = threading.Lock()
@@ -80,11 +79,35 @@ def test_the_oracle_s_answers_through_the_client_are_rewarded_one(monkeypatch: p
         with lock:
             return completion(next(answers))
 
-    with ChatServer(replay) as server:
+    return replay
+
+
+def test_the_oracle_s_answers_through_the_client_are_rewarded_one(monkeypatch: pytest.MonkeyPatch) -> None:
+    env = load_environment(scenarios=[SCENARIO], seed=5)
+    task = next(iter(env.taskset))
+    with ChatServer(_oracle_replay(task)) as server:
         trace = _rollout(env, server, monkeypatch)
     assert trace.info["pare"]["seed"] == task.data.seed == trace.info["pare"]["trajectory"]["seed"]
     assert trace.rewards["success"].score == 1.0
     assert trace.rewards["goal_rate"].score == 1.0
+
+
+def test_free_text_checks_go_to_the_configured_judge(monkeypatch: pytest.MonkeyPatch) -> None:
+    with ChatServer(lambda body: completion("NO. The text does not say so.")) as judge:
+        env = load_environment(
+            scenarios=[SCENARIO],
+            seed=5,
+            judge={"model": "test-judge", "api_base": judge.base_url, "api_key_env": None},
+        )
+        task = next(iter(env.taskset))
+        with ChatServer(_oracle_replay(task)) as server:
+            trace = _rollout(env, server, monkeypatch)
+        assert judge.requests  # the judge was asked
+    # the oracle's episode meets every goal by the fallbacks; the judge refusing its text fails it
+    outcome = trace.info["pare"]["outcome"]
+    judged = [check for goal in outcome["goals"] for check in goal["checks"] if check["form"] == "judge"]
+    assert judged and not any(check["passed"] for check in judged)
+    assert trace.rewards["success"].score == 0.0
 
 
 def test_bad_selections_are_refused_by_name() -> None:
@@ -94,3 +117,5 @@ def test_bad_selections_are_refused_by_name() -> None:
         load_environment(split="nope")
     with pytest.raises(UserInputError, match="protocol"):
         load_environment(protocol="no-such-preset")
+    with pytest.raises(UserInputError, match="user"):
+        load_environment(user={"modle": "gpt-4o"})

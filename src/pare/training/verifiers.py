@@ -26,9 +26,12 @@ from collections.abc import Iterator, Mapping, Sequence
 from typing import Any, Literal
 
 from openai import AsyncOpenAI
-from pydantic import Field
+from pydantic import Field, ValidationError
 
+from pare.agents.judge import ModelJudge
+from pare.agents.models.client import ModelClient
 from pare.agents.models.config import ModelConfig
+from pare.errors import UserInputError
 from pare.install import install_command
 from pare.scenarios.library import get_scenario
 from pare.training.rollout import play_assistant
@@ -136,6 +139,8 @@ class PareHarnessConfig(vf.HarnessConfig):  # type: ignore[misc]
     """The turn protocol: a preset's name (``pare``, ``paper``) or a preset with overrides."""
     side_effects: bool = Field(default=True)
     """A change of the assistant's that no solution of the scenario makes fails the episode."""
+    judge: ModelConfig | None = None
+    """The model that judges free-text checks; None: each check's deterministic fallback."""
 
 
 class PareHarness(vf.Harness[PareHarnessConfig]):  # type: ignore[misc]
@@ -159,16 +164,22 @@ class PareHarness(vf.Harness[PareHarnessConfig]):  # type: ignore[misc]
         """Play ``data``'s scenario; the model calls go to ``endpoint`` with ``secret``, as the library
         requires of an in-process harness, and the verdict lands in ``trace.info``.
         """
-        async with AsyncOpenAI(base_url=endpoint, api_key=secret, max_retries=0) as client:
-            played = await play_assistant(
-                client,
-                ctx.model,
-                data.scenario_id,
-                seed=data.seed,
-                protocol=protocol_settings(self.config.protocol),
-                user=self.config.user,
-                side_effects=self.config.side_effects,
-            )
+        judge_client = ModelClient(self.config.judge, "judge") if self.config.judge is not None else None
+        try:
+            async with AsyncOpenAI(base_url=endpoint, api_key=secret, max_retries=0) as client:
+                played = await play_assistant(
+                    client,
+                    ctx.model,
+                    data.scenario_id,
+                    seed=data.seed,
+                    protocol=protocol_settings(self.config.protocol),
+                    user=self.config.user,
+                    side_effects=self.config.side_effects,
+                    judge=ModelJudge(judge_client, judge_client.config.model) if judge_client else None,
+                )
+        finally:
+            if judge_client is not None:
+                await judge_client.aclose()
         trace.info[PARE_INFO] = {
             "scenario_id": data.scenario_id,
             "seed": data.seed,
@@ -203,31 +214,38 @@ def load_environment(
     protocol: str | Mapping[str, Any] | None = None,
     seed: int = 0,
     side_effects: bool = True,
+    judge: ModelConfig | Mapping[str, Any] | None = None,
 ) -> PareEnv:
     """PARE's assistant task as a verifiers environment: the given ``scenarios`` (ids) or ``split``
     (default ``smoke``), the user played by the oracle or a model configuration (a
     :class:`~pare.agents.models.config.ModelConfig` or its fields), the turn ``protocol`` (a preset's
-    name or a preset with overrides), each scenario's world seeded from ``seed``.
+    name or a preset with overrides), each scenario's world seeded from ``seed``, free-text checks judged
+    by ``judge`` (a model configuration; None: their deterministic fallbacks).
 
     Raises:
-        UserInputError: an unknown scenario or split, or a protocol that is not valid.
+        UserInputError: an unknown scenario or split, or a protocol or model configuration that is not
+            valid.
     """
     scenario_pool(scenarios, split)  # unknown ids or splits fail here, by name
     protocol_settings(dict(protocol) if isinstance(protocol, Mapping) else protocol)
-    config = PareEnvConfig(
-        taskset={
-            "id": ENV_ID,
-            "scenarios": list(scenarios) if scenarios is not None else None,
-            "split": split,
-            "seed": seed,
-        },
-        assistant={
-            "harness": {
+    try:
+        config = PareEnvConfig(
+            taskset={
                 "id": ENV_ID,
-                "user": dict(user) if isinstance(user, Mapping) else user,
-                "protocol": dict(protocol) if isinstance(protocol, Mapping) else protocol,
-                "side_effects": side_effects,
-            }
-        },
-    )
+                "scenarios": list(scenarios) if scenarios is not None else None,
+                "split": split,
+                "seed": seed,
+            },
+            assistant={
+                "harness": {
+                    "id": ENV_ID,
+                    "user": dict(user) if isinstance(user, Mapping) else user,
+                    "protocol": dict(protocol) if isinstance(protocol, Mapping) else protocol,
+                    "side_effects": side_effects,
+                    "judge": dict(judge) if isinstance(judge, Mapping) else judge,
+                }
+            },
+        )
+    except ValidationError as error:
+        raise UserInputError(f"the verifiers environment's settings: {error}") from None
     return PareEnv(config)
