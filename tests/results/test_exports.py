@@ -192,3 +192,26 @@ def test_bad_export_requests_are_refused_by_name(runs: Runs, tmp_path: Path, cap
     assert "nowhere" in capsys.readouterr().err
     assert main(["export", str(runs.oracle), "-f", "sft", "--role", "judge", "-o", out]) == 2
     assert "'judge'" in capsys.readouterr().err
+
+
+def test_inspect_s_own_reader_opens_the_log(runs: Runs, tmp_path: Path) -> None:
+    inspect_log = pytest.importorskip(
+        "inspect_ai.log", reason="the inspect extra is not installed (pip install -e '.[inspect]')"
+    )
+    assert main(["export", str(runs.models), "--format", "inspect", "-o", str(tmp_path)]) == 0
+    (log_file,) = list(tmp_path.glob("*.json"))
+    log = inspect_log.read_eval_log(str(log_file))
+    loaded = load_run(runs.models)
+    assert log.status == "success"
+    assert log.eval.task == "pare-bench"
+    assert log.eval.model == "test-assistant"
+    roles = {role: config.model for role, config in (log.eval.model_roles or {}).items()}
+    assert roles["user"] == "test-user" and roles["observe"] == "test-assistant"
+    assert log.samples is not None
+    assert sorted((str(s.id), s.epoch) for s in log.samples) == sorted(
+        (r.scenario_id, r.run) for r in loaded.records
+    )
+    assert {s.scores["pare_checks"].value for s in log.samples if s.scores} == {"I"}
+    assert log.results is not None
+    (score,) = log.results.scores
+    assert score.metrics["accuracy"].value == 0.0

@@ -27,7 +27,7 @@ def _rows(folder: Path, path: str) -> list[dict[str, Any]]:
         import datasets  # type: ignore[import-not-found]
     except ImportError:  # the test tools do not include it: read the file as it would
         return [json.loads(line) for line in (folder / path).read_text(encoding="utf-8").splitlines()]
-    return list(datasets.load_dataset(str(folder), split="train"))
+    return list(datasets.load_dataset(str(folder), split="train", cache_dir=str(folder.parent / "hf-cache")))
 
 
 def test_the_library_exports_as_json_lines_with_a_card_and_reads_back(tmp_path: Path) -> None:
@@ -54,6 +54,32 @@ def test_a_split_exports_as_parquet(tmp_path: Path) -> None:
     (data_file,) = _card(out)["configs"][0]["data_files"]
     table = pq.read_table(out / data_file["path"])
     assert sorted(table.column("id").to_pylist()) == sorted(splits()["smoke"])
+
+
+@pytest.mark.parametrize("data_format", ["jsonl", "parquet"])
+def test_hugging_face_datasets_loads_both_formats(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, data_format: str
+) -> None:
+    datasets = pytest.importorskip(
+        "datasets", reason="the hf extra is not installed (pip install -e '.[hf]')"
+    )
+    if data_format == "parquet":
+        pytest.importorskip("pyarrow", reason="the parquet extra is not installed")
+    monkeypatch.setenv("HF_HUB_OFFLINE", "1")  # a local file: nothing to fetch
+    out = tmp_path / "smoke"
+    assert main(["export", "scenarios", "--split", "smoke", "--format", data_format, "-o", str(out)]) == 0
+    (data_file,) = _card(out)["configs"][0]["data_files"]
+    builder = "json" if data_format == "jsonl" else "parquet"
+    loaded = datasets.load_dataset(
+        builder, data_files=str(out / data_file["path"]), split="train", cache_dir=str(tmp_path / "cache")
+    )
+    smoke = splits()["smoke"]
+    assert loaded.num_rows == len(smoke)
+    assert sorted(loaded["id"]) == sorted(smoke)
+    scenarios = library()
+    for row in loaded:
+        assert row["content_hash"] == scenarios[row["id"]].content_hash()
+        assert parse_scenario(row["scenario"]).content_hash() == row["content_hash"]
 
 
 def test_an_unknown_dataset_format_is_refused(tmp_path: Path, capsys) -> None:

@@ -1,5 +1,5 @@
-"""The verifiers-shaped environment: rollouts play PARE's turn loop against a chat server, the rubric is
-PARE's verdict."""
+"""The verifiers environment: the library's own Env, whose rollouts play PARE's turn loop against a chat
+server and whose rewards are PARE's verdict."""
 
 from __future__ import annotations
 
@@ -7,48 +7,71 @@ import asyncio
 import threading
 from typing import Any
 
-from openai import AsyncOpenAI
+import pytest
 
-from pare.scenarios.library import get_scenario
-from pare.testing import PROPOSAL, ChatServer, Reply, completion, proactive_play
-from pare.training.verifiers import load_environment
-from tests.training.oracle_replay import oracle_texts
+vf = pytest.importorskip(
+    "verifiers.v1", reason="the verifiers extra is not installed (pip install -e '.[verifiers]')"
+)
+
+from pare.errors import UserInputError  # noqa: E402
+from pare.scenarios.library import get_scenario, splits  # noqa: E402
+from pare.testing import PROPOSAL, ChatServer, Reply, completion, proactive_play  # noqa: E402
+from pare.training.verifiers import ENV_ID, PareEnv, load_environment  # noqa: E402
+from tests.training.oracle_replay import oracle_texts  # noqa: E402
 
 SCENARIO = "dentist_moves_checkup"
+KEY_VARIABLE = "PARE_TEST_VERIFIERS_KEY"
 
 
-def _client(server: ChatServer) -> AsyncOpenAI:
-    return AsyncOpenAI(base_url=server.base_url, api_key="not-needed", max_retries=0)
+def _rollout(env: PareEnv, server: ChatServer, monkeypatch: pytest.MonkeyPatch) -> Any:
+    """One episode of the taskset's first task, the assistant's seat answered by ``server``."""
+    monkeypatch.setenv(KEY_VARIABLE, "not-needed")
+    task = next(iter(env.taskset))
+    context = vf.ModelContext(
+        model="pare-test-model",
+        client=vf.EvalClientConfig(base_url=server.base_url, api_key_var=KEY_VARIABLE),
+    )
+
+    async def play() -> Any:
+        async with env.serving():
+            return await env.run_episode(task, context)
+
+    episode = asyncio.run(play())
+    assert episode.ok, episode.errors or [error.message for trace in episode.traces for error in trace.errors]
+    (trace,) = episode.traces
+    return trace
 
 
-def test_a_rollout_plays_the_scenario_and_is_scored_by_its_verdict() -> None:
+def test_load_environment_is_the_library_s_env_over_the_split() -> None:
+    env = load_environment(split="smoke")
+    assert isinstance(env, vf.Env)
+    assert sorted(task.data.scenario_id for task in env.taskset) == sorted(splits()["smoke"])
+    # the library finds the same classes by the id a user gives its command line
+    assert vf.environment_class(ENV_ID) is PareEnv
+    assert vf.default_harness_id(ENV_ID) == ENV_ID
+
+
+def test_a_rollout_plays_the_scenario_through_the_interception_and_is_rewarded_by_its_verdict(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
     env = load_environment(scenarios=[SCENARIO])
-    row = env.dataset[0]
-    assert row["info"]["scenario_id"] == SCENARIO
-
-    async def roll() -> Any:
-        with ChatServer(proactive_play()) as server:
-            async with _client(server) as client:
-                completion, state = await env.rollout(client, "pare-test-model", **row)
-            score = await env.rubric.score_rollout(state["prompt"], completion, "", state, info=row["info"])
-            return completion, state, score
-
-    completion, state, score = asyncio.run(roll())
-    assert [message["role"] for message in state["prompt"]] == ["system", "user"]
-    assert PROPOSAL in completion[0]["content"]  # the model's first answer proposes
-    assert len(state["conversations"]) == 2  # observe mode's, then execute mode's for the accepted proposal
-    assert state["conversations"][1][0]["role"] == "system"
-    # proactive_play only reports: the scenario's goals are not met, and the rubric says so
-    assert not state["outcome"]["success"]
-    assert score.reward == 0.0 and score.metrics["success"] == 0.0
-    assert score.metrics["acceptance_rate"] == 1.0  # the oracle user accepted the one proposal
-    assert score.metrics["goal_rate"] == state["outcome"]["goal_rate"] < 1.0
+    with ChatServer(proactive_play()) as server:
+        trace = _rollout(env, server, monkeypatch)
+    played = trace.info["pare"]
+    assert played["scenario_id"] == SCENARIO
+    # the model's calls went through the library's interception: the trace holds them
+    answers = [m.content for branch in trace.branches for m in branch.messages if m.role == "assistant"]
+    assert any(PROPOSAL in (answer or "") for answer in answers)
+    # proactive_play only reports: the scenario's goals are not met, and the rewards say so
+    assert not played["outcome"]["success"]
+    assert trace.rewards["success"].score == 0.0 and trace.rewards["success"].weight == 1.0
+    assert trace.rewards["goal_rate"].score == played["outcome"]["goal_rate"] < 1.0
+    assert trace.metrics["acceptance_rate"] == 1.0  # the oracle user accepted the one proposal
 
 
-def test_the_oracle_s_answers_through_the_client_score_one() -> None:
-    env = load_environment(scenarios=[SCENARIO], seed=5)
-    row = env.dataset[0]
-    texts = asyncio.run(oracle_texts(get_scenario(SCENARIO), row["info"]["seed"], "assistant"))
+def _oracle_replay(task: Any) -> Any:
+    """A chat server's handler answering with the oracle assistant's actions for ``task``, in order."""
+    texts = asyncio.run(oracle_texts(get_scenario(SCENARIO), task.data.seed, "assistant"))
     answers = iter(texts)
     lock = threading.Lock()
 
@@ -56,26 +79,43 @@ def test_the_oracle_s_answers_through_the_client_score_one() -> None:
         with lock:
             return completion(next(answers))
 
-    async def roll() -> Any:
-        with ChatServer(replay) as server:
-            async with _client(server) as client:
-                completion_, state = await env.rollout(client, "pare-test-model", **row)
-            return await env.rubric.score_rollout(state["prompt"], completion_, "", state)
-
-    score = asyncio.run(roll())
-    assert score.reward == 1.0 and score.metrics["goal_rate"] == 1.0
+    return replay
 
 
-def test_evaluate_rolls_out_every_row_the_times_asked() -> None:
-    env = load_environment(split="smoke")
+def test_the_oracle_s_answers_through_the_client_are_rewarded_one(monkeypatch: pytest.MonkeyPatch) -> None:
+    env = load_environment(scenarios=[SCENARIO], seed=5)
+    task = next(iter(env.taskset))
+    with ChatServer(_oracle_replay(task)) as server:
+        trace = _rollout(env, server, monkeypatch)
+    assert trace.info["pare"]["seed"] == task.data.seed == trace.info["pare"]["trajectory"]["seed"]
+    assert trace.rewards["success"].score == 1.0
+    assert trace.rewards["goal_rate"].score == 1.0
 
-    async def evaluate() -> Any:
-        with ChatServer(proactive_play()) as server:
-            async with _client(server) as client:
-                return await env.evaluate(client, "pare-test-model", num_examples=2, rollouts_per_example=2)
 
-    outputs = asyncio.run(evaluate())
-    ids = [info["scenario_id"] for info in outputs.info]
-    assert ids == [env.dataset[0]["info"]["scenario_id"]] * 2 + [env.dataset[1]["info"]["scenario_id"]] * 2
-    assert len(outputs.reward) == 4 and set(outputs.metrics) == {"success", "goal_rate", "acceptance_rate"}
-    assert outputs.reward == [1.0 if state["outcome"]["success"] else 0.0 for state in outputs.state]
+def test_free_text_checks_go_to_the_configured_judge(monkeypatch: pytest.MonkeyPatch) -> None:
+    with ChatServer(lambda body: completion("NO. The text does not say so.")) as judge:
+        env = load_environment(
+            scenarios=[SCENARIO],
+            seed=5,
+            judge={"model": "test-judge", "api_base": judge.base_url, "api_key_env": None},
+        )
+        task = next(iter(env.taskset))
+        with ChatServer(_oracle_replay(task)) as server:
+            trace = _rollout(env, server, monkeypatch)
+        assert judge.requests  # the judge was asked
+    # the oracle's episode meets every goal by the fallbacks; the judge refusing its text fails it
+    outcome = trace.info["pare"]["outcome"]
+    judged = [check for goal in outcome["goals"] for check in goal["checks"] if check["form"] == "judge"]
+    assert judged and not any(check["passed"] for check in judged)
+    assert trace.rewards["success"].score == 0.0
+
+
+def test_bad_selections_are_refused_by_name() -> None:
+    with pytest.raises(UserInputError, match="no_such_scenario"):
+        load_environment(scenarios=["no_such_scenario"])
+    with pytest.raises(UserInputError, match="no split 'nope'"):
+        load_environment(split="nope")
+    with pytest.raises(UserInputError, match="protocol"):
+        load_environment(protocol="no-such-preset")
+    with pytest.raises(UserInputError, match="user"):
+        load_environment(user={"modle": "gpt-4o"})

@@ -1,7 +1,7 @@
 """What a training environment plays: the scenarios it samples from, the turn protocol, the other role.
 
-Shared by the Gymnasium environments and the verifiers adapter, so both choose scenarios, seed the world and
-build the counterpart the same way.
+Shared by the Gymnasium environments and the verifiers environment, so both choose scenarios, seed the
+world and build the counterpart the same way.
 """
 
 from __future__ import annotations
