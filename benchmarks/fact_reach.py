@@ -8,7 +8,8 @@ does) and, for each such check, reads the texts its fallback reads with the fact
 
 - ``failing variants caught``: the ``expect: fail`` variants in which some judge check with facts finds, in
   every text it reads, a detail the allowed texts do not give, so the rule alone fails that check, whatever
-  the fallback the author wrote for the variant;
+  the fallback the author wrote for the variant; and the same among the variants whose ``fails`` names a
+  goal with such a check (counted on that goal's checks);
 - ``solution texts needing the solutions``: texts of the oracle and the passing variants that state a
   detail neither the facts nor the criterion give (allowed only because a solution writes it): each is a
   fact the author may have forgotten, which the judge model needs too (``-v`` lists them).
@@ -51,7 +52,7 @@ def main(argv: list[str] | None = None) -> int:
         for scenario in load_scenarios()
         if any(check.form == "judge" and check.body.facts for goal in scenario.goals for check in goal.checks)
     ]
-    failing = caught = solution_texts = needing = 0
+    failing = caught = solution_texts = needing = aimed = aimed_caught = 0
     for scenario in with_facts:
         verdict = check_scenario(scenario, runs={"oracle"})
         start: datetime = scenario.start
@@ -66,9 +67,16 @@ def main(argv: list[str] | None = None) -> int:
                     caught += 1
                     if verbose:
                         print(f"caught {scenario.id} [{run}]")
+                named = next(v.fails for v in scenario.variants if f"variant:{v.id}" == run)
+                on_named = [check for check in found if check.goal in named]
+                if on_named:  # the variant was written to fail a goal a judge check with facts reads
+                    aimed += 1
+                    aimed_caught += any(_every_text_rejected(check) for check in on_named)
                 continue
             for check in found:
-                strict = AllowedDetails.of(check.check.facts, start, lambda check=check: (check.check.criterion,))
+                strict = AllowedDetails.of(
+                    check.check.facts, start, lambda check=check: (check.check.criterion,)
+                )
                 solution_texts += len(check.texts)
                 lines = _strays(check, strict)
                 needing += len(lines)
@@ -77,6 +85,10 @@ def main(argv: list[str] | None = None) -> int:
                         print(f"needs a solution: {scenario.id} [{run}] {line}")
     print(f"scenarios with judge facts: {len(with_facts)}")
     print(f"failing variants caught by the facts rule alone: {caught} of {failing}")
+    print(
+        "failing variants that name a goal with a judge check with facts, caught there by the facts rule "
+        f"alone: {aimed_caught} of {aimed}"
+    )
     print(f"solution texts stating a detail only a solution gives: {needing} of {solution_texts}")
     return 0
 

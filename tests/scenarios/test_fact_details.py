@@ -35,7 +35,9 @@ def test_a_time_the_facts_give_is_allowed_in_any_form(text: str) -> None:
     assert _stray(DINNER, text) is None
 
 
-@pytest.mark.parametrize(("text", "shown"), [("Thursday at 8:30", "8:30"), ("half eight on Thursday", "8:30")])
+@pytest.mark.parametrize(
+    ("text", "shown"), [("Thursday at 8:30", "8:30"), ("half eight on Thursday", "8:30")]
+)
 def test_a_time_the_facts_do_not_give_fails(text: str, shown: str) -> None:
     assert _stray(DINNER, text) == shown
 

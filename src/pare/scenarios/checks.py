@@ -18,8 +18,8 @@ import typing
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, fields, replace
-from functools import partial
 from datetime import datetime
+from functools import partial
 from types import MappingProxyType
 from typing import Any, Protocol
 
@@ -742,7 +742,7 @@ class _JudgeRule(Rule):
         self.solutions: Callable[[], Sequence[str]] = tuple
         """The texts the scenario's oracle and passing variants write (set by :class:`CompiledGoals`)."""
         self.allowed: AllowedDetails | None = None
-        """The details the fallback allows beyond its own test (``None``: no facts, or the author opted out)."""
+        """The details the fallback allows besides its own test (``None``: no facts, or an opt-out)."""
         if judge.facts and judge.other_details is None:
             # the facts are read once per check; the criterion and the solutions only when a text needs them
             self.allowed = AllowedDetails.of(judge.facts, start, lambda: (judge.criterion, *self.solutions()))
@@ -808,11 +808,14 @@ class _JudgeRule(Rule):
         verdict = "holds" if passed else "fails"
         detail = f"no judge model; fallback {self.fallback_text} {verdict} on {counted}"
         if passed and self.allowed is not None:  # as the judge would: a detail the facts lack fails
-            strays = [self._stray(text, at) if held else None for text, at, held in zip(candidates, sent, holds)]
+            strays = [
+                self._stray(text, at) if held else None
+                for text, at, held in zip(candidates, sent, holds, strict=False)
+            ]
             if not any(held and stray is None for held, stray in zip(holds, strays, strict=True)):
-                said = [stray for stray in strays if stray is not None]
-                more = f" and {len(said) - 1} more" if len(said) > 1 else ""
-                return False, f"no judge model; {said[0]}{more}"
+                rejected = [stray for stray in strays if stray is not None]
+                more = f" and {len(rejected) - 1} more" if len(rejected) > 1 else ""
+                return False, f"no judge model; {rejected[0]}{more}"
         if explain and not passed:
             shown = []
             for text, at in zip(candidates[:_EXPLAINED], sent, strict=False):
@@ -829,7 +832,7 @@ class _JudgeRule(Rule):
         return [e.index for e in found if isinstance(pattern.arguments(e, reader).get(field), str)]
 
     def _stray(self, text: str, sent: datetime) -> str | None:
-        """Why the facts rule rejects ``text`` sent at ``sent`` (a detail no allowed text gives), or ``None``."""
+        """Why the facts rule rejects ``text`` sent at ``sent`` (a detail no allowed text gives), if so."""
         if self.allowed is None:
             return None
         found = self.allowed.stray(text, sent)
@@ -879,7 +882,9 @@ class FallbackTexts:
     """Each text the fallback reads, with when it was sent."""
 
 
-def fallback_texts(scenario: Scenario, log: Sequence[LogEntry], state: Mapping[str, Any]) -> list[FallbackTexts]:
+def fallback_texts(
+    scenario: Scenario, log: Sequence[LogEntry], state: Mapping[str, Any]
+) -> list[FallbackTexts]:
     """The texts each judge check of ``scenario`` that reads its facts (no ``other_details``) reads in an
     episode's ``log`` and final ``state``.
     """

@@ -33,7 +33,7 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from datetime import date, datetime, time
 from decimal import Decimal, InvalidOperation
-from typing import Literal
+from typing import Literal, cast
 
 from pare.scenarios.model import Scenario
 from pare.scenarios.numbers import names_number
@@ -52,7 +52,9 @@ _AMOUNT = r"(\d{1,3}(?:,\d{3})+(?!\d)|\d+)(?:[.,](\d{1,2}))?(?!\d)"
 """A number of money: "1,200", "14.99", and "25,70" as written where a comma marks the cents."""
 _MONEY = re.compile(
     r"(?:([£$€])|(?<![A-Za-z])(GBP|USD|EUR)\s?)\s?" + _AMOUNT + r"(?:\s?(k)\b)?"
-    r"|(?<![\d.,£$€])" + _AMOUNT + r"\s?(pounds?|quid|dollars?|euros?|GBP|USD|EUR|p(?!\.?\s?m\b)|pence)(?![A-Za-z])",
+    r"|(?<![\d.,£$€])"
+    + _AMOUNT
+    + r"\s?(pounds?|quid|dollars?|euros?|GBP|USD|EUR|p(?!\.?\s?m\b)|pence)(?![A-Za-z])",
     re.I,
 )
 _PHONE = re.compile(r"(?<![\w+/.-])(?:\+|00)?\d[\d ().-]{7,20}\d(?![\w/])")
@@ -131,7 +133,7 @@ _RANGE_BETWEEN = re.compile(r"^[\w:.]+(?:\s?[ap]\.?m\.?)?\s*(?:-|\u2013|\u2014|t
 
 
 def _both_days(match: re.Match[str]) -> str:
-    """ "2 to 5 June" as "2 June to 5 June", so the range's first day is read as a date too."""
+    """Days of a month as a range ("2 to 5 June") written as two dates, so the first is read as one too."""
     first, last, month = match.group(1), match.group(2), match.group(3)
     return f"{first} {month} to {last} {month}".ljust(len(match.group(0)))
 
@@ -208,7 +210,9 @@ def _url_details(text: str) -> Iterable[Detail]:
         return
     for match in _URL.finditer(text):
         written = match.group(0).rstrip(_TRAILING)
-        yield Detail("url", frozenset({_url_key(written)}), written, match.start(), match.start() + len(written))
+        yield Detail(
+            "url", frozenset({_url_key(written)}), written, match.start(), match.start() + len(written)
+        )
 
 
 def _email_details(text: str) -> Iterable[Detail]:
@@ -216,7 +220,9 @@ def _email_details(text: str) -> Iterable[Detail]:
         return
     for match in _EMAIL.finditer(text):
         written = match.group(0).rstrip(_TRAILING)
-        yield Detail("email", frozenset({written.lower()}), written, match.start(), match.start() + len(written))
+        yield Detail(
+            "email", frozenset({written.lower()}), written, match.start(), match.start() + len(written)
+        )
 
 
 def details(text: str, anchor: datetime) -> list[Detail]:
@@ -265,7 +271,9 @@ class AllowedDetails:
                 given = self._allowed.setdefault(detail.kind, set())
                 given.update(detail.readings)
                 if detail.kind == "date":  # a weekday alone in a text matches any of these days' weekdays
-                    given.update(("weekday", day.weekday()) for day in detail.readings if isinstance(day, date))
+                    given.update(
+                        ("weekday", day.weekday()) for day in detail.readings if isinstance(day, date)
+                    )
 
     def allows(self, detail: Detail, sent: datetime) -> bool:
         """Whether ``detail`` (of a text sent at ``sent``) is one of an unchecked kind, or one an allowed
@@ -295,7 +303,7 @@ class AllowedDetails:
         if detail.kind == "date":  # the day the text is sent on ("today") is no invented detail
             return sent.date() in detail.readings
         if detail.kind == "money":  # a sign the scenario never uses is a slip of the sign: read the value
-            ((currency, value),) = detail.readings  # type: ignore[misc]
+            currency, value = cast("tuple[str, Decimal]", next(iter(detail.readings)))
             used = {given[0] for given in allowed if isinstance(given, tuple)}
             return currency not in used and any(
                 isinstance(given, tuple) and given[1] == value for given in allowed
@@ -304,7 +312,9 @@ class AllowedDetails:
             return any(names_number(text, detail.shown) for text in self._texts)
         if detail.kind == "url":  # a link given without its query is the same link
             (key,) = detail.readings
-            return any(isinstance(given, str) and given.split("?")[0] == key for given in self._allowed["url"])
+            return any(
+                isinstance(given, str) and given.split("?")[0] == key for given in self._allowed["url"]
+            )
         return False
 
     def stray(self, text: str, sent: datetime) -> tuple[Detail, str] | None:
@@ -334,7 +344,6 @@ def excerpt(text: str, start: int, end: int, margin: int = 24) -> str:
             break
     piece = " ".join(text[begin:stop].split())
     return ("... " if begin > 0 else "") + piece + (" ..." if stop < len(text) else "")
-
 
 
 def solution_texts(scenario: Scenario, field_name: str) -> list[str]:
