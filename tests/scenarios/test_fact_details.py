@@ -42,6 +42,29 @@ def test_a_time_the_facts_do_not_give_fails(text: str, shown: str) -> None:
     assert _stray(DINNER, text) == shown
 
 
+@pytest.mark.parametrize("text", ["half nine tonight", "9.30pm", "21:30", "at half past nine"])
+def test_informal_forms_of_one_time_are_that_time(text: str) -> None:
+    assert _stray(["The film starts at 21:30."], text) is None
+
+
+def test_noon_and_a_time_on_the_quarter_are_read_too() -> None:
+    assert _stray(["Lunch is at 12:00."], "see you at noon") is None
+    assert _stray(["Lunch is at 12:00."], "see you at quarter past twelve") == "12:15"
+
+
+def test_the_other_texts_are_read_only_when_a_detail_is_not_in_the_facts() -> None:
+    asked: list[int] = []
+
+    def more() -> Sequence[str]:
+        asked.append(1)
+        return ["I'll be home by 6."]
+
+    allowed = AllowedDetails.of(DINNER, START, more)
+    assert allowed.stray("Thursday at 19:30", START) is None and not asked
+    assert allowed.stray("Thursday at 19:30; home by 6pm", START) is None and asked == [1]
+    assert allowed.stray("home by 5pm", START) is not None and asked == [1]  # read once
+
+
 def test_a_time_inside_a_range_of_the_facts_is_allowed_and_one_outside_is_not() -> None:
     facts = ["The van picks up between 9:00 and 10:00."]
     assert _stray(facts, "the van comes at quarter past nine") is None
@@ -61,6 +84,8 @@ def test_money_is_read_by_currency_and_value() -> None:
     assert _stray(facts, "ordered it for 14.99 pounds") is None
     assert _stray(facts, "ordered it for £14.99, ready at 2 p.m.") is None
     assert _stray(facts, "ordered it for £26.99") == "£26.99"
+    assert _stray(["The fare is £15."], "it came to £15.00") is None
+    assert _stray(["The fare is £15."], "it came to 1500p") is None
     assert _stray(["Half is $25.70."], "your half is €25,70") is None  # a sign the scenario never uses
     assert _stray(["Half is $25.70."], "your half is $25.07") == "$25.07"
 

@@ -33,6 +33,7 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from datetime import date, datetime, time
 from decimal import Decimal, InvalidOperation
+from functools import lru_cache
 from typing import Literal, cast
 
 from pare.scenarios.model import Scenario
@@ -225,8 +226,12 @@ def _email_details(text: str) -> Iterable[Detail]:
         )
 
 
-def details(text: str, anchor: datetime) -> list[Detail]:
-    """Every detail of a readable kind ``text`` states, its days read as of ``anchor``."""
+@lru_cache(maxsize=4096)
+def details(text: str, anchor: datetime) -> tuple[Detail, ...]:
+    """Every detail of a readable kind ``text`` states, its days read as of ``anchor``.
+
+    Remembered per text and moment: a check reads the same messages on every evaluation of an episode.
+    """
     found: list[Detail] = [*_url_details(text), *_email_details(text)]
     # a link or an address holds digits and words that are not times, prices or phone numbers
     masked = text
@@ -237,7 +242,7 @@ def details(text: str, anchor: datetime) -> list[Detail]:
         masked = masked[: detail.start] + " " * (detail.end - detail.start) + masked[detail.end :]
     masked = _ADDRESS.sub(lambda address: " " * len(address.group(0)), masked)
     found += _time_and_date_details(masked, anchor)
-    return found
+    return tuple(found)
 
 
 @dataclass(slots=True)

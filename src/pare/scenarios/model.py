@@ -409,7 +409,9 @@ class JudgeCheck(_Strict):
     facts: list[str] = Field(
         default_factory=list,
         description="What is true in the scenario, given to the judge model with the text, so it can tell "
-        "an invented detail (a time, place or number these contradict or lack) from a right one.",
+        "an invented detail (a time, place or number these contradict or lack) from a right one. The "
+        "fallback reads them too: a time, day, amount, phone number, link or email address of a kind they "
+        "give, which neither they, the criterion nor the solutions' texts state, fails the text.",
     )
     optional: bool = Field(
         default=False,
