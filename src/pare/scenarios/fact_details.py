@@ -257,14 +257,13 @@ class AllowedDetails:
     start: datetime
     kinds: frozenset[Kind]
     _allowed: dict[Kind, set[object]]
-    _phones: list[str]
     _more: Callable[[], Sequence[str]] | None = None
     _texts: list[str] = field(default_factory=list)
 
     @classmethod
     def of(cls, facts: Sequence[str], start: datetime, more: Callable[[], Sequence[str]]) -> AllowedDetails:
         """The details ``facts`` give (read as of ``start``), with ``more`` to widen them when needed."""
-        allowed = cls(start, frozenset(), {}, [], more)
+        allowed = cls(start, frozenset(), {}, more)
         allowed._add(facts)
         allowed.kinds = frozenset(allowed._allowed)
         return allowed
