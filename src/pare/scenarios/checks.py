@@ -19,6 +19,7 @@ from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, fields, replace
 from datetime import datetime
+from functools import partial
 from types import MappingProxyType
 from typing import Any, Protocol
 
@@ -28,6 +29,7 @@ from pare.env.attribution import Attribution, StatePath, item_key, place_of
 from pare.errors import RunFailure, UserInputError, first_error
 from pare.scenarios import explain as explaining
 from pare.scenarios.excerpts import quote
+from pare.scenarios.fact_details import AllowedDetails, solution_texts
 from pare.scenarios.file_identity import ATTACHMENT_FIELDS, FileIdentity
 from pare.scenarios.item_text import item_text
 from pare.scenarios.matchers import compile_matcher, written_at
@@ -749,6 +751,13 @@ class _JudgeRule(Rule):
         self.pattern = _Pattern(judge.action, start)
         self.fallback = compile_matcher(judge.fallback)
         self.fallback_text = self.fallback.describe()
+        self.solutions: Callable[[], Sequence[str]] = tuple
+        """The texts the scenario's oracle and passing variants write (set by :class:`CompiledGoals`)."""
+        self.allowed: AllowedDetails | None = None
+        """The details the fallback allows besides its own test (``None``: no facts, or an opt-out)."""
+        if judge.facts and judge.other_details is None:
+            # the facts are read once per check; the criterion and the solutions only when a text needs them
+            self.allowed = AllowedDetails.of(judge.facts, start, lambda: (judge.criterion, *self.solutions()))
 
     def wanted(self) -> str:
         check = self.judge
@@ -807,9 +816,19 @@ class _JudgeRule(Rule):
             detail = f"judge {'accepted' if passed else 'rejected'} {counted} for: {check.criterion}"
             return passed, detail + "".join(f"{JUDGE_SAID}{reason}" for reason in reasons[:_EXPLAINED]) + more
         sent = texts.sent
-        passed = any(self._holds(text, at, context.start) for text, at in zip(candidates, sent, strict=False))
+        holds = [self._holds(text, at, context.start) for text, at in zip(candidates, sent, strict=False)]
+        passed = any(holds)
         verdict = "holds" if passed else "fails"
         detail = f"no judge model; fallback {self.fallback_text} {verdict} on {counted}"
+        if passed and self.allowed is not None:  # as the judge would: a detail the facts lack fails
+            strays = [
+                self._stray(text, at) if held else None
+                for text, at, held in zip(candidates, sent, holds, strict=False)
+            ]
+            if not any(held and stray is None for held, stray in zip(holds, strays, strict=True)):
+                rejected = [stray for stray in strays if stray is not None]
+                more = f" and {len(rejected) - 1} more" if len(rejected) > 1 else ""
+                return False, f"no judge model; {rejected[0]}{more}"
         if explain and not passed:
             shown = []
             for text, at in zip(candidates[:_EXPLAINED], sent, strict=False):
@@ -824,6 +843,16 @@ class _JudgeRule(Rule):
         pattern, field = self.pattern.own, self.judge.field
         found = pattern.find(log, reader)
         return [e.index for e in found if judged_text(pattern.arguments(e, reader), field) is not None]
+
+    def _stray(self, text: str, sent: datetime) -> str | None:
+        """Why the facts rule rejects ``text`` sent at ``sent`` (a detail no allowed text gives), if so."""
+        if self.allowed is None:
+            return None
+        found = self.allowed.stray(text, sent)
+        if found is None:
+            return None
+        detail, around = found
+        return f"{quote(around)} states {detail.shown}, which the facts do not give"
 
     def _holds(self, text: str, sent: datetime, start: datetime) -> bool:
         """Whether the fallback accepts ``text`` read as of ``sent`` (a text in parts: as of its first)."""
@@ -846,9 +875,45 @@ class CompiledGoals:
         self.goals = tuple(
             (goal, tuple(_rule(check, scenario.start) for check in goal.checks)) for goal in scenario.goals
         )
+        for _, rules in self.goals:
+            for rule in rules:
+                if isinstance(rule, _JudgeRule):  # read only when a text states a detail the facts lack
+                    rule.solutions = partial(solution_texts, scenario, rule.judge.field)
         self.cheapest_first = tuple(
             sorted((rule for _, rules in self.goals for rule in rules), key=lambda rule: rule.cost)
         )
+
+
+@dataclass(frozen=True, slots=True)
+class FallbackTexts:
+    """What one judge check with facts reads in an episode, for measuring the facts rule."""
+
+    goal: str
+    check: JudgeCheck
+    allowed: AllowedDetails
+    texts: tuple[tuple[str, datetime], ...]
+    """Each text the fallback reads, with when it was sent."""
+
+
+def fallback_texts(
+    scenario: Scenario, log: Sequence[LogEntry], state: Mapping[str, Any]
+) -> list[FallbackTexts]:
+    """The texts each judge check of ``scenario`` that reads its facts (no ``other_details``) reads in an
+    episode's ``log`` and final ``state``.
+    """
+    view = _StateView(state)
+    compiled = compiled_goals(scenario)
+    context = _Context(
+        scenario.start, log, view, Attribution(), None, CallReader.of_state(view.whole, compiled.files)
+    )
+    found = []
+    for goal, rules in compiled.goals:
+        for rule in rules:
+            if isinstance(rule, _JudgeRule) and rule.allowed is not None:
+                texts = rule.texts(context)
+                read = tuple(zip((text for _, text in texts.candidates), texts.sent, strict=False))
+                found.append(FallbackTexts(goal.id, rule.judge, rule.allowed, read))
+    return found
 
 
 def check_sentences(scenario: Scenario) -> dict[str, list[str]]:

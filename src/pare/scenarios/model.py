@@ -409,12 +409,22 @@ class JudgeCheck(_Strict):
     facts: list[str] = Field(
         default_factory=list,
         description="What is true in the scenario, given to the judge model with the text, so it can tell "
-        "an invented detail (a time, place or number these contradict or lack) from a right one.",
+        "an invented detail (a time, place or number these contradict or lack) from a right one. The "
+        "fallback reads them too: a time, day, amount, phone number, link or email address of a kind they "
+        "give, which neither they, the criterion nor the solutions' texts state, fails the text.",
     )
     optional: bool = Field(
         default=False,
         description="Sending is optional: the check holds when no action matches, and what is sent must "
         "meet the criterion (a courtesy message that, if sent, must be true). Not a positive check.",
+    )
+    other_details: str | None = Field(
+        default=None,
+        min_length=1,
+        description="Why this check's text may state times, dates, amounts, phone numbers, links or email "
+        "addresses its facts do not give (a note copying a whole timetable). Without it, the fallback "
+        "fails a text stating a detail of a kind the facts give that neither they, the criterion nor the "
+        "oracle's and passing variants' texts state.",
     )
 
     @field_validator("fallback")
@@ -439,7 +449,8 @@ class JudgeCheck(_Strict):
 
     @model_serializer(mode="wrap")
     def _dump(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
-        return _without_unused(_without_unused(handler(self), "facts", self.facts), "optional", self.optional)
+        data = _without_unused(_without_unused(handler(self), "facts", self.facts), "optional", self.optional)
+        return _without_unused(data, "other_details", self.other_details)
 
 
 def _without_unused(data: dict[str, Any], name: str, value: object) -> dict[str, Any]:

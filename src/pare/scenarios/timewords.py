@@ -144,7 +144,7 @@ _AT_HOUR = re.compile(
     _WORD_START
     + r"(?:at|from|by|around|until|till)\s+"
     + _HOUR
-    + r"(?:\s+(fifteen|thirty|forty[\s-]?five))?(?![\d:.%]|\s?(?:am|pm|a\.m|p\.m))"
+    + r"(?:\s+(fifteen|thirty|forty[\s-]?five))?(?![\d:%]|\.\d|\s?(?:am|pm|a\.m|p\.m))"
     + _WORD_END,
     re.I,
 )

@@ -1,0 +1,368 @@
+"""The details a judge check's facts allow: a judge fallback that reads the facts as the judge does.
+
+A judge model is told that a text stating a time, place, name or number the check's ``facts`` contradict
+or do not contain fails. Without a judge model the check's fallback decides, and a fallback written for the
+right words accepts them with a wrong detail beside them ("the drive will be clear by 8:30" when the facts
+say 7:30). So the fallback also fails a text that states a detail of a kind a program reads reliably, where
+the facts state details of that kind and none of the allowed texts states this one:
+
+* ``time``: a clock time, read by :func:`pare.scenarios.timewords.mentions` (so "19:30", "7:30pm", "half
+  seven in the evening" are one time; each end of a range counts). A time is allowed when one of its
+  readings is one an allowed text names ("at 6" is 06:00 or 18:00: either will do).
+* ``date``: a day named by a weekday, an explicit date or "today"/"tomorrow", read relative to when the
+  text was sent; allowed texts are read relative to the scenario's start. Allowed when it is the same day.
+* ``money``: an amount with its currency ("£14.99", "14.99 pounds", "GBP 14.99", "99p"), compared by
+  currency and value (``£15`` is ``£15.00``).
+* ``phone``: a number of 9 to 15 digits, compared digit by digit whatever the grouping and with or without
+  a country code (:mod:`pare.scenarios.numbers`).
+* ``url`` and ``email``: compared without case, scheme, ``www.`` or a trailing slash; a link is also
+  allowed when it is an allowed link without its query.
+
+The allowed texts are the facts, the criterion, and what the scenario's oracle and passing variants write
+(their interventions' proposals and reports, and the text field the check reads of every action they
+take): those solutions are right by definition, so a detail they state is not invented. Only the
+assistant's own words are read: a forwarded message (below the forward rule) and quoted lines of a reply
+(``>``) carry the original's details, which the assistant did not state. A check whose text legitimately
+states other details opts out with ``other_details: <why>``.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
+from datetime import date, datetime, time
+from decimal import Decimal, InvalidOperation
+from functools import lru_cache
+from typing import Literal, cast
+
+from pare.scenarios.model import Scenario
+from pare.scenarios.numbers import names_number
+from pare.scenarios.timewords import mentions
+
+Kind = Literal["time", "date", "money", "phone", "url", "email"]
+
+_FORWARD_RULE = re.compile(r"^-{3,}\s*Forwarded message\s*-{3,}\s*$", re.I | re.M)
+"""Where a forward's own words end and the forwarded email begins (the email app writes this line)."""
+_QUOTED_LINE = re.compile(r"^\s*>.*$", re.M)
+
+_CURRENCY_SIGNS = {"£": "GBP", "$": "USD", "€": "EUR"}
+_CURRENCY_WORDS = {"gbp": "GBP", "usd": "USD", "eur": "EUR", "pound": "GBP", "pounds": "GBP", "quid": "GBP",
+                   "dollar": "USD", "dollars": "USD", "euro": "EUR", "euros": "EUR"}  # fmt: skip
+_AMOUNT = r"(\d{1,3}(?:,\d{3})+(?!\d)|\d+)(?:[.,](\d{1,2}))?(?!\d)"
+"""A number of money: "1,200", "14.99", and "25,70" as written where a comma marks the cents."""
+_MONEY = re.compile(
+    r"(?:([£$€])|(?<![A-Za-z])(GBP|USD|EUR)\s?)\s?" + _AMOUNT + r"(?:\s?(k)\b)?"
+    r"|(?<![\d.,£$€])"
+    + _AMOUNT
+    + r"\s?(pounds?|quid|dollars?|euros?|GBP|USD|EUR|p(?!\.?\s?m\b)|pence)(?![A-Za-z])",
+    re.I,
+)
+_PHONE = re.compile(r"(?<![\w+/.-])(?:\+|00)?\d[\d ().-]{7,20}\d(?![\w/])")
+_ISO_DATE = re.compile(r"^\d{4}-\d{2}-\d{2}")
+_URL = re.compile(r"(?:https?://|www\.)[^\s<>\"')\]]+", re.I)
+_EMAIL = re.compile(r"(?<![\w.+-])[\w.+-]+@[\w-]+(?:\.[\w-]+)+")
+_TRAILING = ".,;:!?"
+
+
+@dataclass(frozen=True, slots=True)
+class Detail:
+    """One detail a text states: its kind, how it reads (the readings it may mean), and where it is."""
+
+    kind: Kind
+    readings: frozenset[object]
+    shown: str
+    """The detail as the verdict names it ("8:30", "£26.99")."""
+    start: int
+    end: int
+
+
+def own_words(text: str) -> str:
+    """``text`` without what it quotes: the forwarded email below a forward's rule, and ``>`` lines."""
+    rule = _FORWARD_RULE.search(text)
+    if rule is not None:
+        text = text[: rule.start()]
+    return _QUOTED_LINE.sub("", text) if ">" in text else text
+
+
+def _clock_shown(times: frozenset[time]) -> str:
+    """A time as a text may have meant it: "8:30" for 08:30 or 20:30, "19:30" for one reading."""
+    first, *rest = sorted(times)
+    if rest == [first.replace(hour=first.hour + 12)] if first.hour < 12 else False:
+        return f"{first.hour or 12}:{first.minute:02d}"
+    return " or ".join(moment.strftime("%H:%M") for moment in (first, *rest))
+
+
+def _time_and_date_details(text: str, anchor: datetime) -> Iterable[Detail]:
+    found = mentions(_DAY_RANGE.sub(_both_days, text), anchor)
+    for index, mention in enumerate(found):
+        end = _mention_end(text, mention.start)
+        if mention.times:
+            shown = _clock_shown(mention.times)
+            readings: frozenset[object] = frozenset(mention.times)
+            following = found[index + 1] if index + 1 < len(found) else None
+            if following is not None and following.times and _is_range(text, mention.start, following.start):
+                # a range ("between 9:00 and 10:00"): its ends, and the span between them
+                spans = {
+                    (first, last)
+                    for first in mention.times
+                    for last in following.times
+                    if 0 < _minutes(last) - _minutes(first) < 12 * 60  # one reading of each end, not 9 to 22
+                }
+                readings |= {("span", first, last) for first, last in spans}
+            yield Detail("time", readings, shown, mention.start, end)
+        if mention.days:
+            shown = " or ".join(f"{day:%a} {day.day} {day:%b}" for day in sorted(mention.days))
+            weekday = _WEEKDAY_ALONE.match(text, mention.start)
+            days: frozenset[object] = frozenset(mention.days)
+            if weekday is not None:  # "Saturday" said of the one a week on is still that Saturday
+                days |= {("weekday", day.weekday()) for day in mention.days}
+            yield Detail("date", days, shown, mention.start, end)
+
+
+def _minutes(moment: time) -> int:
+    return moment.hour * 60 + moment.minute
+
+
+def _is_range(text: str, first: int, second: int) -> bool:
+    """Whether the times mentioned at ``first`` and ``second`` are the ends of one range."""
+    return second == first + 1 or _RANGE_BETWEEN.match(text[first:second]) is not None
+
+
+_RANGE_BETWEEN = re.compile(r"^[\w:.]+(?:\s?[ap]\.?m\.?)?\s*(?:-|\u2013|\u2014|to|and|until|till)\s*$", re.I)
+"""What stands between the two ends of a range of times ("9:00 and 10:00", "9-10am", "7pm to 9pm")."""
+
+
+def _both_days(match: re.Match[str]) -> str:
+    """Days of a month as a range ("2 to 5 June") written as two dates, so the first is read as one too."""
+    first, last, month = match.group(1), match.group(2), match.group(3)
+    return f"{first} {month} to {last} {month}".ljust(len(match.group(0)))
+
+
+_MONTHS = (r"(?:jan(?:uary)?|feb(?:ruary)?|mar(?:ch)?|apr(?:il)?|may|june?|july?|aug(?:ust)?|sept?(?:ember)?|"
+           r"oct(?:ober)?|nov(?:ember)?|dec(?:ember)?)")  # fmt: skip
+_DAY_RANGE = re.compile(
+    r"(?<!\d)(?:the\s+)?(\d{1,2})(?:st|nd|rd|th)?\s*(?:to|-|\u2013|until|till)\s*(?:the\s+)?"
+    r"(\d{1,2})(?:st|nd|rd|th)?\s+(?:of\s+)?(" + _MONTHS + r")\b",
+    re.I,
+)
+"""Days of one month given as a range: "2 to 5 June", "the 2nd to the 5th of June"."""
+_WEEKDAY_ALONE = re.compile(
+    r"(?:(?:next|this)\s+)?(?:mon|tue|wed|thu|fri|sat|sun)[a-z]*\.?(?!,?\s*(?:the\s+)?\d)", re.I
+)
+"""A weekday named without its date: it matches the facts' day of that weekday, whichever week."""
+_ADDRESS = re.compile(
+    r"(?<![\d:.])\d{1,4}[A-Za-z]?(?:\s+[A-Z][a-z]+){1,3}\s+(?:Road|Rd|Way|Street|St|Lane|Close|Avenue|Ave|"
+    r"Drive|Place|Court|Terrace|Gardens|Crescent|Square|Row|Hill|Park|Grove|Mews|Walk)\b"
+)
+"""A street address ("3 Heron Way"): its number is no hour."""
+
+
+def _mention_end(text: str, start: int) -> int:
+    """Where the words of a mention beginning at ``start`` roughly end (for the excerpt only)."""
+    found = re.compile(r"\S+(?:\s+\S+)?").match(text, start)
+    return found.end() if found else start
+
+
+def _money_details(text: str) -> Iterable[Detail]:
+    if not any(sign in text for sign in "£$€") and not re.search(r"\d\s?[a-zA-Z]", text):
+        return
+    for match in _MONEY.finditer(text):
+        sign, code, whole, cents, thousands, whole2, cents2, word = match.groups()
+        if whole is not None:
+            currency = _CURRENCY_SIGNS[sign] if sign else code.upper()
+            value = _decimal(whole, cents) * (1000 if thousands else 1)
+        else:
+            lowered = word.lower()
+            if lowered in ("p", "pence"):
+                if cents2 is not None:
+                    continue  # "2.5p" is no price anyone writes
+                currency, value = "GBP", _decimal(whole2, None) / 100
+            else:
+                currency, value = _CURRENCY_WORDS[lowered], _decimal(whole2, cents2)
+        if value is not None:
+            shown = match.group(0).strip()
+            yield Detail("money", frozenset({(currency, value.normalize())}), shown, *match.span())
+
+
+def _decimal(whole: str, cents: str | None) -> Decimal:
+    try:
+        return Decimal(whole.replace(",", "") + (f".{cents}" if cents else ""))
+    except InvalidOperation:  # pragma: no cover - the pattern admits digits only
+        return Decimal(0)
+
+
+def _phone_details(text: str) -> Iterable[Detail]:
+    for match in _PHONE.finditer(text):
+        written = match.group(0).strip()
+        digits = re.sub(r"\D", "", written)
+        if 9 <= len(digits) <= 15 and not _ISO_DATE.match(written) and "\n" not in written:
+            yield Detail("phone", frozenset({digits}), written, *match.span())
+
+
+def _url_key(url: str) -> str:
+    key = url.lower().rstrip(_TRAILING)
+    key = re.sub(r"^https?://", "", key)
+    return key.removeprefix("www.").rstrip("/")
+
+
+def _url_details(text: str) -> Iterable[Detail]:
+    if "http" not in text and "www." not in text:
+        return
+    for match in _URL.finditer(text):
+        written = match.group(0).rstrip(_TRAILING)
+        yield Detail(
+            "url", frozenset({_url_key(written)}), written, match.start(), match.start() + len(written)
+        )
+
+
+def _email_details(text: str) -> Iterable[Detail]:
+    if "@" not in text:
+        return
+    for match in _EMAIL.finditer(text):
+        written = match.group(0).rstrip(_TRAILING)
+        yield Detail(
+            "email", frozenset({written.lower()}), written, match.start(), match.start() + len(written)
+        )
+
+
+@lru_cache(maxsize=4096)
+def details(text: str, anchor: datetime) -> tuple[Detail, ...]:
+    """Every detail of a readable kind ``text`` states, its days read as of ``anchor``.
+
+    Remembered per text and moment: a check reads the same messages on every evaluation of an episode.
+    """
+    found: list[Detail] = [*_url_details(text), *_email_details(text)]
+    # a link or an address holds digits and words that are not times, prices or phone numbers
+    masked = text
+    for detail in found:
+        masked = masked[: detail.start] + " " * (detail.end - detail.start) + masked[detail.end :]
+    found += [*_money_details(masked), *_phone_details(masked)]
+    for detail in found:
+        masked = masked[: detail.start] + " " * (detail.end - detail.start) + masked[detail.end :]
+    masked = _ADDRESS.sub(lambda address: " " * len(address.group(0)), masked)
+    found += _time_and_date_details(masked, anchor)
+    return tuple(found)
+
+
+@dataclass(slots=True)
+class AllowedDetails:
+    """The details a judge check's text may state: compiled once per check (on its compiled rule).
+
+    ``facts`` decide which kinds are checked (those they state a detail of) and give the first allowed
+    details; ``more`` gives the other allowed texts (the criterion's, the solutions'), read only when a
+    text states a detail the facts do not give, so a check whose texts keep to the facts never reads them.
+    """
+
+    start: datetime
+    kinds: frozenset[Kind]
+    _allowed: dict[Kind, set[object]]
+    _more: Callable[[], Sequence[str]] | None = None
+    _texts: list[str] = field(default_factory=list)
+
+    @classmethod
+    def of(cls, facts: Sequence[str], start: datetime, more: Callable[[], Sequence[str]]) -> AllowedDetails:
+        """The details ``facts`` give (read as of ``start``), with ``more`` to widen them when needed."""
+        allowed = cls(start, frozenset(), {}, more)
+        allowed._add(facts)
+        allowed.kinds = frozenset(allowed._allowed)
+        return allowed
+
+    def _add(self, texts: Iterable[str]) -> None:
+        for text in texts:
+            self._texts.append(text)
+            for detail in details(text, self.start):
+                given = self._allowed.setdefault(detail.kind, set())
+                given.update(detail.readings)
+                if detail.kind == "date":  # a weekday alone in a text matches any of these days' weekdays
+                    given.update(
+                        ("weekday", day.weekday()) for day in detail.readings if isinstance(day, date)
+                    )
+
+    def allows(self, detail: Detail, sent: datetime) -> bool:
+        """Whether ``detail`` (of a text sent at ``sent``) is one of an unchecked kind, or one an allowed
+        text states.
+        """
+        if detail.kind not in self.kinds:
+            return True
+        if self._given(detail, sent):
+            return True
+        if self._more is not None:  # widen once: the criterion and the solutions' texts
+            more, self._more = self._more, None
+            self._add(more())
+            return self._given(detail, sent)
+        return False
+
+    def _given(self, detail: Detail, sent: datetime) -> bool:
+        allowed = self._allowed.get(detail.kind, set())
+        if not detail.readings.isdisjoint(allowed):
+            return True
+        if detail.kind == "time":  # a time inside a range the allowed texts give
+            return any(
+                isinstance(span, tuple) and span[1] <= moment <= span[2]
+                for moment in detail.readings
+                if isinstance(moment, time)
+                for span in allowed
+            )
+        if detail.kind == "date":  # the day the text is sent on ("today") is no invented detail
+            return sent.date() in detail.readings
+        if detail.kind == "money":  # a sign the scenario never uses is a slip of the sign: read the value
+            currency, value = cast("tuple[str, Decimal]", next(iter(detail.readings)))
+            used = {given[0] for given in allowed if isinstance(given, tuple)}
+            return currency not in used and any(
+                isinstance(given, tuple) and given[1] == value for given in allowed
+            )
+        if detail.kind == "phone":  # any grouping, with or without the country code
+            return any(names_number(text, detail.shown) for text in self._texts)
+        if detail.kind == "url":  # a link given without its query is the same link
+            (key,) = detail.readings
+            return any(
+                isinstance(given, str) and given.split("?")[0] == key for given in self._allowed["url"]
+            )
+        return False
+
+    def stray(self, text: str, sent: datetime) -> tuple[Detail, str] | None:
+        """The first detail of the assistant's own words in ``text`` (read as of ``sent``) that no allowed
+        text states, with the excerpt around it; ``None`` when every one is allowed.
+        """
+        if not self.kinds:
+            return None
+        words = own_words(text)
+        for detail in sorted(details(words, sent), key=lambda found: found.start):
+            if not self.allows(detail, sent):
+                return detail, excerpt(words, detail.start, detail.end)
+        return None
+
+
+def excerpt(text: str, start: int, end: int, margin: int = 24) -> str:
+    """The words around ``text[start:end]``, with "..." where the text goes on."""
+    begin, stop = max(0, start - margin), min(len(text), end + margin)
+    while begin > 0 and not text[begin - 1].isspace():
+        begin += 1
+        if begin >= start:
+            break
+    while stop < len(text) and not text[stop].isspace():
+        stop -= 1
+        if stop <= end:
+            stop = end
+            break
+    piece = " ".join(text[begin:stop].split())
+    return ("... " if begin > 0 else "") + piece + (" ..." if stop < len(text) else "")
+
+
+def solution_texts(scenario: Scenario, field_name: str) -> list[str]:
+    """What the oracle and the passing variants write: their proposals and reports, and the ``field_name``
+    argument of every action they take (the field a judge check reads), in the scenario's order.
+    """
+    interventions = list(scenario.oracle.interventions)
+    for variant in scenario.variants:
+        if variant.expect == "pass" and variant.interventions is not None:
+            interventions += variant.interventions
+    texts: list[str] = []
+    for intervention in interventions:
+        texts += [intervention.proposal, intervention.report]
+        for action in intervention.actions:
+            value = action.args.get(field_name)
+            if isinstance(value, str):
+                texts.append(value)
+    return texts

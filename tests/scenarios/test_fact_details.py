@@ -1,0 +1,159 @@
+"""The judge fallback reads the facts: a detail of a readable kind the facts do not give fails the text."""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Sequence
+from datetime import UTC, datetime
+from typing import Any
+
+import pytest
+
+from pare.bench import run_episode
+from pare.scenarios import OracleAssistant, OracleUser, evaluate
+from pare.scenarios.fact_details import AllowedDetails, own_words
+from pare.scenarios.loader import ScenarioError
+from tests.scenarios.helpers import base, parse
+
+START = datetime(2025, 3, 3, 9, 0, tzinfo=UTC)  # a Monday
+"""When the facts are read and the texts sent."""
+
+
+def _stray(facts: Sequence[str], text: str, more: Sequence[str] = ()) -> str | None:
+    """What the facts rule rejects in ``text`` (the detail as the verdict names it), or ``None``."""
+    found = AllowedDetails.of(facts, START, lambda: more).stray(text, START)
+    return None if found is None else found[0].shown
+
+
+DINNER = ["The dinner is on Thursday at 19:30."]
+
+
+@pytest.mark.parametrize(
+    "text", ["See you Thursday at 7:30pm", "half seven in the evening on Thursday", "19:30 it is", "at 7.30"]
+)
+def test_a_time_the_facts_give_is_allowed_in_any_form(text: str) -> None:
+    assert _stray(DINNER, text) is None
+
+
+@pytest.mark.parametrize(
+    ("text", "shown"), [("Thursday at 8:30", "8:30"), ("half eight on Thursday", "8:30")]
+)
+def test_a_time_the_facts_do_not_give_fails(text: str, shown: str) -> None:
+    assert _stray(DINNER, text) == shown
+
+
+@pytest.mark.parametrize("text", ["half nine tonight", "9.30pm", "21:30", "at half past nine"])
+def test_informal_forms_of_one_time_are_that_time(text: str) -> None:
+    assert _stray(["The film starts at 21:30."], text) is None
+
+
+def test_noon_and_a_time_on_the_quarter_are_read_too() -> None:
+    assert _stray(["Lunch is at 12:00."], "see you at noon") is None
+    assert _stray(["Lunch is at 12:00."], "see you at quarter past twelve") == "12:15"
+
+
+def test_the_other_texts_are_read_only_when_a_detail_is_not_in_the_facts() -> None:
+    asked: list[int] = []
+
+    def more() -> Sequence[str]:
+        asked.append(1)
+        return ["I'll be home by 6."]
+
+    allowed = AllowedDetails.of(DINNER, START, more)
+    assert allowed.stray("Thursday at 19:30", START) is None and not asked
+    assert allowed.stray("Thursday at 19:30; home by 6pm", START) is None and asked == [1]
+    assert allowed.stray("home by 5pm", START) is not None and asked == [1]  # read once
+
+
+def test_a_time_inside_a_range_of_the_facts_is_allowed_and_one_outside_is_not() -> None:
+    facts = ["The van picks up between 9:00 and 10:00."]
+    assert _stray(facts, "the van comes at quarter past nine") is None
+    assert _stray(facts, "the van comes at 10:30") == "10:30"
+    assert _stray(["Doors open 19:00-22:00."], "in from 7pm, out by 10pm") is None
+
+
+def test_a_day_is_allowed_when_it_is_the_same_day() -> None:
+    assert _stray(DINNER, "Dinner on 6 March at 19:30") is None  # 6 March 2025 is that Thursday
+    assert _stray(DINNER, "Dinner on Friday at 19:30") == "Fri 7 Mar"
+    assert _stray(["Her stay is 2 to 5 June 2025."], "from the 2nd of June") is None
+    assert _stray(DINNER, "I'll book it today") is None  # the day the text is sent is no invented day
+
+
+def test_money_is_read_by_currency_and_value() -> None:
+    facts = ["The case costs £14.99."]
+    assert _stray(facts, "ordered it for 14.99 pounds") is None
+    assert _stray(facts, "ordered it for £14.99, ready at 2 p.m.") is None
+    assert _stray(facts, "ordered it for £26.99") == "£26.99"
+    assert _stray(["The fare is £15."], "it came to £15.00") is None
+    assert _stray(["The fare is £15."], "it came to 1500p") is None
+    assert _stray(["Half is $25.70."], "your half is €25,70") is None  # a sign the scenario never uses
+    assert _stray(["Half is $25.70."], "your half is $25.07") == "$25.07"
+
+
+def test_phone_numbers_are_their_digits() -> None:
+    facts = ["Call the clinic on 07700 900742."]
+    assert _stray(facts, "ring them on 0770-090-0742") is None
+    assert _stray(facts, "ring them on +44 7700 900742") is None
+    assert _stray(facts, "ring them on 07700 900743") == "07700 900743"
+
+
+def test_links_and_addresses_must_be_the_facts_own() -> None:
+    facts = ["The meeting link is https://zoom.us/j/8812?pwd=ab; questions to ana@firm.example."]
+    assert _stray(facts, "Join at zoom: https://zoom.us/j/8812?pwd=ab.") is None
+    assert _stray(facts, "Join at https://zoom.us/j/5555") == "https://zoom.us/j/5555"
+    assert _stray(facts, "Write to ANA@firm.example") is None
+    assert _stray(facts, "Write to ana@other.example") == "ana@other.example"
+
+
+def test_only_kinds_the_facts_give_are_checked_and_other_texts_widen_them() -> None:
+    assert _stray(["The dinner is at Luigi's."], "Luigi's at 8:30, £20 a head") is None
+    assert _stray(DINNER, "Thursday 19:30, home by 23:00", more=["I'll be home by 11pm."]) is None
+
+
+def test_a_forward_and_quoted_lines_carry_the_originals_details() -> None:
+    text = "Passing this on.\n\n---------- Forwarded message ----------\nDinner Friday at 8:30"
+    assert own_words(text) == "Passing this on.\n\n"
+    assert _stray(DINNER, text) is None
+    assert _stray(DINNER, "Thursday at 19:30 then.\n> Is it Friday at 8:30?") is None
+
+
+def _probe(scenario_data: dict[str, Any], content: str) -> Any:
+    """An episode of ``scenario_data`` whose assistant replies ``content`` instead of the oracle's text."""
+    probe = copy.deepcopy(scenario_data)
+    probe["oracle"]["interventions"][0]["actions"][0]["args"]["content"] = content
+    scenario = parse(probe)
+    return run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
+
+
+def test_a_probe_with_a_wrong_time_passes_without_the_facts_rule_and_fails_with_it() -> None:
+    judged: dict[str, Any] = {
+        "criterion": "says yes to lunch on Thursday at 12:30",
+        "action": {"tool": "email__reply_to_email"},
+        "fallback": {"contains": "thursday"},
+        "facts": ["Lunch is on Thursday at 12:30."],
+    }
+    data = base()
+    data["goals"] = [{"id": "g", "description": "goal", "checks": [{"judge": judged}]}]
+    data["oracle"]["interventions"][0]["actions"][0]["args"]["content"] = "Thursday at 12:30 works!"
+    result = _probe(data, "Thursday at 1:30 works!")
+    log, state = result.env.log.entries, result.env.snapshot()
+
+    opted_out = copy.deepcopy(data)
+    opted_out["goals"][0]["checks"][0]["judge"]["other_details"] = "the reply may name any time"
+    assert evaluate(parse(opted_out), log, state).success  # as before: the fallback alone decides
+
+    outcome = evaluate(parse(data), log, state)
+    (failure,) = outcome.failures()
+    assert failure.detail == (
+        'no judge model; "Thursday at 1:30 works!" states 1:30, which the facts do not give'
+    )
+    right = _probe(data, "Yes, Thursday 12.30 is great")
+    assert evaluate(parse(data), right.env.log.entries, right.env.snapshot()).success
+
+
+def test_the_opt_out_needs_a_reason() -> None:
+    data = base()
+    judged = {"criterion": "c", "action": {"tool": "email__reply_to_email"}, "fallback": {"contains": "x"}}
+    data["goals"][0]["checks"].append({"judge": {**judged, "facts": ["A fact."], "other_details": ""}})
+    with pytest.raises(ScenarioError, match="other_details: String should have at least 1 character"):
+        parse(data)
