@@ -303,3 +303,64 @@ def test_a_compiled_matcher_survives_pickling() -> None:
     again = pickle.loads(pickle.dumps(matcher))
     assert again == matcher and again.test({"title": "a b", "n": 2}, START)
     assert not again.test({"title": "a b", "n": 1}, START)
+
+
+START_MONDAY = datetime(2025, 3, 3, 9, 0, tzinfo=UTC)
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("See you at quarter past five", True),  # the reader's wordings, not the author's regex
+        ("Pick-up at 5pm, or 17:15 if the bus is late", True),
+        ("half five works", False),  # 17:30: the wrong time however it is written
+        ("Pick up at 6pm", False),
+        ("Not 6pm, 5.15 instead", True),  # a time in a negated clause is not stated
+        ("No time named here", True),
+        ("between 5 and 6", False),  # both ends of a range count
+    ],
+)
+def test_only_clocks_allows_the_listed_times_in_any_wording(text: str, expected: bool) -> None:
+    assert compile_matcher({"only_clocks": ["17:00", "17:15"]}).test(text, START_MONDAY) is expected
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [("Thursday works", True), ("Thu 6 March then", True), ("Friday then", False), ("tomorrow", False)],
+)
+def test_only_days_reads_days_as_of_when_the_text_was_written(text: str, expected: bool) -> None:
+    assert compile_matcher({"only_days": ["day+3"]}).test(text, START_MONDAY) is expected
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("It was £14.99 from the £120 kitty", True),
+        ("It cost 26.99 pounds", False),
+        ("not £26.99 but £14.99", True),
+        ("$120 exactly", True),  # the value, whatever the sign: a story has one currency
+    ],
+)
+def test_only_amounts_allows_the_listed_amounts(text: str, expected: bool) -> None:
+    assert compile_matcher({"only_amounts": ["14.99", "£120"]}).test(text, START_MONDAY) is expected
+
+
+@pytest.mark.parametrize(
+    ("raw", "message"),
+    [
+        ({"only_clocks": []}, "needs a non-empty list"),
+        ({"only_clocks": ["25:00"]}, "'mentions_clock' needs a clock time"),
+        ({"only_amounts": ["lots"]}, "'only_amounts' needs amounts"),
+        ({"only_days": "day+3"}, "needs a non-empty list"),
+    ],
+)
+def test_only_matchers_refuse_what_they_cannot_read(raw: Any, message: str) -> None:
+    with pytest.raises(MatcherError, match=message):
+        compile_matcher(raw)
+
+
+def test_only_clocks_explains_the_stray_time() -> None:
+    from pare.scenarios import explain
+
+    matcher = compile_matcher({"only_clocks": ["17:00"]})
+    assert "names 18:00" in explain.explain(matcher, "Pick up at 6pm", START_MONDAY)

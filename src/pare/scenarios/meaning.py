@@ -552,6 +552,21 @@ def mentions_clock(text: str, clock: time, anchor: datetime) -> bool:
     return any(clock in m.times for group in _affirmed_mentions(text, anchor) for m in group)
 
 
+def stray_clocks(text: str, allowed: frozenset[time], anchor: datetime) -> list[Mention]:
+    """The clock times ``text`` affirmatively names that are none of ``allowed`` (a mention counts as
+    allowed when one of its readings is: "at 6" is 06:00 or 18:00).
+    """
+    return [
+        m for group in _affirmed_mentions(text, anchor) for m in group if m.times and not m.times & allowed
+    ]
+
+
+def stray_days(text: str, allowed: frozenset[date], anchor: datetime) -> list[Mention]:
+    """The days ``text`` affirmatively names that are none of ``allowed`` (read as of ``anchor``)."""
+    groups = _affirmed_mentions(text, anchor)
+    return [m for group in groups for m in group if m.days and not m.days & allowed]
+
+
 def mentions_moment(text: str, moment: datetime, anchor: datetime) -> bool:
     """Whether ``text`` affirmatively names ``moment``'s day together with its clock time: both in one
     sentence, or the text names just one day and one clock time.

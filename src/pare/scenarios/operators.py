@@ -15,10 +15,11 @@ import math
 import re
 from collections.abc import Callable, Mapping, Sequence
 from datetime import UTC, date, datetime, time
+from decimal import Decimal
 from functools import lru_cache, partial
 from typing import Any
 
-from pare.scenarios import meaning
+from pare.scenarios import fact_details, meaning
 from pare.scenarios.matchers import (
     Check,
     Chosen,
@@ -376,6 +377,89 @@ def _alternatives(value: Any) -> Sequence[Any]:
 
 
 _DAY_ONLY = re.compile(r"\s*day\s*([+-]\s*\d+)?\s*")
+
+
+# -- only_clocks, only_days, only_amounts: a text names no value of a kind but the ones listed --------------
+def _allowed_values(name: str, value: Any) -> list[Any]:
+    if not isinstance(value, list) or not value:
+        raise MatcherError(f"'{name}' needs a non-empty list of the values a right text may name")
+    return value
+
+
+def _clocks(value: Any) -> tuple[time, ...]:
+    return tuple(sorted({_clock(item) for item in _allowed_values("only_clocks", value)}))
+
+
+def _days(value: Any) -> tuple[str | datetime, ...]:
+    return tuple(_day(item) for item in _allowed_values("only_days", value))
+
+
+def _amounts(value: Any) -> tuple[Decimal, ...]:
+    found: set[Decimal] = set()
+    for item in _allowed_values("only_amounts", value):
+        text = str(item) if isinstance(item, int | float | str) and not isinstance(item, bool) else None
+        amounts = _amounts_in(f"£{text.lstrip('£$€')}") if text is not None else ()
+        if len(amounts) != 1:
+            raise MatcherError(f"'only_amounts' needs amounts such as '14.99' or '£14.99', got {item!r}")
+        found |= set(amounts)
+    return tuple(sorted(found))
+
+
+def _amounts_in(text: str) -> list[Decimal]:
+    """The money amounts ``text`` states, by value (the currency is not compared: a story has one)."""
+    found: list[Decimal] = []
+    for detail in fact_details.details(text, datetime(2000, 1, 1, tzinfo=UTC)):
+        if detail.kind == "money":
+            found += [reading[1] for reading in detail.readings if isinstance(reading, tuple)]
+    return found
+
+
+def _allowed_days(days: tuple[str | datetime, ...], start: datetime) -> frozenset[date]:
+    return frozenset(parse_time(day, start).date() for day in days)
+
+
+def _read_only_clocks(text: str, allowed: tuple[time, ...], start: datetime) -> bool:
+    return not meaning.stray_clocks(text, frozenset(allowed), reading_moment(start))
+
+
+def _read_only_days(text: str, allowed: tuple[str | datetime, ...], start: datetime) -> bool:
+    return not meaning.stray_days(text, _allowed_days(allowed, start), reading_moment(start))
+
+
+def _stray_amounts(text: str, allowed: tuple[Decimal, ...]) -> list[Decimal]:
+    return [
+        amount
+        for clause in meaning.affirmed_clauses(text)
+        for amount in _amounts_in(clause)
+        if amount.normalize() not in {value.normalize() for value in allowed}
+    ]
+
+
+def _read_only_amounts(text: str, allowed: tuple[Decimal, ...], start: datetime) -> bool:
+    return not _stray_amounts(text, allowed)
+
+
+def _why_stray_clocks(text: str, allowed: tuple[time, ...], start: datetime) -> str:
+    stray = meaning.stray_clocks(text, frozenset(allowed), reading_moment(start))
+    named = ", ".join("/".join(clock.strftime("%H:%M") for clock in sorted(m.times)) for m in stray)
+    return f"the text names {named} in a clause without negation, which the rule does not allow"
+
+
+def _why_stray_days(text: str, allowed: tuple[str | datetime, ...], start: datetime) -> str:
+    stray = meaning.stray_days(text, _allowed_days(allowed, start), reading_moment(start))
+    named = ", ".join("/".join(day.strftime("%a %-d %b") for day in sorted(m.days)) for m in stray)
+    return f"the text names {named} in a clause without negation, which the rule does not allow"
+
+
+def _why_stray_amounts(text: str, allowed: tuple[Decimal, ...], start: datetime) -> str:
+    named = ", ".join(f"{amount:f}" for amount in _stray_amounts(text, allowed))
+    return f"the text states the amount {named} in a clause without negation, which the rule does not allow"
+
+
+def _listed_label(name: str, shown: Callable[[Any], str]) -> Callable[[Any, datetime], str]:
+    return lambda kept, start: f"{name} [{', '.join(shown(value) for value in kept)}]"
+
+
 _TIME_WRITTEN = "a time, absolute or relative to the start"
 
 
@@ -468,6 +552,46 @@ for _operator in (
         reads_days=True,
         explain=why_not_mentioned,
         label=partial(moment_label, "mentions_time"),
+    ),
+    Operator(
+        "only_clocks",
+        "a list of clock times ('17:00', '17:15')",
+        "names no clock time but these, in clauses without negation ('at 6' may be 06:00 or 18:00: one "
+        "listed reading is enough; both ends of a range count); a text naming none holds",
+        _reader(_read_only_clocks),
+        _clocks,
+        reads="text",
+        reads_days=True,
+        describe=lambda kept: f"only_clocks [{', '.join(clock.strftime('%H:%M') for clock in kept)}]",
+        explain=_why_stray_clocks,
+        label=_listed_label("only_clocks", lambda clock: clock.strftime("%H:%M")),
+    ),
+    Operator(
+        "only_days",
+        "a list of days ('day+3', a date)",
+        "names no day but these ('Thu', '20 March', 'tomorrow', 'last Saturday', read as of when the text "
+        "was written), in clauses without negation; a text naming none holds",
+        _reader(_read_only_days),
+        _days,
+        reads="text",
+        reads_days=True,
+        describe=lambda kept: (
+            "only_days [" + ", ".join(str(day).removesuffix(" 00:00") for day in kept) + "]"
+        ),
+        explain=_why_stray_days,
+        label=_listed_label("only_days", lambda day: str(day).removesuffix(" 00:00")),
+    ),
+    Operator(
+        "only_amounts",
+        "a list of amounts ('14.99', '120')",
+        "states no money amount but these ('14.99 pounds', '$1,200', '1.2k'), by value, in clauses without "
+        "negation; a text stating none holds",
+        _reader(_read_only_amounts),
+        _amounts,
+        reads="text",
+        describe=lambda kept: f"only_amounts [{', '.join(f'{amount:f}' for amount in kept)}]",
+        explain=_why_stray_amounts,
+        label=_listed_label("only_amounts", lambda amount: f"{amount:f}"),
     ),
     Operator(
         "regex",
