@@ -118,10 +118,10 @@ PROBES = [
         "colleague_new_number_update_contact",
         {
             "tool": "contacts__edit_contact",
-            "args": {"contact_id": "contact-priya-raman", "updates": {"email": "priya.raman@harbourline.nl"}},
+            "args": {"contact_id": "contact-priya-raman", "updates": {"birthday": "1990-04-12"}},
         },
         None,
-        "changed contacts.contacts contact-priya-raman: email",
+        "changed contacts.contacts contact-priya-raman: birthday",
         id="writes-a-field-no-solution-writes",
     ),
 ]
