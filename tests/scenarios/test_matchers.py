@@ -364,3 +364,18 @@ def test_only_clocks_explains_the_stray_time() -> None:
 
     matcher = compile_matcher({"only_clocks": ["17:00"]})
     assert "names 18:00" in explain.explain(matcher, "Pick up at 6pm", START_MONDAY)
+
+
+def test_in_a_clause_keeps_an_excuse_with_what_it_excuses() -> None:
+    put_forward = {"in_a_clause": {"contains": "harbour", "not": {"contains_any": ["skipped", "left out"]}}}
+    assert holds(put_forward, "Saved Willow Row, and Harbour Walk too")
+    assert not holds(put_forward, "I saved Willow Row and skipped Harbour Walk")
+    assert not holds(put_forward, "Harbour Walk I left out, Willow is saved")
+    assert not holds(put_forward, "Willow Row is saved")
+
+
+def test_in_a_sentence_wants_both_in_one_sentence() -> None:
+    promised = {"in_a_sentence": {"affirms": ["bring*"], "mentions_day": "day+3"}}
+    assert holds(promised, "I'll bring it Thursday. Friday I'm away.")
+    assert not holds(promised, "I'll bring it. Thursday I'm away.")
+    assert "in_a_sentence (affirms" in compile_matcher(promised).describe()

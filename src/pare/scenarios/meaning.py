@@ -536,6 +536,12 @@ def _affirmed_mentions(text: str, anchor: datetime) -> tuple[tuple[Mention, ...]
     return tuple(groups)
 
 
+def sentences(text: str) -> list[str]:
+    """``text``'s sentences, as the day and time operators group them (empty ones left out)."""
+    parts = _SENTENCE_BREAK.split(normalise_quotes(text))
+    return [sentence.strip() for sentence in parts if sentence.strip()]
+
+
 def sentence_clauses(text: str) -> list[list[str]]:
     """``text``'s clauses grouped by sentence, as the day and time operators read them."""
     sentences = _SENTENCE_BREAK.split(normalise_quotes(text))

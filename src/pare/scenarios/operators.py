@@ -51,6 +51,11 @@ def _not(matcher: Matcher, value: Any, start: datetime) -> bool:
     return not matcher.test(value, start)
 
 
+def _in_some(split: Callable[[str], list[str]], matcher: Matcher, value: Any, start: datetime) -> bool:
+    """Whether one part of the value's text (a clause, a sentence) meets ``matcher`` on its own."""
+    return any(matcher.test(part, start) for item in _items(value) for part in split(_text(item)))
+
+
 def _any_of(matchers: tuple[Matcher, ...], value: Any, start: datetime) -> bool:
     return any(matcher.test(value, start) for matcher in matchers)
 
@@ -685,6 +690,30 @@ for _operator in (
         refuses_none=False,
         nested=_one,
         describe=lambda matcher: f"not ({matcher.describe()})",
+    ),
+    Operator(
+        "in_a_clause",
+        "a matcher",
+        "has a clause that meets it on its own (clauses as negation reads them: a sentence is cut at "
+        "commas, colons, dashes and 'but'): `{in_a_clause: {contains: harbour, not: {contains_any: [skipped, "
+        "left out]}}}` finds Harbour put forward without an excuse in the same clause; negated clauses "
+        "are tested too, so put `affirms` inside for words that must not be negated",
+        partial(_in_some, meaning.clauses),
+        compile_matcher,
+        reads="matchers",
+        nested=_one,
+        describe=lambda matcher: f"in_a_clause ({matcher.describe()})",
+    ),
+    Operator(
+        "in_a_sentence",
+        "a matcher",
+        "has a sentence that meets it on its own (`{in_a_sentence: {affirms: [promise*], mentions_day: "
+        "day+3}}`: the promise and the day in one sentence)",
+        partial(_in_some, meaning.sentences),
+        compile_matcher,
+        reads="matchers",
+        nested=_one,
+        describe=lambda matcher: f"in_a_sentence ({matcher.describe()})",
     ),
     Operator(
         "any_of",
