@@ -379,3 +379,12 @@ def test_in_a_sentence_wants_both_in_one_sentence() -> None:
     assert holds(promised, "I'll bring it Thursday. Friday I'm away.")
     assert not holds(promised, "I'll bring it. Thursday I'm away.")
     assert "in_a_sentence (affirms" in compile_matcher(promised).describe()
+
+
+def test_only_clocks_takes_spans() -> None:
+    window = compile_matcher({"only_clocks": ["14:00-18:00", "19:30"]})
+    assert window.test("ready from 4.20pm, or at half seven", START_MONDAY)
+    assert not window.test("come at 1pm", START_MONDAY)
+    assert window.describe() == "only_clocks [14:00-18:00, 19:30]"
+    with pytest.raises(MatcherError, match="ends before it starts"):
+        compile_matcher({"only_clocks": ["18:00-14:00"]})

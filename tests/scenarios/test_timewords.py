@@ -286,3 +286,9 @@ def test_the_nth_of_a_named_month_relative_to_now_is_that_months() -> None:
     assert _days("due the 3rd of next month", thursday_10_july) == [{date(2025, 8, 3)}]
     assert _days("paid on the 28th of last month", thursday_10_july) == [{date(2025, 6, 28)}]
     assert _days("the 5th", thursday_10_july) == [{date(2025, 8, 5)}]  # alone: the next 5th, as before
+
+
+def test_a_number_before_a_street_name_is_an_address_not_a_time() -> None:
+    assert _times("Open house at 14 Larch Road") == []
+    assert _times("meet at 3 Heron Way") == []
+    assert _times("at 3 on the way home") == [{"03:00", "15:00"}]  # a lower-case word is no street

@@ -20,6 +20,7 @@ without a model. Three tools, all rule-based so a verdict never changes from one
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import date, datetime, time
 from functools import lru_cache
@@ -558,13 +559,17 @@ def mentions_clock(text: str, clock: time, anchor: datetime) -> bool:
     return any(clock in m.times for group in _affirmed_mentions(text, anchor) for m in group)
 
 
-def stray_clocks(text: str, allowed: frozenset[time], anchor: datetime) -> list[Mention]:
-    """The clock times ``text`` affirmatively names that are none of ``allowed`` (a mention counts as
-    allowed when one of its readings is: "at 6" is 06:00 or 18:00).
+def stray_clocks(text: str, allowed: Sequence[tuple[time, time]], anchor: datetime) -> list[Mention]:
+    """The clock times ``text`` affirmatively names that fall in none of the ``allowed`` spans (first and
+    last minute included; a single time is a span of one minute). A mention counts as allowed when one of
+    its readings does: "at 6" is 06:00 or 18:00.
     """
-    return [
-        m for group in _affirmed_mentions(text, anchor) for m in group if m.times and not m.times & allowed
-    ]
+
+    def fits(clock: time) -> bool:
+        return any(first <= clock <= last for first, last in allowed)
+
+    groups = _affirmed_mentions(text, anchor)
+    return [m for group in groups for m in group if m.times and not any(fits(clock) for clock in m.times)]
 
 
 def stray_days(text: str, allowed: frozenset[date], anchor: datetime) -> list[Mention]:

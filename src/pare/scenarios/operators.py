@@ -391,8 +391,22 @@ def _allowed_values(name: str, value: Any) -> list[Any]:
     return value
 
 
-def _clocks(value: Any) -> tuple[time, ...]:
-    return tuple(sorted({_clock(item) for item in _allowed_values("only_clocks", value)}))
+def _clocks(value: Any) -> tuple[tuple[time, time], ...]:
+    """The spans ``only_clocks`` allows: a clock time ('17:15') or a span of them ('14:00-18:00')."""
+    spans = set()
+    for item in _allowed_values("only_clocks", value):
+        first, dash, last = item.partition("-") if isinstance(item, str) else (item, "", "")
+        start = _clock(first.strip() if isinstance(first, str) else first)
+        end = _clock(last.strip()) if dash else start
+        if end < start:
+            raise MatcherError(f"'only_clocks' span {item!r} ends before it starts")
+        spans.add((start, end))
+    return tuple(sorted(spans))
+
+
+def _span(span: tuple[time, time]) -> str:
+    first, last = span
+    return first.strftime("%H:%M") + ("" if first == last else "-" + last.strftime("%H:%M"))
 
 
 def _days(value: Any) -> tuple[str | datetime, ...]:
@@ -423,8 +437,8 @@ def _allowed_days(days: tuple[str | datetime, ...], start: datetime) -> frozense
     return frozenset(parse_time(day, start).date() for day in days)
 
 
-def _read_only_clocks(text: str, allowed: tuple[time, ...], start: datetime) -> bool:
-    return not meaning.stray_clocks(text, frozenset(allowed), reading_moment(start))
+def _read_only_clocks(text: str, allowed: tuple[tuple[time, time], ...], start: datetime) -> bool:
+    return not meaning.stray_clocks(text, allowed, reading_moment(start))
 
 
 def _read_only_days(text: str, allowed: tuple[str | datetime, ...], start: datetime) -> bool:
@@ -444,8 +458,8 @@ def _read_only_amounts(text: str, allowed: tuple[Decimal, ...], start: datetime)
     return not _stray_amounts(text, allowed)
 
 
-def _why_stray_clocks(text: str, allowed: tuple[time, ...], start: datetime) -> str:
-    stray = meaning.stray_clocks(text, frozenset(allowed), reading_moment(start))
+def _why_stray_clocks(text: str, allowed: tuple[tuple[time, time], ...], start: datetime) -> str:
+    stray = meaning.stray_clocks(text, allowed, reading_moment(start))
     named = ", ".join("/".join(clock.strftime("%H:%M") for clock in sorted(m.times)) for m in stray)
     return f"the text names {named} in a clause without negation, which the rule does not allow"
 
@@ -560,16 +574,16 @@ for _operator in (
     ),
     Operator(
         "only_clocks",
-        "a list of clock times ('17:00', '17:15')",
+        "a list of clock times or spans ('17:15', '14:00-18:00')",
         "names no clock time but these, in clauses without negation ('at 6' may be 06:00 or 18:00: one "
-        "listed reading is enough; both ends of a range count); a text naming none holds",
+        "listed reading is enough; both ends of a range it names count); a text naming none holds",
         _reader(_read_only_clocks),
         _clocks,
         reads="text",
         reads_days=True,
-        describe=lambda kept: f"only_clocks [{', '.join(clock.strftime('%H:%M') for clock in kept)}]",
+        describe=lambda kept: f"only_clocks [{', '.join(_span(span) for span in kept)}]",
         explain=_why_stray_clocks,
-        label=_listed_label("only_clocks", lambda clock: clock.strftime("%H:%M")),
+        label=_listed_label("only_clocks", _span),
     ),
     Operator(
         "only_days",

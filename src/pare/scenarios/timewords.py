@@ -140,12 +140,21 @@ _CLOCK = re.compile(_NOT_A_PRICE + r"(\d{1,2})\s?[:.h]\s?(\d{2})(?!\d)(?:\s?" + 
 _HOUR_SUFFIX = re.compile(
     _NOT_A_PRICE + _WORD_START + _HOUR + r"\s?(a\.?m\.?|p\.?m\.?|o'clock)" + _WORD_END, re.I
 )
+_STREET = (
+    r"(?-i:(?:\s+[A-Z][\w'-]*){1,3}\s+(?:Road|Rd|Street|St|Lane|Ln|Avenue|Ave|Way|Close|Court|Ct|Drive|Dr|"
+    r"Terrace|Terr|Place|Pl|Gardens|Row|Walk|Grove|Crescent|Square|Sq|Hill|Park|Mews|Yard|Parade|Quay|Wharf)\b)"
+)
+"""A street name after a number, capitalised ("at 14 Larch Road" is an address, not two o'clock; "at 3 on
+the way home" is a time)."""
 _AT_HOUR = re.compile(
     _WORD_START
     + r"(?:at|from|by|around|until|till)\s+"
     + _HOUR
     + r"(?:\s+(fifteen|thirty|forty[\s-]?five))?(?![\d:%]|\.\d|\s?(?:am|pm|a\.m|p\.m))"
-    + _WORD_END,
+    + _WORD_END
+    + r"(?!"
+    + _STREET
+    + r")",
     re.I,
 )
 _COUNTED_AFTER = re.compile(_COUNTED, re.I)
