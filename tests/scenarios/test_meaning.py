@@ -10,10 +10,14 @@ from hypothesis import strategies as st
 
 from pare.scenarios.matchers import compile_matcher
 from pare.scenarios.meaning import (
+    DECLINE_CUES,
+    NEGATION_CUES,
     affirms,
     clauses,
     declines,
+    has_any,
     has_word,
+    is_negated,
     mentions_clock,
     mentions_day,
     mentions_moment,
@@ -361,3 +365,83 @@ def test_every_emoji_pictograph_ends_a_sentence() -> None:
     assert len(pictographs) > 1000
     for char in pictographs:
         assert clauses(f"not Fri {char} move it") == ["not Fri", "move it"], hex(ord(char))
+
+
+@pytest.mark.parametrize(
+    ("text", "piece", "affirmed"),
+    [
+        # passing an option over is not choosing it; the option chosen beside it still is
+        ("I left out Rowan Street", "rowan street", False),
+        ("I left Rowan Street's keys out for you", "rowan street", True),
+        ("I ruled out the Harbour flat", "harbour", False),
+        ("The Harbour flat is the one I chose", "harbour", True),
+        ("I skipped Harbour Walk", "harbour walk", False),
+        ("We walked Harbour Walk", "harbour walk", True),
+        ("I decided against the Harbour flat", "harbour", False),
+        ("I thought about the 2-bed but it's over budget", "2-bed", False),
+        ("I considered Friday but went for Saturday", "saturday", True),
+        ("I considered Friday but went for Saturday", "friday", False),
+        ("I thought about Thursday and booked it", "thursday", True),
+        ("The moon lamp went up to \u00a342, so I went for the globe", "moon lamp", False),
+        ("The moon lamp went up to \u00a342, so I went for the globe", "globe", True),
+        ("I went up to the moon lamp stall", "moon lamp", True),
+        ("I ordered the L rather than the XL", "XL", False),
+        ("I ordered the L rather than the XL", "L", True),
+        ("Booked Saturday instead of Friday", "friday", False),
+        ("Booked Saturday instead of Friday", "saturday", True),
+        # a negation about someone else's act or a side remark stays in its own clause
+        ("You won't have to wait for me as I'll be there at 14:45", "14:45", True),
+        ("You won't have to wait for me as I'll be there at 14:45", "wait", False),
+        ("There's no need to keep the old bed because I've ordered a frame for Saturday", "saturday", True),
+        ("There's no need to keep the old bed because I've ordered a frame for Saturday", "keep", False),
+        ("I can't make it because of Thursday", "thursday", False),
+        ("Booked the Thursday shift not sure what I'd have done otherwise", "thursday", True),
+        ("Booked the Thursday shift but not sure it's confirmed", "confirmed", False),
+        ("I'm not sure Thursday works", "thursday", False),
+        # "X not Y": X affirmed, Y negated; "Thursday does not work" and "Thursday not OK" stay whole
+        ("Collection Wednesday not Tuesday", "wednesday", True),
+        ("Collection Wednesday not Tuesday", "tuesday", False),
+        ("the 3rd not the 4th", "3rd", True),
+        ("the 3rd not the 4th", "4th", False),
+        ("Thursday does not work", "thursday", False),
+        ("Thursday not OK for me", "thursday", False),
+        ("Thursday not ideal", "thursday", False),
+        ("Thursday not 100% sure", "thursday", False),
+    ],
+)
+def test_what_is_passed_over_or_set_aside_is_not_affirmed(text: str, piece: str, affirmed: bool) -> None:
+    assert affirms(text, piece) is affirmed
+
+
+def test_both_of_us_being_out_turns_the_day_down() -> None:
+    thursday = START.date() + timedelta(days=2)
+    for text in ("We're both out on Thursday", "We are all away Thursday", "We'll both be out on Thursday"):
+        assert not mentions_day(text, thursday, START), text
+    assert mentions_day("We're all set for Thursday", thursday, START)
+    assert mentions_day("Mum and Dad are both away on the 2nd, so book the sitter Thursday", thursday, START)
+
+
+def test_a_side_remark_of_thanks_is_no_hedge_or_refusal() -> None:
+    thanks = "Priya kindly agreed, not sure what I'd have done otherwise"
+    assert not is_negated(clauses(thanks)[1])
+    assert is_negated("not sure whether Priya agreed")
+    assert not declines("You won't have to wait for me, I'll be there at 14:45")
+    assert not declines("No need to keep the old bed, see you Saturday")
+    assert declines("No need, thanks")
+
+
+_CUE_TEXT = st.lists(
+    st.sampled_from([*NEGATION_CUES, *DECLINE_CUES, "Thursday", "7", "x", "'", "-"]).map(
+        lambda w: w.strip("*")
+    )
+    | st.text(alphabet="abnot'1 -.", max_size=4),
+    max_size=6,
+).map(" ".join)
+
+
+@settings(max_examples=1500, deadline=None)
+@given(_CUE_TEXT, st.sampled_from(["", "x", "1", " "]))
+def test_a_cue_list_finds_what_its_cues_find_one_by_one(text: str, glue: str) -> None:
+    for cues in (NEGATION_CUES, DECLINE_CUES):
+        glued = glue + text + glue
+        assert has_any(glued, cues) is any(has_word(glued, cue) for cue in cues)

@@ -8,9 +8,11 @@ without a model. Three tools, all rule-based so a verdict never changes from one
   to more of the same kind. A ``*`` at the end (or start) of a piece lets the word go on: ``view*``
   matches "viewing".
 * **Clauses and negation.** Text is cut into clauses (sentences, commas, colons, dashes between words,
-  "but", "instead of", ...); a clause with a negation cue ("not", "can't", "unfortunately", "instead of",
-  ...) does not affirm what it mentions, so "Thursday does not work" does not affirm Thursday while
-  "Wednesday is out, Thursday works" does.
+  "but", "instead of", "because", a "not" between two named things as in "Wednesday not Tuesday", ...); a
+  clause with a negation cue ("not", "can't", "unfortunately", "instead of", "ruled out", "skipped", ...)
+  does not affirm what it mentions, so "Thursday does not work" does not affirm Thursday while "Wednesday
+  is out, Thursday works" does; nor does a clause that weighs an option the next clause turns from ("I
+  thought about the 2-bed but it's over budget").
 * **Days and clock times.** "Tue 14 May", "Thursday at 8", "half nine", "tomorrow", "6.15 pm", "2-4pm",
   "noon" are resolved against a reference moment (a weekday is the next such day on or after it; "next
   Thursday" also the one after) and compared as dates and times, not as text; read by
@@ -32,11 +34,12 @@ __all__ = ["Mention", "mentions"]  # read here by the explanations, as before th
 # -- words -------------------------------------------------------------------------------------------------
 _LETTER_BEFORE = r"(?<![^\W\d_])"
 _LETTER_AFTER = r"(?![^\W\d_])"
+_DIGIT_BEFORE = r"(?<!\d)"
 
 
 def _edge(char: str, *, before: bool) -> str:
     if char.isdigit():
-        return r"(?<!\d)" if before else r"(?!\d)"
+        return _DIGIT_BEFORE if before else r"(?!\d)"
     if char.isalpha():
         return _LETTER_BEFORE if before else _LETTER_AFTER
     return ""
@@ -251,6 +254,43 @@ NEGATION_CUES: tuple[str, ...] = (
     "i will be away",
     "we'll be away",
     "we will be away",
+    # both of us, all of us: "We're both out on Thursday" turns Thursday down as "we're out" does
+    "both out",
+    "we're all out",
+    "we are all out",
+    "we're both away",
+    "we are both away",
+    "we're all away",
+    "we are all away",
+    "we'll both be away",
+    "we will both be away",
+    "i'll be out",
+    "i will be out",
+    "we'll be out",
+    "we will be out",
+    "we'll both be out",
+    "we will both be out",
+    # passing an option over is not choosing it: "I left out Rowan Street", "ruled out the Harbour flat",
+    # "skipped Harbour Walk", "it's over budget"
+    "left out",
+    "leave out",
+    "leaving out",
+    "leaves out",
+    "ruled out",
+    "rule out",
+    "rules out",
+    "ruling out",
+    "skip",
+    "skipped",
+    "skipping",
+    "skips",
+    "decided against",
+    "over budget",
+    "over our budget",
+    "over your budget",
+    "over the budget",
+    "too expensive",
+    "too pricey",
     "is taken",
     "'s taken",
     "clash*",
@@ -261,6 +301,32 @@ NEGATION_CUES: tuple[str, ...] = (
     "fully booked",
 )
 """Words that keep a clause from affirming what it mentions."""
+
+_NEGATION_PATTERNS = re.compile(
+    r"(?<![^\W\d_])(?:(?:went|gone|goes|going|shot|jumped)\s+up|(?:rose|risen|increased|jumped)\s+)"
+    r"(?:\s*(?:in price\s+)?to\s+)?(?:[$\u00a3\u20ac]\s?\d|\d[\d.,]*\s*(?:pounds|quid|dollars|euros)\b)",
+    re.IGNORECASE,
+)
+"""Negations that need more than a phrase: a price that went up ("the moon lamp went up to £42, so I went
+for the globe" passes the lamp over), told by the money amount after it ("I went up to the office" is no
+price)."""
+
+_DELIBERATION_CUES: tuple[str, ...] = (
+    "thought about",
+    "thinking about",
+    "thought of",
+    "considered",
+    "considering",
+    "was tempted by",
+    "were tempted by",
+    "toyed with",
+    "was going to",
+    "were going to",
+)
+"""What someone weighed before turning it down: a clause with one of these, followed by a clause that
+begins "but" ("I thought about the 2-bed but it's over budget"), affirms nothing it mentions."""
+
+_CONTRARY_START = re.compile(r"(?:but|however|though|although)\b", re.IGNORECASE)
 
 DECLINE_CUES: tuple[str, ...] = (
     "can't make",
@@ -365,6 +431,8 @@ the message then turns one option down and is not a refusal as a whole."""
 _FRIENDLY_IDIOMS = re.compile(
     r"(?<![^\W\d_])(no problem|no worries|not a problem|no trouble|no rush|no hurry|never mind|can't wait|"
     r"cannot wait|don't hesitate|no later than|not later than|no more than|no matter|not only|"
+    # thanks, not a hedge: "not sure what I'd have done otherwise", "don't know what we would do without you"
+    r"(?:not sure|don't know|do not know|dunno)\s+what\s+(?:i|we)(?:'d|\s+would)\s+(?:have\s+)?do(?:ne)?|"
     r"no\.?\s*(?=\d))(?![^\W\d_])",
     re.IGNORECASE,
 )
@@ -380,17 +448,53 @@ def normalise_quotes(text: str) -> str:
     return text.replace("\u2019", "'").replace("\u2018", "'")
 
 
+_CONTRAST_BREAK = re.compile(
+    # "Collection Wednesday not Tuesday", "the 3rd not the 4th", "6pm not 7pm": one named thing set against
+    # another, each a capitalised word or a number; "Thursday does not work", "Thursday not OK" stay whole
+    r"(?<![\w'])(?:[A-Z][\w']*|\d[\w:.]*)(\s+)not\s+(?:(?:on|at|the|for)\s+)*"
+    r"(?!OK\b|I\b|A\b)(?:[A-Z]|\d+(?![\d.]*\s*%))"
+)
+"""Where "not" sets one named thing against another inside a clause."""
+_REASON_BREAK = re.compile(r"\s(?=(?:because\s(?!of\b)|(?:as|so)\s+(?:i|we)(?:'|\s)))", re.IGNORECASE)
+"""Where a reason or a consequence of one's own begins ("you won't have to wait for me as I'll be there at
+14:45", "no need to keep the old bed because I've ordered a frame"): a negation in the one does not reach
+what the other names."""
+
+
+def _split_contrast(part: str) -> list[str]:
+    """``part`` cut before each "not" that sets one named thing against another."""
+    cuts = [found.start(1) for found in _CONTRAST_BREAK.finditer(part)]
+    return [part[begin:end] for begin, end in zip([0, *cuts], [*cuts, len(part)], strict=True)]
+
+
 def clauses(text: str) -> list[str]:
     """``text`` cut into clauses."""
-    return [part.strip() for part in _CLAUSE_BREAK.split(normalise_quotes(text)) if part.strip()]
+    return list(_clauses(normalise_quotes(text)))
+
+
+@lru_cache(maxsize=4096)
+def _clauses(text: str) -> tuple[str, ...]:
+    found: list[str] = []
+    for part in _CLAUSE_BREAK.split(text):
+        contrasts = _split_contrast(part) if "not" in part else [part]
+        pieces = [piece for contrast in contrasts for piece in _REASON_BREAK.split(contrast)]
+        found.extend(stripped for piece in pieces if (stripped := piece.strip()))
+    return tuple(found)
 
 
 @lru_cache(maxsize=64)
 def _any_cue(cues: tuple[str, ...]) -> re.Pattern[str]:
-    """One pattern finding any of ``cues`` at word boundaries: one search instead of one per cue."""
-    return re.compile(
-        "|".join(f"(?:{word_pattern(normalise_quotes(cue)).pattern})" for cue in cues), re.IGNORECASE
-    )
+    """One pattern finding any of ``cues`` at word boundaries: one search instead of one per cue.
+
+    The cues that begin a word share one test of the word's start, so inside a word the search tries that
+    test once rather than once per cue (the cue lists are long, and every clause of every message is read).
+    """
+    by_edge: dict[str, list[str]] = {}
+    for cue in cues:
+        pattern = word_pattern(normalise_quotes(cue)).pattern
+        edge = next((e for e in (_LETTER_BEFORE, _DIGIT_BEFORE) if pattern.startswith(e)), "")
+        by_edge.setdefault(edge, []).append(f"(?:{pattern[len(edge) :]})")
+    return re.compile("|".join(f"{edge}(?:{'|'.join(bodies)})" for edge, bodies in by_edge.items()), re.I)
 
 
 def has_any(text: str, cues: tuple[str, ...]) -> bool:
@@ -400,12 +504,29 @@ def has_any(text: str, cues: tuple[str, ...]) -> bool:
 
 def is_negated(clause: str) -> bool:
     """Whether ``clause`` carries a negation cue."""
-    return has_any(_FRIENDLY_IDIOMS.sub(" ", clause), NEGATION_CUES)
+    plain = _FRIENDLY_IDIOMS.sub(" ", clause)
+    return has_any(plain, NEGATION_CUES) or _NEGATION_PATTERNS.search(plain) is not None
+
+
+def _passed_over(clause: str, following: str | None) -> bool:
+    """Whether ``clause`` weighs an option that the ``following`` clause turns from ("I thought about the
+    2-bed" before "but it's over budget").
+    """
+    return (
+        following is not None and _CONTRARY_START.match(following) is not None
+        and has_any(clause, _DELIBERATION_CUES)
+    )  # fmt: skip
 
 
 @lru_cache(maxsize=4096)
 def _affirmed(text: str) -> tuple[str, ...]:
-    return tuple(clause for clause in clauses(text) if not is_negated(clause))
+    parts = clauses(text)
+    following: list[str | None] = [*parts[1:], None]
+    return tuple(
+        clause
+        for clause, after in zip(parts, following, strict=False)  # one more following: the last has none
+        if not is_negated(clause) and not _passed_over(clause, after)
+    )
 
 
 def affirmed_clauses(text: str) -> list[str]:
@@ -476,7 +597,8 @@ def refusal(text: str) -> Refusal | None:
 
 def negation_cue(clause: str) -> str | None:
     """The negation cue that keeps ``clause`` from affirming, as written, or ``None`` (for explanations)."""
-    found = _any_cue(NEGATION_CUES).search(normalise_quotes(_FRIENDLY_IDIOMS.sub(" ", clause)))
+    plain = normalise_quotes(_FRIENDLY_IDIOMS.sub(" ", clause))
+    found = _any_cue(NEGATION_CUES).search(plain) or _NEGATION_PATTERNS.search(plain)
     return found.group(0) if found else None
 
 
