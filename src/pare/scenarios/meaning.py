@@ -431,12 +431,15 @@ the message then turns one option down and is not a refusal as a whole."""
 _FRIENDLY_IDIOMS = re.compile(
     r"(?<![^\W\d_])(no problem|no worries|not a problem|no trouble|no rush|no hurry|never mind|can't wait|"
     r"cannot wait|don't hesitate|no later than|not later than|no more than|no matter|not only|"
+    # reminders that affirm what they remind of: "don't forget games night Thursday at 19:00"
+    r"(?:don't|do not|dont)\s+(?:forget|be late)|"
     # thanks, not a hedge: "not sure what I'd have done otherwise", "don't know what we would do without you"
     r"(?:not sure|don't know|do not know|dunno)\s+what\s+(?:i|we)(?:'d|\s+would)\s+(?:have\s+)?do(?:ne)?|"
     r"no\.?\s*(?=\d))(?![^\W\d_])",
     re.IGNORECASE,
 )
-"""Phrases that look negative but are not: friendly ones ("no problem, Thursday works", "no rush"), bounds
+"""Phrases that look negative but are not: friendly ones ("no problem, Thursday works", "no rush", "don't
+forget Thursday at 7"), bounds
 that set a limit rather than deny ("by Friday, no later than 5pm"), and "no. 22": removed before cues are
 sought."""
 
