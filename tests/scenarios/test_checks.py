@@ -393,3 +393,32 @@ def test_a_judge_reads_a_field_an_edit_sets_inside_its_updates() -> None:
     assert judged_text({"description": "Daily", "updates": {"description": "x"}}, "description") == "Daily"
     assert judged_text({"updates": {"due_datetime": "2025-06-01"}}, "description") is None
     assert judged_text({"content": None}, "content") is None
+
+
+def test_an_items_days_are_read_as_of_when_it_was_written() -> None:
+    from datetime import timedelta
+
+    from pare.env.attribution import Attribution
+    from pare.sim.log import LogEntry
+
+    data = _with_checks(
+        {"state": {"path": "calendar.events", "where": {"description": {"mentions_day": "day+3"}}}}
+    )
+    scenario, result = _oracle_run(data)
+    state = result.env.snapshot()
+    event = {"event_id": "ev-note", "title": "Bins", "description": "Put the bins out tomorrow",
+             "start_datetime": "2025-03-06T19:00:00Z", "end_datetime": "2025-03-06T19:15:00Z"}  # fmt: skip
+    before = state["calendar"]
+    after = {**before, "events": {**before["events"], "ev-note": event}}
+    state = {**state, "calendar": after}
+    written = scenario.start + timedelta(days=2)  # on day+2: its "tomorrow" is day+3
+    entry = LogEntry(
+        index=len(result.env.log.entries), turn=9, time=written, actor="assistant", app="calendar",
+        tool="add_calendar_event", args={}, kind="write", ok=True,
+    )  # fmt: skip
+    attribution = Attribution()
+    attribution.record("assistant", entry.index, "calendar", before, after)
+    log = [*result.env.log.entries, entry]
+    assert evaluate(scenario, log, state, attribution=attribution).goals[0].passed
+    unattributed = evaluate(scenario, log, state, attribution=Attribution())  # read as of the start
+    assert not unattributed.goals[0].passed

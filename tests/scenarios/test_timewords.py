@@ -292,3 +292,15 @@ def test_a_number_before_a_street_name_is_an_address_not_a_time() -> None:
     assert _times("Open house at 14 Larch Road") == []
     assert _times("meet at 3 Heron Way") == []
     assert _times("at 3 on the way home") == [{"03:00", "15:00"}]  # a lower-case word is no street
+
+
+def test_a_weekday_written_with_a_day_of_the_month_picks_the_month_where_they_agree() -> None:
+    june_14 = datetime(2025, 6, 14, 9, 0, tzinfo=UTC)  # a Saturday
+    assert _days("Thursday the 12th", june_14) == [{date(2025, 6, 12)}]  # not 12 July, a Saturday
+    assert _days("Monday the 7th", june_14) == [{date(2025, 7, 7)}]
+    assert _days("the 12th", june_14) == [{date(2025, 7, 12)}]  # alone: the next 12th, as before
+
+
+def test_a_dotted_date_needs_its_year_so_a_time_stays_a_time() -> None:
+    assert _days("taken on 5.7.2025", JUNE_1) == [{date(2025, 7, 5)}]
+    assert _days("at 5.30") == [] and _times("at 5.30") == [{"05:30", "17:30"}]

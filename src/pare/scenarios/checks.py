@@ -651,7 +651,8 @@ class _StateRule(Rule):
                 False,
                 f"{check.path} is not a collection (it is {type(value).__name__}); use 'value' to match it",
             )
-        test, reader = self.where.test, context.reader
+        reader = context.reader
+        test = self._dated_test(context, view.place(check.path) or ())
         if self.every_occurrence:
             matching = [
                 (key, record)
@@ -672,6 +673,22 @@ class _StateRule(Rule):
         # actor had a hand in, so a stray change to one it may not touch is not excused by who came after.
         passed = (count.min is None or owned >= count.min) and (count.max is None or touched <= count.max)
         return passed, f"{detail}; wanted {self.counted}"
+
+    def _dated_test(self, context: _Context, place: StatePath) -> Callable[..., bool]:
+        """The ``where`` test, reading an item's days and times as of when it was last written ("tonight"
+        in a reminder the assistant wrote on the third day is that day's night); seed items as of the start.
+        """
+        where = self.where
+        if not where.reads_days or not place:
+            return where.test
+        attribution, log = context.attribution, context.log
+
+        def test(record: Mapping[str, Any], key: str, start: datetime, reader: CallReader | None) -> bool:
+            mark = attribution.mark((*place, key))
+            with written_at(_entry_time(log, mark.changed_at) if mark is not None else None):
+                return where.test(record, key, start, reader)
+
+        return test
 
     def _made(
         self,
@@ -860,6 +877,13 @@ class _JudgeRule(Rule):
             return self.fallback.test(text, start)
 
 
+def _entry_time(log: Sequence[LogEntry], index: int) -> datetime | None:
+    """When the log entry at ``index`` happened (``None`` if the log does not hold it)."""
+    if 0 <= index < len(log) and log[index].index == index:
+        return log[index].time
+    return next((entry.time for entry in log if entry.index == index), None)
+
+
 def _rule(check: Check, start: datetime) -> Rule:
     return CHECK_FORMS[check.form].rule(check, check.body, start)
 
@@ -1011,6 +1035,10 @@ class _ItemCondition:
         )
         """Each field's test (its name, ``None`` for the item's key), in the order they are run: most
         items fail a cheap comparison of one field."""
+        self.reads_days: bool = any(matcher.reads_days for _, matcher in self.fields) or any(
+            option.reads_days for option in self.alternatives
+        )
+        """Whether it reads days or times in text, which are counted from when the item was written."""
 
     def test(
         self, record: Mapping[str, Any], key: str, start: datetime, reader: CallReader | None = None

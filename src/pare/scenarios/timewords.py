@@ -95,6 +95,8 @@ _THE_NTH = re.compile(
 """"the 2nd" and "the 5th of this month" (or of next or last month, which say the month)."""
 _ISO_DATE = re.compile(r"(?<!\d)(\d{4})-(\d{2})-(\d{2})(?!\d)")
 _SLASH_DATE = re.compile(r"(?<![\d/])(\d{1,2})/(\d{1,2})(?:/(\d{2,4}))?(?![\d/])")
+_DOTTED_DATE = re.compile(r"(?<![\d.])(\d{1,2})\.(\d{1,2})\.(\d{4}|\d{2})(?![\d.]|\.\d)")
+""""5.7.2025" (day, month, year: with a year, so a time such as "5.30" is never read as a date)."""
 
 _SUFFIX = r"(a\.?m\.?|p\.?m\.?)" + _WORD_END
 _COUNTED = (
@@ -350,6 +352,7 @@ _HINTS: dict[re.Pattern[str], tuple[str, ...]] = {
     _MONTH_DAY: (_DIGIT_NEEDED,),
     _THE_NTH: (_DIGIT_NEEDED,),
     _SLASH_DATE: (_DIGIT_NEEDED,),
+    _DOTTED_DATE: (_DIGIT_NEEDED,),
     _CLOCK: (_DIGIT_NEEDED,),
     _DASH_RANGE: (_DIGIT_NEEDED,),
     _WORDED_RANGE: ("between", "from"),
@@ -422,6 +425,9 @@ class _Reading:
                 continue
             readings = {d for d in [_next_nth(today, day)] if d} | self._month_before(match.start(), day)
             self.add(match.span(), readings)
+        for match in self.scan(_DOTTED_DATE):
+            day, month, year = int(match.group(1)), int(match.group(2)), match.group(3)
+            self.add(match.span(), _year_readings(today, month, day, year))
         for match in self.scan(_SLASH_DATE):
             first, second, year = int(match.group(1)), int(match.group(2)), match.group(3)
             self.add(
@@ -446,22 +452,57 @@ class _Reading:
     def add_weekdays(self) -> None:
         text, today = self.text, self.today
 
-        def before_a_date(match: re.Match[str]) -> bool:
-            """A weekday written with its date ("Thursday 22 May"): the date says which day it is."""
-            return any(
-                start >= match.end()
-                and mention.days
-                and _WEEKDAY_TO_DATE.fullmatch(text[match.end() : start])
-                for start, _, mention in self.taken
-            )
+        def dated(match: re.Match[str]) -> int | None:
+            """Where in ``taken`` the date a weekday is written with stands ("Thursday 22 May", "Thursday
+            the 12th"), or ``None``: the date says which day it is.
+            """
+            for position, (start, _, mention) in enumerate(self.taken):
+                if (
+                    start >= match.end()
+                    and mention.days
+                    and _WEEKDAY_TO_DATE.fullmatch(text[match.end() : start])
+                ):
+                    return position
+            return None
 
-        for match in self.scan(_FULL_WEEKDAY):
-            if not before_a_date(match):
-                weekday = _WEEKDAYS.index(match.group(2).lower())
+        for match, weekday in self._weekday_matches():
+            position = dated(match)
+            if position is None:
                 self.add(match.span(), _weekday_readings(today, weekday, match.group(1) or ""))
+            else:
+                self._agree(position, weekday)
+
+    def _weekday_matches(self) -> Iterator[tuple[re.Match[str], int]]:
+        for match in self.scan(_FULL_WEEKDAY):
+            yield match, _WEEKDAYS.index(match.group(2).lower())
         for match in self.scan(_SHORT_WEEKDAY):
-            if not before_a_date(match):
-                self.add(match.span(), _weekday_readings(today, _WEEKDAY_ABBREVIATIONS[match.group(1)], ""))
+            yield match, _WEEKDAY_ABBREVIATIONS[match.group(1)]
+
+    def _agree(self, position: int, weekday: int) -> None:
+        """Keep the readings of a date written with a weekday that fall on that weekday: "Thursday the
+        12th" said on 14 June is 12 June, a Thursday, not the next 12th (a Saturday). A day of the month
+        with no such reading among the months around is looked for there; none found, the date stands.
+        """
+        start, stop, mention = self.taken[position]
+        fitting = {day for day in mention.days if day.weekday() == weekday}
+        if not fitting and len({day.day for day in mention.days}) == 1:
+            nth = next(iter(mention.days)).day
+            month = self.today.replace(day=1)
+            starts = [
+                month,
+                (month + timedelta(days=32)).replace(day=1),
+                (month - timedelta(days=1)).replace(day=1),
+            ]
+            for first in starts:  # this month, the next, the last
+                found = _safe_date(first.year, first.month, nth)
+                if found is not None and found.weekday() == weekday:
+                    fitting = {found}
+                    break
+        if not fitting or fitting == set(mention.days):
+            return
+        agreed = Mention(mention.start, frozenset(fitting), mention.times)
+        self.taken[position] = (start, stop, agreed)
+        self.found = [agreed if found is mention else found for found in self.found]
 
     def add_relative_days(self) -> None:
         for match in self.scan(_RELATIVE_DAY):
