@@ -142,14 +142,16 @@ def test_a_judge_check_links_the_texts_it_read(world_run: Path) -> None:
     wrote = _entry(data, actor="assistant", tool="send_message_to_group_conversation")
     # without the scenario at hand (changed since, or given by path) the check's sentence names them
     episode = build_episode(data, [])
-    (judged,) = [c for g in episode.goals for c in g.checks if c.form == "judge"]
+    # the judge check on the group's message (others may read other texts)
+    (judged,) = [c for g in episode.goals for c in g.checks if c.form == "judge" and wrote in c.evidence]
     assert judged.passed and f"(#{wrote})" in judged.detail
     assert judged.evidence == [wrote]
     page = Site(Catalog.open([world_run])).page(f"c/oracle/e/{WORLD_SCENARIO}/run-1.html")
     assert page is not None
     text = page.body.decode()
-    check = text.split('<span class="form">judge</span>', 1)[1].split("</li>", 1)[0]
-    assert re.findall(r'href="#(log-\d+)"', check) == [f"log-{wrote}"]
+    checks = [part.split("</li>", 1)[0] for part in text.split('<span class="form">judge</span>')[1:]]
+    links = [re.findall(r'href="#(log-\d+)"', check) for check in checks]
+    assert [f"log-{wrote}"] in links
 
 
 def _log(*calls: tuple[str, str, str, dict[str, Any]]) -> list[LogRecord]:
