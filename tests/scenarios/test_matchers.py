@@ -388,3 +388,11 @@ def test_only_clocks_takes_spans() -> None:
     assert window.describe() == "only_clocks [14:00-18:00, 19:30]"
     with pytest.raises(MatcherError, match="ends before it starts"):
         compile_matcher({"only_clocks": ["18:00-14:00"]})
+
+
+def test_negated_reads_a_clause_for_a_negation_cue() -> None:
+    charged_again = {"in_a_clause": {"contains": "again", "negated": False}}
+    assert holds(charged_again, "Not me, and they also charged me again")
+    assert not holds(charged_again, "It was not charged again")
+    assert holds({"negated": True}, "I can't make Thursday")
+    assert not holds({"negated": True}, "No problem, Thursday works")

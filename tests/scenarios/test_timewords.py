@@ -304,3 +304,8 @@ def test_a_weekday_written_with_a_day_of_the_month_picks_the_month_where_they_ag
 def test_a_dotted_date_needs_its_year_so_a_time_stays_a_time() -> None:
     assert _days("taken on 5.7.2025", JUNE_1) == [{date(2025, 7, 5)}]
     assert _days("at 5.30") == [] and _times("at 5.30") == [{"05:30", "17:30"}]
+
+
+def test_a_word_time_before_an_adverb_is_still_a_time() -> None:
+    assert _times("I'll be home by half seven anyway.") == [{"07:30", "19:30"}]
+    assert _times("five to ten people") == []  # a number that counts is still no time

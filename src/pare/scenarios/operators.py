@@ -212,6 +212,10 @@ def _read_affirms(text: str, pieces: tuple[str, ...], start: datetime) -> bool:
     return all(meaning.affirms(text, piece) for piece in pieces)
 
 
+def _read_negated(text: str, wanted: bool, start: datetime) -> bool:
+    return any(meaning.is_negated(clause) for clause in meaning.clauses(text)) is wanted
+
+
 def _read_declines(text: str, wanted: bool, start: datetime) -> bool:
     return meaning.declines(text) is wanted
 
@@ -537,6 +541,16 @@ for _operator in (
         reads="text",
         explain=why_declines_differs,
         label=declines_label,
+    ),
+    Operator(
+        "negated",
+        "true or false",
+        "has a clause with a negation cue ('not', 'no longer', 'ruled out'; friendly ones such as 'no "
+        "problem' do not count), for true; has none, for false. Inside `in_a_clause` it reads that "
+        "clause: `{in_a_clause: {contains: again, negated: false}}`",
+        _reader(_read_negated),
+        partial(_flag, "negated"),
+        reads="text",
     ),
     Operator(
         "mentions_day",
