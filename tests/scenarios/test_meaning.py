@@ -445,3 +445,11 @@ def test_a_cue_list_finds_what_its_cues_find_one_by_one(text: str, glue: str) ->
     for cues in (NEGATION_CUES, DECLINE_CUES):
         glued = glue + text + glue
         assert has_any(glued, cues) is any(has_word(glued, cue) for cue in cues)
+
+
+def test_nothing_and_none_negate_their_clause() -> None:
+    from pare.scenarios.meaning import affirms
+
+    assert not affirms("Nothing critical in the results", "critical")
+    assert not affirms("none of it is urgent", "urgent")
+    assert affirms("Thursday works, nothing else planned", "thursday")  # only its own clause

@@ -230,6 +230,8 @@ NEGATION_CUES: tuple[str, ...] = (
     "sadly",
     "neither",
     "nor",
+    "nothing",
+    "none",
     "decline",
     "unavailable",
     "instead of",
