@@ -9,7 +9,7 @@ Reports:
 - ``solutions with invented details``: runs of the oracle, the fixed runs that must pass and the passing
   variants in which the rule finds a detail (by construction none: each must be 0);
 - ``failing variants rejected by it alone``: ``expect: fail`` variants whose goals and side effects pass
-  and that only an invented detail fails;
+  and that only an invented detail fails; and ``also by it``: those in which it finds a detail at all;
 - with ``--mutants``, ``mutants rejected by it alone``: killed mutants whose first reason is an invented
   detail (the gate names check failures and side effects first, so none of those fail them);
 - ``misjudged variants``: variants whose verdict differs from the one they declare, without the rule
@@ -49,7 +49,7 @@ def main(argv: list[str] | None = None) -> int:
         file for path in options.paths for file in (sorted(path.glob("*.yaml")) if path.is_dir() else [path])
     ]
     scenarios = [load_scenario(file) for file in files] if files else load_scenarios()
-    solutions = solutions_flagged = failing = failing_alone = mutants = mutants_alone = 0
+    solutions = solutions_flagged = failing = failing_alone = failing_also = mutants = mutants_alone = 0
     misjudged = {"all": [0, 0, 0], **{prefix: [0, 0, 0] for prefix in options.prefix}}  # runs, before, after
     for scenario in scenarios:
         verdict = check_scenario(scenario, mutants=options.mutants)
@@ -68,6 +68,7 @@ def main(argv: list[str] | None = None) -> int:
                     )
             elif run.run in expects:
                 failing += 1
+                failing_also += bool(result.outcome.invented)
                 if before and result.outcome.invented:
                     failing_alone += 1
                     if options.verbose:
@@ -92,6 +93,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"scenarios: {len(scenarios)}")
     print(f"solutions with invented details: {solutions_flagged} of {solutions}")
     print(f"failing variants rejected by invented details alone: {failing_alone} of {failing}")
+    print(f"failing variants in which it finds an invented detail (also failed otherwise): {failing_also}")
     if options.mutants:
         print(f"mutants rejected by invented details alone: {mutants_alone} of {mutants}")
     for prefix, (runs, before, after) in misjudged.items():

@@ -15,8 +15,9 @@ it says to the user through ``agent_ui`` is not read (the user can ask).
 
 **What is allowed** (a detail is allowed when one of its readings is one of theirs, as for judge facts):
 
-* the scenario's own texts, collected once per scenario (kept on it): its seed data (every string and
-  every amount of every app), every event's arguments (timed and reactive, with their ``otherwise``
+* the scenario's own texts, collected once per scenario (kept on it, in tiers read only as needed): its
+  seed data (every string, datetime and amount of every app, but not when an item was written:
+  :data:`BOOKKEEPING`), every event's arguments (timed and reactive, with their ``otherwise``
   branches) and facts, the facts of every judge check, and the solutions' texts: everything the oracle and
   the passing variants write (their proposals, reports and every string argument of their actions);
 * the episode's own: everything the user and the world wrote (the arguments of every call not the
@@ -24,6 +25,9 @@ it says to the user through ``agent_ui`` is not read (the user can ask).
   and the final state's values other than text fields (the ride's time the assistant booked, the event's
   start it moved, an order's total): a message consistent with what was done is not invented;
 * the day the text is sent ("today").
+
+A time is allowed only when a source names it: one inside a range a source gives is not (a delivery window
+of 08:00-18:00 does not give "the driver comes at 10am").
 
 A datetime written as a value (``2025-06-02T10:00:00``) gives its day and its clock time; a number under
 a money-like key (``price``, ``total``, ``amount``...) gives that amount in any currency (``_cents``:
@@ -34,7 +38,7 @@ divided by 100). A scenario whose story asks the assistant to compute new values
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from datetime import datetime
 from decimal import Decimal, InvalidOperation
@@ -52,8 +56,9 @@ TEXT_FIELDS: frozenset[str] = frozenset(
 """Argument and item fields that hold free text: what the assistant writes there is read; what the final
 state holds there is not a value the episode set."""
 
-_TARGET_FIELDS = ("recipients", "recipient", "to", "user_id", "user_ids", "participant_ids", "conversation_id",
-                  "email_id", "event_id", "reminder_id", "note_id", "path", "item_id")  # fmt: skip
+_TARGET_FIELDS = ("recipients", "recipient", "to", "user_id", "user_ids", "participant_ids",
+                  "conversation_id", "email_id", "event_id", "reminder_id", "note_id", "path",
+                  "item_id")  # fmt: skip
 """The argument that says where a text went, for the verdict (the first one a call has)."""
 _MONEY_KEYS = ("price", "amount", "total", "cost", "fare", "fee", "balance", "cents", "deposit", "rent",
                "refund", "paid", "charge", "excess", "premium")  # fmt: skip
@@ -118,35 +123,58 @@ def checked_kinds(scenario: Scenario) -> frozenset[Kind]:
     return frozenset(KINDS) - frozenset(allowance.allow if allowance is not None else ())
 
 
-def scenario_allowed(scenario: Scenario) -> AllowedDetails:
-    """The details the scenario's own texts give (see the module's docstring), collected once per
-    scenario and kept on it.
+class ScenarioAllowed:
+    """The details the scenario's own texts give (see the module's docstring), in tiers read only when a
+    detail is not in the ones before: what the solutions write and the facts (where most of what an
+    assistant writes is found), then the events, then the seed.
     """
-    known: AllowedDetails | None = scenario.known(_ScenarioAllowed)
-    if known is not None:
-        return known
-    allowed = AllowedDetails.of_texts((), scenario.start, checked_kinds(scenario))
-    _allow_values(allowed, scenario.seed, scenario.start)
-    for event in scenario.events:
-        _allow_values(allowed, event.args, scenario.start)
-        if event.otherwise is not None:
-            _allow_values(allowed, event.otherwise.args, scenario.start)
-        if event.judge is not None:
-            allowed.add(event.judge.facts)
-    for goal in scenario.goals:
-        for check in goal.checks:
-            if check.judge is not None:
-                allowed.add(check.judge.facts)
-    for name in (None, *(variant.id for variant in scenario.variants if variant.expect == "pass")):
-        for intervention in scenario.solution(name).interventions:
-            allowed.add((intervention.proposal, intervention.report))
-            for action in intervention.actions:
-                _allow_values(allowed, action.args, scenario.start)
-    return scenario.keep(_ScenarioAllowed, allowed)
+
+    def __init__(self, scenario: Scenario) -> None:
+        self.scenario = scenario
+        self.kinds = checked_kinds(scenario)
+        self._tiers: list[AllowedDetails] = []
+        self._builders: list[Callable[[AllowedDetails], None]] = [self._solutions, self._events, self._seed]
+
+    def allows(self, detail: Detail, sent: datetime) -> bool:
+        """Whether some text of the scenario gives ``detail`` (of a text sent at ``sent``)."""
+        for number, build in enumerate(self._builders):
+            if number == len(self._tiers):
+                tier = AllowedDetails.of_texts((), self.scenario.start, self.kinds)
+                build(tier)
+                self._tiers.append(tier)
+            if self._tiers[number].allows(detail, sent):
+                return True
+        return False
+
+    def _solutions(self, allowed: AllowedDetails) -> None:
+        scenario = self.scenario
+        for goal in scenario.goals:
+            for check in goal.checks:
+                if check.judge is not None:
+                    allowed.add(check.judge.facts)
+        for event in scenario.events:
+            if event.judge is not None:
+                allowed.add(event.judge.facts)
+        for name in (None, *(variant.id for variant in scenario.variants if variant.expect == "pass")):
+            for intervention in scenario.solution(name).interventions:
+                allowed.add((intervention.proposal, intervention.report))
+                for action in intervention.actions:
+                    _allow_values(allowed, action.args, scenario.start)
+
+    def _events(self, allowed: AllowedDetails) -> None:
+        for event in self.scenario.events:
+            _allow_values(allowed, event.args, self.scenario.start)
+            if event.otherwise is not None:
+                _allow_values(allowed, event.otherwise.args, self.scenario.start)
+
+    def _seed(self, allowed: AllowedDetails) -> None:
+        _allow_values(allowed, self.scenario.seed, self.scenario.start)
 
 
-class _ScenarioAllowed:
-    """The key :func:`scenario_allowed` keeps its result under on the scenario."""
+def scenario_allowed(scenario: Scenario) -> ScenarioAllowed:
+    """The details the scenario's own texts give, kept on the scenario (each tier read once)."""
+    known: ScenarioAllowed | None = scenario.known(ScenarioAllowed)
+    return known if known is not None else scenario.keep(ScenarioAllowed, ScenarioAllowed(scenario))
 
 
 def invented_details(
