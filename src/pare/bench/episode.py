@@ -46,6 +46,7 @@ from pare.errors import ModelRequestError
 from pare.results.trajectory import TRAJECTORY_FORMAT, Trajectory, attribution_records, state_hash
 from pare.scenarios.build import EventReadings, build_environment
 from pare.scenarios.checks import Judge, Outcome, goals_met
+from pare.scenarios.invented import InventedDetail, invented_details
 from pare.scenarios.model import Scenario
 from pare.scenarios.side_effects import Change
 from pare.sim.log import AssistantMode, LogEntry
@@ -155,6 +156,9 @@ class EpisodeResult:
     changes: list[Change] = field(default_factory=list)
     """What the assistant changed in the apps' data (:func:`~pare.scenarios.side_effects.assistant_changes`);
     those no solution of the scenario makes are the outcome's side effects."""
+    invented: list[InventedDetail] = field(default_factory=list)
+    """The details the assistant wrote that nothing in its world gives (:mod:`pare.scenarios.invented`),
+    found whether or not the verdict counts them (the gate judges a run without them, then adds them)."""
     closing: dict[str, str] = field(default_factory=dict)
     """The closing observation that ended each model-backed actor's conversation, by role (``user``,
     ``assistant``); actors without a conversation have none."""
@@ -337,6 +341,11 @@ class _Episode:
             judge=judge,
             side_effects=side_effects,
         )
+        invented = (
+            list(outcome.invented)
+            if side_effects
+            else invented_details(self.scenario, env.log.entries, self.start_state, final)
+        )
         return EpisodeResult(
             scenario_id=self.scenario.id,
             user=self.user.name,
@@ -353,6 +362,7 @@ class _Episode:
             state_diff=state_changes(self.start_state, final),
             after_last_turn=after,
             changes=changes,
+            invented=invented,
             closing=closing,
         )
 

@@ -23,7 +23,8 @@ Deterministic runs per scenario, through the same turn loop as a real run:
   ``otherwise_ok`` says why that correction is part of the solution.
 
 Every run is judged with side effects (:mod:`pare.scenarios.side_effects`) against the envelope of the
-gate's own oracle and passing-variant runs, which is kept for the runs to come. The fixed runs that must
+gate's own oracle and passing-variant runs, which is kept for the runs to come, and with invented details
+(:mod:`pare.scenarios.invented`). The fixed runs that must
 fail must fail their goals: a side effect does not stand in for checks that prove nothing.
 
 With mutants on, the gate also plays the mutants and rewrites of :mod:`pare.scenarios.mutants`, judged
@@ -56,6 +57,7 @@ from pare.bench.reactions import WorldEvent, corrected_solution, unused_excuses,
 from pare.errors import UserInputError
 from pare.scenarios.build import disagreements
 from pare.scenarios.checks import Judge, JudgeVerdict
+from pare.scenarios.invented import describe_all
 from pare.scenarios.matchers import compile_matcher, reads_text
 from pare.scenarios.model import Scenario, Solution
 from pare.scenarios.mutants import mutants as generated_mutants
@@ -267,7 +269,7 @@ def check_scenario(
         result = details[name]
         result.outcome = result.outcome.with_side_effects(
             envelope.unexpected(result.changes, scenario.allowed_changes)
-        )
+        ).with_invented(result.invented)
         verdict = _verdict(name, scenario, users[name], result, expected, why, fails.get(name, []))
         verdicts.append(_with_reactions(verdict, scenario, result, excused.get(name, frozenset())))
         if name in solutions:  # what a solution tells a person widens the envelope: a check must read it
@@ -312,10 +314,11 @@ def _mutant_verdicts(
             continue
         result = played[0]
         side_effects = envelope.unexpected(result.changes, scenario.allowed_changes)
-        outcome_ = result.outcome.with_side_effects(side_effects)
+        outcome_ = result.outcome.with_side_effects(side_effects).with_invented(result.invented)
         reasons = [
             *(f"check failed: {check.goal}[{check.index}] {check.detail}" for check in outcome_.failures()),
             *(f"side effect: {change.describe()}" for change in side_effects),
+            *describe_all(result.invented),
         ]
         why = reasons[0] if reasons else ""
         if mutant.is_rewrite:
@@ -465,6 +468,7 @@ def _verdict(
             f"check failed: {check.goal}[{check.index}] {check.detail}" for check in result.outcome.failures()
         )
         problems.extend(f"side effect: {change.describe()}" for change in result.outcome.side_effects)
+        problems.extend(describe_all(result.outcome.invented))
     return RunVerdict(name, expected, success, tuple(problems), result.turns, why)
 
 

@@ -444,6 +444,8 @@ def _print_details(
                 console.print(plain_text(f"  [{name}] {mark}{goal.id}: {item.detail}"))
         for change in outcome.side_effects:
             console.print(plain_text(f"  [{name}] NO side effect: {change.describe()}"))
+        for detail in outcome.invented:
+            console.print(plain_text(f"  [{name}] NO invented: {detail.describe()}"))
 
 
 @app.command("stats")

@@ -251,6 +251,21 @@ class SideEffectRecord(_Verdict):
     text: str = ""
 
 
+class InventedRecord(_Verdict):
+    """A detail the assistant wrote into the apps that nothing in its world gives
+    (``pare.scenarios.invented``).
+    """
+
+    order: int | None = Field(default=None, description="The log index of the call that wrote it.")
+    tool: str = Field(default="", description="The call, as app__tool.")
+    target: str = Field(default="", description="Where the text went, as the call names it.")
+    field: str = Field(default="", description="The argument holding the text.")
+    kind: str = Field(default="", description="time, date, money, phone, url or email.")
+    shown: str = Field(default="", description="The detail as written.")
+    excerpt: str = Field(default="", description="The words around it.")
+    text: str = ""
+
+
 class OutcomeRecord(_Verdict):
     """The verdict on the episode."""
 
@@ -259,6 +274,10 @@ class OutcomeRecord(_Verdict):
     user_did_work: bool = False
     goals: list[GoalRecord] = Field(default_factory=list)
     side_effects: list[SideEffectRecord] = Field(default_factory=list)
+    invented: list[InventedRecord] = Field(
+        default_factory=list,
+        description="Details the assistant invented (files written before the rule hold none).",
+    )
 
 
 class AfterLastTurnRecord(_Part):

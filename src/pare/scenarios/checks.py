@@ -31,6 +31,7 @@ from pare.scenarios import explain as explaining
 from pare.scenarios.excerpts import quote
 from pare.scenarios.fact_details import AllowedDetails, solution_texts
 from pare.scenarios.file_identity import ATTACHMENT_FIELDS, FileIdentity
+from pare.scenarios.invented import InventedDetail
 from pare.scenarios.item_text import item_text
 from pare.scenarios.matchers import compile_matcher, written_at
 from pare.scenarios.model import (
@@ -181,6 +182,9 @@ class Outcome:
     side_effects: tuple[Change, ...] = ()
     """Changes the assistant made that no solution of the scenario makes (:mod:`pare.scenarios.side_effects`):
     any of them fails the episode, whatever its goals."""
+    invented: tuple[InventedDetail, ...] = ()
+    """Details the assistant wrote into the apps that nothing in its world gives
+    (:mod:`pare.scenarios.invented`): any of them fails the episode, whatever its goals."""
 
     @property
     def goal_rate(self) -> float:
@@ -199,12 +203,18 @@ class Outcome:
             "user_did_work": self.user_did_work,
             "goals": [goal.to_dict() for goal in self.goals],
             "side_effects": [change.to_dict() for change in self.side_effects],
+            "invented": [detail.to_dict() for detail in self.invented],
         }
 
     def with_side_effects(self, side_effects: Sequence[Change]) -> Outcome:
         """The verdict with the assistant's side effects added: any of them fails it."""
         found = tuple(side_effects)
         return replace(self, success=self.success and not found, side_effects=found)
+
+    def with_invented(self, invented: Sequence[InventedDetail]) -> Outcome:
+        """The verdict with the assistant's invented details added: any of them fails it."""
+        found = tuple(invented)
+        return replace(self, success=self.success and not found, invented=found)
 
 
 async def aevaluate(

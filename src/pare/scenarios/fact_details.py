@@ -259,6 +259,8 @@ class AllowedDetails:
     _allowed: dict[Kind, set[object]]
     _more: Callable[[], Sequence[str]] | None = None
     _texts: list[str] = field(default_factory=list)
+    within_ranges: bool = True
+    """Whether a time inside a range an allowed text gives is allowed ("between 9 and 10" allows 9:30)."""
 
     @classmethod
     def of(cls, facts: Sequence[str], start: datetime, more: Callable[[], Sequence[str]]) -> AllowedDetails:
@@ -268,10 +270,27 @@ class AllowedDetails:
         allowed.kinds = frozenset(allowed._allowed)
         return allowed
 
-    def _add(self, texts: Iterable[str]) -> None:
+    @classmethod
+    def of_texts(cls, texts: Iterable[str], start: datetime, kinds: frozenset[Kind]) -> AllowedDetails:
+        """The details ``texts`` give (read as of ``start``), checked for every kind of ``kinds``: a time
+        is allowed only when one of them names it (not when it falls inside a range one of them gives).
+        """
+        allowed = cls(start, kinds, {}, within_ranges=False)
+        allowed.add(texts)
+        return allowed
+
+    def add(self, texts: Iterable[str], anchor: datetime | None = None) -> None:
+        """Allow the details ``texts`` state, their days read as of ``anchor`` (default: the start)."""
+        self._add(texts, anchor)
+
+    def add_readings(self, kind: Kind, readings: Iterable[object]) -> None:
+        """Allow details of ``kind`` by their readings (a value a program wrote rather than a text)."""
+        self._allowed.setdefault(kind, set()).update(readings)
+
+    def _add(self, texts: Iterable[str], anchor: datetime | None = None) -> None:
         for text in texts:
             self._texts.append(text)
-            for detail in details(text, self.start):
+            for detail in details(text, anchor or self.start):
                 given = self._allowed.setdefault(detail.kind, set())
                 given.update(detail.readings)
                 if detail.kind == "date":  # a weekday alone in a text matches any of these days' weekdays
@@ -298,7 +317,7 @@ class AllowedDetails:
         if not detail.readings.isdisjoint(allowed):
             return True
         if detail.kind == "time":  # a time inside a range the allowed texts give
-            return any(
+            return self.within_ranges and any(
                 isinstance(span, tuple) and span[1] <= moment <= span[2]
                 for moment in detail.readings
                 if isinstance(moment, time)
@@ -317,7 +336,8 @@ class AllowedDetails:
         if detail.kind == "url":  # a link given without its query is the same link
             (key,) = detail.readings
             return any(
-                isinstance(given, str) and given.split("?")[0] == key for given in self._allowed["url"]
+                isinstance(given, str) and given.split("?")[0] == key
+                for given in self._allowed.get("url", ())
             )
         return False
 

@@ -844,6 +844,19 @@ def _mutant_names(value: dict[str, str]) -> dict[str, str]:
     return value
 
 
+DetailKind = Literal["time", "date", "money", "phone", "url", "email"]
+"""A kind of detail a program reads reliably in free text (:mod:`pare.scenarios.fact_details`)."""
+
+
+class InventedDetailsAllowance(_Strict):
+    """Kinds of detail the assistant may state without a text of the scenario giving them, and why (see
+    :mod:`pare.scenarios.invented`).
+    """
+
+    allow: list[DetailKind] = Field(min_length=1, description="The kinds of detail not checked.")
+    reason: str = Field(min_length=1, description="Why the story asks the assistant for new values of them.")
+
+
 class UserProfile(_Strict):
     """What the user simulator is told about the person it plays."""
 
@@ -897,6 +910,13 @@ class Scenario(_Strict):
         description="Harmless changes the assistant may make beyond what the oracle and the passing "
         "variants change, each with its reason; any other change of the assistant's is a side effect and "
         "fails the episode.",
+    )
+
+    invented_details: InventedDetailsAllowance | None = Field(
+        default=None,
+        description="Kinds of detail (time, date, money, phone, url, email) the assistant may state in "
+        "what it writes into the apps although no text of the scenario gives them, with the reason (the "
+        "story asks it to compute new values); any other such detail is invented and fails the episode.",
     )
 
     equivalent_mutants: dict[str, Annotated[str, Field(min_length=1)]] = Field(
@@ -966,7 +986,8 @@ class Scenario(_Strict):
         if isinstance(known, str):
             return known
         dumped = self.model_dump(mode="json")
-        for later in ("allowed_changes", "equivalent_mutants"):  # fields added later: scenarios without
+        later_fields = ("allowed_changes", "equivalent_mutants", "invented_details")
+        for later in later_fields:  # fields added later: scenarios without
             if not dumped.get(later):  # them keep their hash
                 dumped.pop(later, None)
         data = json.dumps(dumped, sort_keys=True, separators=(",", ":"))

@@ -168,7 +168,8 @@ class EpisodeView:
     usage: dict[str, Usage]
     """Summed per role (user, observe, execute) and under ``total``."""
     side_effects: list[str] = field(default_factory=list)
-    """The assistant's changes that no solution of the scenario makes, as sentences."""
+    """The assistant's changes that no solution of the scenario makes and the details it invented (led by
+    ``invented:``), as sentences."""
 
 
 def thought_of(raw: str | None) -> str | None:
@@ -226,7 +227,10 @@ def build_episode(
         log=trajectory.log,
         proposals=proposals,
         usage=ordered,
-        side_effects=[change.text for change in outcome.side_effects],
+        side_effects=[
+            *(change.text for change in outcome.side_effects),
+            *(f"invented: {detail.text}" for detail in outcome.invented),
+        ],
     )
 
 

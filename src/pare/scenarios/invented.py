@@ -1,0 +1,317 @@
+"""Invented details: a time, day, amount, phone number, link or address the assistant wrote that nothing
+in its world gives.
+
+A message that says the doors open at 15:20 when they open at 15:30 passes every check that looks for the
+right words elsewhere. So, whatever the scenario's checks, every text the assistant writes into the apps
+is read with :func:`pare.scenarios.fact_details.details`, and a detail of a readable kind (``time``,
+``date``, ``money``, ``phone``, ``url``, ``email``) that no allowed source states is *invented* and fails
+the episode, named in the verdict.
+
+**What is read:** the text fields (:data:`TEXT_FIELDS`) of the assistant's successful calls to the apps,
+also inside a dict argument (an edit's ``updates``): messages, emails, replies, a forward's own words,
+titles, descriptions, notes, locations, payment references. Only the assistant's own words: the part of a
+text below a forward rule and ``>`` lines are quoted (:func:`pare.scenarios.fact_details.own_words`). What
+it says to the user through ``agent_ui`` is not read (the user can ask).
+
+**What is allowed** (a detail is allowed when one of its readings is one of theirs, as for judge facts):
+
+* the scenario's own texts, collected once per scenario (kept on it, in tiers read only as needed): its
+  seed data (every string, datetime and amount of every app, but not when an item was written:
+  :data:`BOOKKEEPING`), every event's arguments (timed and reactive, with their ``otherwise``
+  branches) and facts, the facts of every judge check, and the solutions' texts: everything the oracle and
+  the passing variants write (their proposals, reports and every string argument of their actions);
+* the episode's own: everything the user and the world wrote (the arguments of every call not the
+  assistant's, read as of when it was made, the user's words to the assistant included), the start state,
+  and the final state's values other than text fields (the ride's time the assistant booked, the event's
+  start it moved, an order's total): a message consistent with what was done is not invented;
+* the day the text is sent ("today").
+
+A time is allowed only when a source names it: one inside a range a source gives is not (a delivery window
+of 08:00-18:00 does not give "the driver comes at 10am").
+
+A datetime written as a value (``2025-06-02T10:00:00``) gives its day and its clock time; a number under
+a money-like key (``price``, ``total``, ``amount``...) gives that amount in any currency (``_cents``:
+divided by 100). A scenario whose story asks the assistant to compute new values opts out per kind with
+``invented_details: {allow: [money], reason: ...}``.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from dataclasses import dataclass
+from datetime import datetime
+from decimal import Decimal, InvalidOperation
+from typing import Any, get_args
+
+from pare.scenarios.fact_details import AllowedDetails, Detail, Kind, details, excerpt, own_words
+from pare.scenarios.model import Scenario
+from pare.scenarios.times import TimeFormatError, parse_time
+from pare.sim.log import LogEntry
+
+TEXT_FIELDS: frozenset[str] = frozenset(
+    {"content", "body", "subject", "title", "description", "notes", "note", "location", "message", "text",
+     "reason", "reference", "group_title", "headline"}
+)  # fmt: skip
+"""Argument and item fields that hold free text: what the assistant writes there is read; what the final
+state holds there is not a value the episode set."""
+
+_TARGET_FIELDS = ("recipients", "recipient", "to", "user_id", "user_ids", "participant_ids",
+                  "conversation_id", "email_id", "event_id", "reminder_id", "note_id", "path",
+                  "item_id")  # fmt: skip
+"""The argument that says where a text went, for the verdict (the first one a call has)."""
+_MONEY_KEYS = ("price", "amount", "total", "cost", "fare", "fee", "balance", "cents", "deposit", "rent",
+               "refund", "paid", "charge", "excess", "premium")  # fmt: skip
+_CURRENCIES = ("GBP", "USD", "EUR")
+BOOKKEEPING: frozenset[str] = frozenset(
+    {"timestamp", "created_at", "updated_at", "modified", "placed_at", "booked_at", "sent_at", "received_at",
+     "last_updated", "read_at", "deleted_at", "cancelled_at", "completed_at"}
+)  # fmt: skip
+"""Fields that say when an item was written, not what it is about: no detail a text states comes from
+them (an email received at 10:00 does not make "the driver comes at 10am" true)."""
+_CONTROL_APPS = frozenset({"system", "agent_ui"})
+KINDS: tuple[Kind, ...] = get_args(Kind)
+_RELATIVE = re.compile(r"^\s*(?:day\b|[+-]\s*\d)")
+"""A time written relative to the scenario's start (``day+1 09:00``, ``day 14:00``, ``+2h``)."""
+
+
+@dataclass(frozen=True, slots=True)
+class InventedDetail:
+    """One detail the assistant wrote that nothing in the scenario or the episode gives."""
+
+    order: int
+    """The log index of the call that wrote it."""
+    tool: str
+    """The call, as ``app__tool``."""
+    target: str
+    """Where the text went (a recipient, an item), as the call names it; empty when not known."""
+    field: str
+    """The argument holding the text (``updates.description`` inside an edit)."""
+    kind: Kind
+    shown: str
+    """The detail as written ("10:00", "£1,642")."""
+    excerpt: str
+    """The words around it."""
+
+    def describe(self) -> str:
+        """One line: ``#14 messaging__send_message to user-jonas states 10:00, which nothing in the
+        scenario gives ("... comes at 10:00 ...")``.
+        """
+        where = f" to {self.target}" if self.target else ""
+        return (
+            f"#{self.order} {self.tool}{where} states {self.shown} in {self.field}, which nothing in the "
+            f'scenario gives ("{self.excerpt}")'
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready form, with the sentence."""
+        return {
+            "order": self.order,
+            "tool": self.tool,
+            "target": self.target,
+            "field": self.field,
+            "kind": self.kind,
+            "shown": self.shown,
+            "excerpt": self.excerpt,
+            "text": self.describe(),
+        }
+
+
+def checked_kinds(scenario: Scenario) -> frozenset[Kind]:
+    """The kinds of detail checked in ``scenario``: all but those it allows (``invented_details``)."""
+    allowance = scenario.invented_details
+    return frozenset(KINDS) - frozenset(allowance.allow if allowance is not None else ())
+
+
+class ScenarioAllowed:
+    """The details the scenario's own texts give (see the module's docstring), in tiers read only when a
+    detail is not in the ones before: what the solutions write and the facts (where most of what an
+    assistant writes is found), then the events, then the seed.
+    """
+
+    def __init__(self, scenario: Scenario) -> None:
+        self.scenario = scenario
+        self.kinds = checked_kinds(scenario)
+        self._tiers: list[AllowedDetails] = []
+        self._builders: list[Callable[[AllowedDetails], None]] = [self._solutions, self._events, self._seed]
+
+    def allows(self, detail: Detail, sent: datetime) -> bool:
+        """Whether some text of the scenario gives ``detail`` (of a text sent at ``sent``)."""
+        for number, build in enumerate(self._builders):
+            if number == len(self._tiers):
+                tier = AllowedDetails.of_texts((), self.scenario.start, self.kinds)
+                build(tier)
+                self._tiers.append(tier)
+            if self._tiers[number].allows(detail, sent):
+                return True
+        return False
+
+    def _solutions(self, allowed: AllowedDetails) -> None:
+        scenario = self.scenario
+        for goal in scenario.goals:
+            for check in goal.checks:
+                if check.judge is not None:
+                    allowed.add(check.judge.facts)
+        for event in scenario.events:
+            if event.judge is not None:
+                allowed.add(event.judge.facts)
+        for name in (None, *(variant.id for variant in scenario.variants if variant.expect == "pass")):
+            for intervention in scenario.solution(name).interventions:
+                allowed.add((intervention.proposal, intervention.report))
+                for action in intervention.actions:
+                    _allow_values(allowed, action.args, scenario.start)
+
+    def _events(self, allowed: AllowedDetails) -> None:
+        for event in self.scenario.events:
+            _allow_values(allowed, event.args, self.scenario.start)
+            if event.otherwise is not None:
+                _allow_values(allowed, event.otherwise.args, self.scenario.start)
+
+    def _seed(self, allowed: AllowedDetails) -> None:
+        _allow_values(allowed, self.scenario.seed, self.scenario.start)
+
+
+def scenario_allowed(scenario: Scenario) -> ScenarioAllowed:
+    """The details the scenario's own texts give, kept on the scenario (each tier read once)."""
+    known: ScenarioAllowed | None = scenario.known(ScenarioAllowed)
+    return known if known is not None else scenario.keep(ScenarioAllowed, ScenarioAllowed(scenario))
+
+
+def invented_details(
+    scenario: Scenario, log: Sequence[LogEntry], start: Mapping[str, Any], final: Mapping[str, Any]
+) -> list[InventedDetail]:
+    """Every detail the assistant wrote into the apps in the episode of ``scenario`` (its ``log``, from
+    the ``start`` to the ``final`` state) that no allowed source states, in the order written.
+    """
+    kinds = checked_kinds(scenario)
+    if not kinds:
+        return []
+    written = [(entry, field, text) for entry in log for field, text in assistant_texts(entry)]
+    if not written:
+        return []
+    allowed = scenario_allowed(scenario)
+    episode: AllowedDetails | None = None
+    found: list[InventedDetail] = []
+    for entry, field, text in written:
+        words = own_words(text)
+        for detail in sorted(details(words, entry.time), key=lambda one: one.start):
+            if allowed.allows(detail, entry.time):
+                continue
+            if episode is None:  # most episodes' details are the scenario's: read the episode only if not
+                episode = _episode_allowed(scenario.start, kinds, log, start, final)
+            if not episode.allows(detail, entry.time):
+                found.append(_invented(entry, field, detail, words))
+    return found
+
+
+def _invented(entry: LogEntry, field: str, detail: Detail, words: str) -> InventedDetail:
+    target = next((entry.args[name] for name in _TARGET_FIELDS if entry.args.get(name)), "")
+    shown_target = ", ".join(map(str, target)) if isinstance(target, list) else str(target)
+    return InventedDetail(
+        entry.index,
+        f"{entry.app}__{entry.tool}",
+        shown_target,
+        field,
+        detail.kind,
+        detail.shown,
+        excerpt(words, detail.start, detail.end),
+    )
+
+
+def assistant_texts(entry: LogEntry) -> Iterator[tuple[str, str]]:
+    """(field, text) for each free text a log entry has the assistant write into the apps: the
+    :data:`TEXT_FIELDS` of a successful write's arguments, also one level inside a dict argument.
+    """
+    if entry.actor != "assistant" or not entry.ok or entry.kind != "write" or entry.app in _CONTROL_APPS:
+        return
+    for name, value in entry.args.items():
+        if isinstance(value, str) and name in TEXT_FIELDS and value.strip():
+            yield name, value
+        elif isinstance(value, Mapping):
+            for inner, text in value.items():
+                if isinstance(text, str) and inner in TEXT_FIELDS and text.strip():
+                    yield f"{name}.{inner}", text
+
+
+def _episode_allowed(
+    begin: datetime,
+    kinds: frozenset[Kind],
+    log: Sequence[LogEntry],
+    start: Mapping[str, Any],
+    final: Mapping[str, Any],
+) -> AllowedDetails:
+    """The details the episode gives: what the user and the world wrote, the start state, and the final
+    state's values that are not free text.
+    """
+    allowed = AllowedDetails.of_texts((), begin, kinds)
+    for entry in log:
+        if entry.actor != "assistant":
+            _allow_values(allowed, entry.args, entry.time)
+    _allow_values(allowed, start, begin)
+    _allow_values(allowed, final, begin, texts=False)
+    return allowed
+
+
+def _allow_values(allowed: AllowedDetails, value: Any, anchor: datetime, *, texts: bool = True) -> None:
+    """Allow what ``value`` (arguments, seed data, a state) holds: its texts (with ``texts``), datetimes
+    written as values, and amounts under money-like keys.
+    """
+    strings: list[str] = []
+    for key, leaf in _leaves(value, ""):
+        if key in BOOKKEEPING:
+            continue
+        if isinstance(leaf, str):
+            moment = _datetime(leaf, anchor)
+            if moment is not None:
+                allowed.add_readings("time", {moment.time().replace(tzinfo=None)})
+                allowed.add_readings("date", {moment.date(), ("weekday", moment.weekday())})
+            elif texts or key not in TEXT_FIELDS:
+                strings.append(leaf)
+        elif isinstance(leaf, int | float) and not isinstance(leaf, bool) and _is_money(key):
+            amount = _amount(leaf, cents=key.endswith("cents"))
+            if amount is not None:
+                allowed.add_readings("money", {(currency, amount) for currency in _CURRENCIES})
+    allowed.add(strings, anchor)
+
+
+def _leaves(value: Any, key: str) -> Iterator[tuple[str, Any]]:
+    """(the key it sits under, the value) for every leaf of a JSON-like value."""
+    if isinstance(value, Mapping):
+        for inner, item in value.items():
+            yield from _leaves(item, str(inner))
+    elif isinstance(value, list | tuple):
+        for item in value:
+            yield from _leaves(item, key)
+    else:
+        yield key, value
+
+
+def _datetime(text: str, anchor: datetime) -> datetime | None:
+    """The moment ``text`` is when it is a datetime written as a value: ISO, or relative as a scenario
+    writes it (``day+1 09:00``, ``+2h``).
+    """
+    iso = len(text) >= 16 and text[:4].isdigit() and text[4] == "-" and text[10] in "T "
+    if not iso and _RELATIVE.match(text) is None:
+        return None
+    try:
+        return parse_time(text, anchor)
+    except TimeFormatError:
+        return None
+
+
+def _is_money(key: str) -> bool:
+    lowered = key.lower()
+    return any(word in lowered for word in _MONEY_KEYS)
+
+
+def _amount(number: float, *, cents: bool) -> Decimal | None:
+    try:
+        value = Decimal(str(number))
+    except InvalidOperation:  # pragma: no cover - a float always converts
+        return None
+    return (value / 100 if cents else value).normalize()
+
+
+def describe_all(found: Iterable[InventedDetail]) -> list[str]:
+    """The sentences of several invented details, for a verdict's reasons."""
+    return [f"invented: {detail.describe()}" for detail in found]
