@@ -422,3 +422,50 @@ def test_an_items_days_are_read_as_of_when_it_was_written() -> None:
     assert evaluate(scenario, log, state, attribution=attribution).goals[0].passed
     unattributed = evaluate(scenario, log, state, attribution=Attribution())  # read as of the start
     assert not unattributed.goals[0].passed
+
+
+def test_any_of_holds_when_one_way_holds_with_all_its_checks() -> None:
+    thursday = {"action": {"tool": "email__reply_to_email", "args": {"content": {"contains": "thursday"}}}}
+    friday = {"action": {"tool": "email__reply_to_email", "args": {"content": {"contains": "friday"}}}}
+    fresh = {"action": {"tool": "email__send_email"}}
+    _, result = _oracle_run(_with_checks({"any_of": [{"all_of": [fresh]}, {"all_of": [REPLIED, thursday]}]}))
+    assert result.success
+    assert "way 2 of 2 holds" in result.outcome.goals[0].checks[-1].detail
+    _, result = _oracle_run(_with_checks({"any_of": [{"all_of": [fresh]}, {"all_of": [REPLIED, friday]}]}))
+    assert not result.success
+    detail = result.outcome.goals[0].checks[-1].detail
+    assert detail.startswith("no way holds: way 1: ") and "way 2: " in detail
+
+
+@pytest.mark.parametrize(
+    ("checks", "message"),
+    [
+        ([{"all_of": [REPLIED]}], "at least two ways"),
+        (
+            [
+                {"all_of": [REPLIED]},
+                {
+                    "all_of": [
+                        {
+                            "judge": {
+                                "criterion": "c",
+                                "action": {"tool": "email__reply_to_email"},
+                                "fallback": {"contains": "x"},
+                            }
+                        }
+                    ]
+                },
+            ],
+            "cannot stand inside 'any_of'",
+        ),
+        (
+            [{"all_of": [REPLIED]}, {"all_of": [{"action": {"tool": "email__reply_to_emial"}}]}],
+            "reply_to_emial",
+        ),
+    ],
+)
+def test_any_of_is_checked_at_load_like_its_checks(checks: list[dict[str, Any]], message: str) -> None:
+    from pare.scenarios.loader import ScenarioError
+
+    with pytest.raises((ScenarioError, ValueError), match=message):
+        parse(_with_checks({"any_of": checks}))

@@ -41,6 +41,7 @@ from pare.scenarios.model import (
     WHERE_TEXT,
     ActionCheck,
     ActionPattern,
+    AnyOfChecks,
     Check,
     Count,
     JudgeCheck,
@@ -887,6 +888,39 @@ class _JudgeRule(Rule):
             return self.fallback.test(text, start)
 
 
+class _AnyOfRule(Rule):
+    """One of several ways holds, each way all of its checks (a choice the story leaves open)."""
+
+    def __init__(self, check: Check, ways: AnyOfChecks, start: datetime) -> None:
+        super().__init__(check)
+        self.ways = [[_rule(option, start) for option in way.all_of] for way in ways.root]
+        self.cost = max(rule.cost for way in self.ways for rule in way)
+
+    def wanted(self) -> str:
+        return "one of: " + " | or: ".join(" and ".join(rule.wanted() for rule in way) for way in self.ways)
+
+    def verdict(self, context: _Context, *, explain: bool = True) -> tuple[bool, str]:
+        refused = []
+        for number, way in enumerate(self.ways, start=1):
+            said = [rule.verdict(context, explain=explain) for rule in way]
+            if all(passed for passed, _ in said):
+                return True, f"way {number} of {len(self.ways)} holds: " + "; ".join(text for _, text in said)
+            refused.append(f"way {number}: " + "; ".join(text for passed, text in said if not passed))
+        return False, "no way holds: " + " | ".join(refused)
+
+    def linked(self, log: Sequence[LogEntry], reader: CallReader | None) -> list[int] | None:
+        found = [rule.linked(log, reader) for way in self.ways for rule in way]
+        if all(indexes is None for indexes in found):
+            return None
+        return sorted({index for indexes in found if indexes for index in indexes})
+
+    def places(self, view: _StateView, start: datetime, reader: CallReader) -> list[StatePath] | None:
+        found = [rule.places(view, start, reader) for way in self.ways for rule in way]
+        if all(places is None for places in found):
+            return None
+        return list(dict.fromkeys(place for places in found if places for place in places))
+
+
 def _entry_time(log: Sequence[LogEntry], index: int) -> datetime | None:
     """When the log entry at ``index`` happened (``None`` if the log does not hold it)."""
     if 0 <= index < len(log) and log[index].index == index:
@@ -1152,6 +1186,20 @@ def register_check_form(form: CheckForm) -> None:
     CHECK_FORMS[form.key] = form
 
 
+def _positive(check: Check) -> bool:
+    form = CHECK_FORMS[check.form]
+    return form.positive(check.body)
+
+
+def _about_the_assistant(check: Check) -> bool:
+    return CHECK_FORMS[check.form].about_the_assistant(check.body)
+
+
+def _needs_assistant(check: Check) -> bool:
+    form = CHECK_FORMS[check.form]
+    return form.positive(check.body) and form.needs_assistant(check.body)
+
+
 def _at_least_one(count: int | Count | None) -> bool:
     """Whether a check's ``count`` (default: at least one) wants at least one."""
     if count is None:
@@ -1197,6 +1245,21 @@ for _form in (
         _JudgeRule,
         positive=lambda judge: not judge.optional,  # a text that meets its criterion must be there
         needs_assistant=lambda judge: _assistants(judge.action),
+    ),
+    CheckForm(
+        "any_of",
+        AnyOfChecks,
+        _AnyOfRule,
+        # a choice demands something when every way does, and needs the assistant when every way does
+        positive=lambda ways: all(any(_positive(check) for check in way.all_of) for way in ways.root),
+        needs_assistant=lambda ways: all(
+            any(_needs_assistant(check) for check in way.all_of) for way in ways.root
+        ),
+        about_the_assistant=lambda ways: any(
+            CHECK_FORMS[check.form].about_the_assistant(check.body)
+            for way in ways.root
+            for check in way.all_of
+        ),
     ),
 ):
     register_check_form(_form)

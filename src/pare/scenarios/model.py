@@ -22,6 +22,7 @@ from pydantic import (
     ConfigDict,
     Field,
     GetJsonSchemaHandler,
+    RootModel,
     SerializerFunctionWrapHandler,
     TypeAdapter,
     WithJsonSchema,
@@ -486,6 +487,11 @@ class Check(_Strict):
     )
     state: StateCheck | None = Field(default=None, description="A condition on the final state.")
     judge: JudgeCheck | None = Field(default=None, description="Model-judged free text with a fallback.")
+    any_of: AnyOfChecks | None = Field(
+        default=None,
+        description="Checks of which one must hold: a choice the story leaves open, each way checked whole "
+        "(the note ticks the liner off and the order holds it, or the note leaves it open).",
+    )
     description: str = Field(default="", description="What the check means, for reports.")
 
     @model_validator(mode="after")
@@ -509,6 +515,31 @@ class Check(_Strict):
         body: BaseModel = getattr(self, self.form)
         return body
 
+
+class AnyOf(_Strict):
+    """One way of meeting an ``any_of`` check: all its checks hold."""
+
+    all_of: list[Check] = Field(min_length=1, description="The checks of this way, all of which must hold.")
+
+
+class AnyOfChecks(RootModel[list[AnyOf]]):
+    """The ways of an ``any_of`` check (at least two); one of them must hold, all its checks together."""
+
+    @model_validator(mode="after")
+    def _ways(self) -> AnyOfChecks:
+        if len(self.root) < 2:
+            raise ValueError("'any_of' needs at least two ways (each an 'all_of' list of checks)")
+        for way in self.root:
+            for check in way.all_of:
+                if check.judge is not None:
+                    raise ValueError(
+                        "a judge check cannot stand inside 'any_of' (the judge is asked for the goals' own "
+                        "judge checks): put it beside the any_of, 'optional: true' if it may be absent"
+                    )
+        return self
+
+
+Check.model_rebuild()
 
 CHECK_FORM_KEYS: tuple[str, ...] = tuple(name for name in Check.model_fields if name != "description")
 """The forms of check, by their keys: the fields of :class:`Check` but its description. Each form's rule

@@ -400,26 +400,35 @@ class _Validator:
                     "nothing meets it: add a check of what must be there",
                 )
             for index, check in enumerate(goal.checks):
-                where: Path = ("goals", number, "checks", index, check.form)
-                if check.action is not None:
-                    yield from self._pattern(check.action, where)
-                elif check.no_action is not None:
-                    yield from self._pattern(check.no_action, where)
-                elif check.judge is not None:
-                    yield from self._pattern(check.judge.action, (*where, "action"))
-                    told = check.judge.action.to is not None and check.judge.field in (
-                        "content",
-                        "attachments",
+                yield from self._check(check, ("goals", number, "checks", index))
+
+    def _check(self, check: Check, at: Path) -> Iterator[Problem]:
+        """The problems of one check at ``at``; an ``any_of`` check's ways, each of their checks."""
+        where: Path = (*at, check.form)
+        if check.any_of is not None:
+            for way_number, way in enumerate(check.any_of.root):
+                for option_number, option in enumerate(way.all_of):
+                    yield from self._check(option, (*where, way_number, "all_of", option_number))
+            return
+        if check.action is not None:
+            yield from self._pattern(check.action, where)
+        elif check.no_action is not None:
+            yield from self._pattern(check.no_action, where)
+        elif check.judge is not None:
+            yield from self._pattern(check.judge.action, (*where, "action"))
+            told = check.judge.action.to is not None and check.judge.field in (
+                "content",
+                "attachments",
+            )
+            for spec in [] if told else self._pattern_specs(check.judge.action):
+                if check.judge.field not in spec.params.model_fields:
+                    yield Problem(
+                        (*where, "field"),
+                        f"'{check.judge.field}' is not an argument of {spec.qualified_name} "
+                        f"({', '.join(spec.params.model_fields)})",
                     )
-                    for spec in [] if told else self._pattern_specs(check.judge.action):
-                        if check.judge.field not in spec.params.model_fields:
-                            yield Problem(
-                                (*where, "field"),
-                                f"'{check.judge.field}' is not an argument of {spec.qualified_name} "
-                                f"({', '.join(spec.params.model_fields)})",
-                            )
-                elif check.state is not None:
-                    yield from self._state(check.state, where)
+        elif check.state is not None:
+            yield from self._state(check.state, where)
 
     def _allowed_changes(self) -> Iterator[Problem]:
         apps = self.scenario.all_apps
