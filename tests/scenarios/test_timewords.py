@@ -309,3 +309,9 @@ def test_a_dotted_date_needs_its_year_so_a_time_stays_a_time() -> None:
 def test_a_word_time_before_an_adverb_is_still_a_time() -> None:
     assert _times("I'll be home by half seven anyway.") == [{"07:30", "19:30"}]
     assert _times("five to ten people") == []  # a number that counts is still no time
+
+
+def test_an_hour_and_its_minutes_in_words_are_a_time() -> None:
+    assert _times("see you at ten thirty") == [{"10:30", "22:30"}]
+    assert _times("six fifteen tonight") == [{"18:15"}]
+    assert _times("ten thirty-minute slots") == []  # a count of slots, not a time

@@ -171,6 +171,17 @@ _HOUR_BEFORE_PERIOD = re.compile(
     _NOT_A_PRICE + _WORD_START + _HOUR + r"(?:[:.](\d{2}))?(?=" + _PERIOD + ")", re.I
 )
 """"8 in the evening", "nine tonight": an hour read as one only because a part of the day follows."""
+_WORD_CLOCK = re.compile(
+    _WORD_START
+    + r"("
+    + "|".join(_HOUR_WORDS)
+    + r")\s+(fifteen|thirty|forty[\s-]?five)"
+    + _WORD_END
+    + r"(?![\s-]+(?:minutes?|mins?|years?|pounds?|quid|dollars?|euros?|people|guests|of)\b)",
+    re.I,
+)
+""""ten thirty", "six fifteen", "seven forty-five": an hour and its minutes in words (not "ten thirty-minute
+slots" or "six fifteen-year-olds")."""
 _NAMED_TIME = re.compile(_WORD_START + r"(noon|midday|midnight)" + _WORD_END, re.I)
 
 _WEEKDAY_TO_DATE = re.compile(r"[\s,.]*(?:the\s+)?", re.I)
@@ -363,6 +374,7 @@ _HINTS: dict[re.Pattern[str], tuple[str, ...]] = {
     _HOUR_SUFFIX: ("am", "a.m", "pm", "p.m", "o'clock"),
     _AT_HOUR: ("at", "from", "by", "around", "until", "till"),
     _NAMED_TIME: ("noon", "midday", "midnight"),
+    _WORD_CLOCK: ("fifteen", "thirty", "forty"),
     _FULL_WEEKDAY: ("day",),
     _SHORT_WEEKDAY: ("mon", "tue", "wed", "thu", "fri", "sat", "sun"),
     _RELATIVE_DAY: ("tomorrow", "today", "tonight", "this", "yesterday", "last night"),
@@ -571,6 +583,10 @@ class _Reading:
                 continue
             said = (match.group(2) or "").lower()
             minutes = {"": 0, "fifteen": 15, "thirty": 30}.get(said, 45)
+            self.add(match.span(), times=_clock_readings(_hour_number(match.group(1)), minutes, None))
+        for match in self.scan(_WORD_CLOCK):
+            said = " ".join(match.group(2).lower().replace("-", " ").split())
+            minutes = {"fifteen": 15, "thirty": 30}.get(said, 45)
             self.add(match.span(), times=_clock_readings(_hour_number(match.group(1)), minutes, None))
         for match in self.scan(_NAMED_TIME):
             self.add(
