@@ -315,3 +315,12 @@ def test_an_hour_and_its_minutes_in_words_are_a_time() -> None:
     assert _times("see you at ten thirty") == [{"10:30", "22:30"}]
     assert _times("six fifteen tonight") == [{"18:15"}]
     assert _times("ten thirty-minute slots") == []  # a count of slots, not a time
+
+
+def test_a_date_with_its_month_stands_whatever_weekday_is_written_with_it() -> None:
+    june_14 = datetime(2025, 6, 14, 9, 0, tzinfo=UTC)
+    assert _days("Friday 16 June", june_14) == [
+        {date(2025, 6, 16), date(2026, 6, 16)}
+    ]  # not moved to a Friday
+    assert _days("Sunday 15th", june_14) == [{date(2025, 6, 15)}]  # an ordinal after a weekday is a date
+    assert _days("Freddie's 7th birthday", june_14) == []  # an ordinal alone is not

@@ -325,6 +325,14 @@ def _weekday_readings(anchor: date, weekday: int, qualifier: str) -> frozenset[d
     return frozenset({first})
 
 
+_MONTH_IN = re.compile(_WORD_START + _MONTH_WORD + _WORD_END, re.I)
+_DIGIT_DATE = re.compile(r"\d[/.-]\d")
+"""A date written with its month: in words ("16 June") or in digits ("16/06", "2025-06-16")."""
+_BARE_NTH = re.compile(r"(?<![\w/.:])(\d{1,2})(?:st|nd|rd|th)" + _WORD_END, re.I)
+_AFTER_WEEKDAY = re.compile(
+    r"(?:" + "|".join(_WEEKDAYS) + "|" + "|".join(_WEEKDAY_ABBREVIATIONS) + r")\.?,?\s+$", re.I
+)
+"""A weekday just before a bare ordinal: "Sunday 19th" dates the 19th as "Sunday the 19th" does."""
 _SENTENCE_END = re.compile(r"[!?\n]|\.(?=\s|$)")
 """Where a sentence ends, for a bare "the 5th" that takes its month from a date before it."""
 
@@ -363,6 +371,7 @@ _HINTS: dict[re.Pattern[str], tuple[str, ...]] = {
     _DAY_MONTH: (_DIGIT_NEEDED,),
     _MONTH_DAY: (_DIGIT_NEEDED,),
     _THE_NTH: (_DIGIT_NEEDED,),
+    _BARE_NTH: (_DIGIT_NEEDED,),
     _SLASH_DATE: (_DIGIT_NEEDED,),
     _DOTTED_DATE: (_DIGIT_NEEDED,),
     _CLOCK: (_DIGIT_NEEDED,),
@@ -441,6 +450,13 @@ class _Reading:
         for match in self.scan(_DOTTED_DATE):
             day, month, year = int(match.group(1)), int(match.group(2)), match.group(3)
             self.add(match.span(), _year_readings(today, month, day, year))
+        for match in self.scan(_BARE_NTH):
+            if _AFTER_WEEKDAY.search(self.text, max(0, match.start() - 12), match.start()):
+                day = int(match.group(1))
+                self.add(
+                    match.span(),
+                    {d for d in [_next_nth(today, day)] if d} | self._month_before(match.start(), day),
+                )
         for match in self.scan(_SLASH_DATE):
             first, second, year = int(match.group(1)), int(match.group(2)), match.group(3)
             self.add(
@@ -498,7 +514,12 @@ class _Reading:
         """
         start, stop, mention = self.taken[position]
         fitting = {day for day in mention.days if day.weekday() == weekday}
-        if not fitting and len({day.day for day in mention.days}) == 1:
+        month_said = _MONTH_IN.search(self.text, start, stop) is not None or _DIGIT_DATE.search(
+            self.text, start, stop
+        )
+        # a date whose month is written stands, even on another weekday: "Friday 16 June" is 16 June (a
+        # wrong weekday is the writer's slip, the date is what a check must read)
+        if not fitting and not month_said and len({day.day for day in mention.days}) == 1:
             nth = next(iter(mention.days)).day
             month = self.today.replace(day=1)
             starts = [
