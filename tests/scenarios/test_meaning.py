@@ -453,3 +453,10 @@ def test_nothing_and_none_negate_their_clause() -> None:
     assert not affirms("Nothing critical in the results", "critical")
     assert not affirms("none of it is urgent", "urgent")
     assert affirms("Thursday works, nothing else planned", "thursday")  # only its own clause
+
+
+def test_cant_wait_is_eager_but_cant_wait_till_refuses_the_wait() -> None:
+    from pare.scenarios.meaning import affirms
+
+    assert affirms("Can't wait to see you on Thursday", "thursday")
+    assert not affirms("It can't wait till February", "february")

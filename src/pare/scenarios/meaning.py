@@ -431,8 +431,10 @@ the message then turns one option down and is not a refusal as a whole."""
 
 
 _FRIENDLY_IDIOMS = re.compile(
-    r"(?<![^\W\d_])(no problem|no worries|not a problem|no trouble|no rush|no hurry|never mind|can't wait|"
-    r"cannot wait|don't hesitate|no later than|not later than|no more than|no matter|not only|"
+    r"(?<![^\W\d_])(no problem|no worries|not a problem|no trouble|no rush|no hurry|never mind|"
+    # eagerness, not a refusal ("can't wait to see you"); but "it can't wait till Friday" refuses the wait
+    r"(?:can't|cannot)\s+wait(?!\s+(?:till|until|til|for|any))|"
+    r"don't hesitate|no later than|not later than|no more than|no matter|not only|"
     # reminders that affirm what they remind of: "don't forget games night Thursday at 19:00"
     r"(?:don't|do not|dont)\s+(?:forget|be late)|"
     # thanks, not a hedge: "not sure what I'd have done otherwise", "don't know what we would do without you"
