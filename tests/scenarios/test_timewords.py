@@ -324,3 +324,9 @@ def test_a_date_with_its_month_stands_whatever_weekday_is_written_with_it() -> N
     ]  # not moved to a Friday
     assert _days("Sunday 15th", june_14) == [{date(2025, 6, 15)}]  # an ordinal after a weekday is a date
     assert _days("Freddie's 7th birthday", june_14) == []  # an ordinal alone is not
+
+
+def test_a_word_time_before_what_it_times_is_still_a_time() -> None:
+    assert _times("the ten to six slot") == [{"05:50", "17:50"}]
+    assert _times("the half seven train") == [{"07:30", "19:30"}]
+    assert _times("at one point") == []  # "one" counts a point here

@@ -103,7 +103,8 @@ _COUNTED = (
     r"\s+(?!(?:am|pm|a\.m|p\.m|o'clock|on|at|in|this|tomorrow|today|tonight|next|works?|is|suits?|would|should|"
     r"could|that|then|please|if|for|or|and|but|so|ok|okay|fine|sharp|latest|the|to|with|instead|thanks|thank|"
     r"see|cheers|as|we|i|you|anyway|anyhow|though|too|also|maybe|probably|hopefully|earliest|ish|yeah|yes|"
-    r"tomorrow|sat|sun|mon|tue|wed|thu|fri|now|again|instead)\b)[a-z]"
+    r"tomorrow|sat|sun|mon|tue|wed|thu|fri|now|again|instead|slots?|appointments?|bookings?|trains?|bus|"
+    r"meetings?|sessions?|class|call|viewing|showing|one|option|start|kick-?off)\b)[a-z]"
 )
 """A word after a number that says the number counts something ("between 2 and 4 guests", "at one point"),
 so it is not an hour."""
