@@ -30,7 +30,7 @@ from tests.scenarios.helpers import base, parse
 
 
 def test_every_form_of_check_is_registered_with_the_model_of_its_field() -> None:
-    assert tuple(CHECK_FORMS) == CHECK_FORM_KEYS == ("action", "no_action", "state", "judge")
+    assert tuple(CHECK_FORMS) == CHECK_FORM_KEYS == ("action", "no_action", "state", "judge", "any_of")
     for key, form in CHECK_FORMS.items():
         assert form.key == key
         assert typing.get_args(Check.model_fields[key].annotation) == (form.model, type(None))
