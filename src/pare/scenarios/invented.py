@@ -7,8 +7,8 @@ is read with :func:`pare.scenarios.fact_details.details`, and a detail of a read
 ``date``, ``money``, ``phone``, ``url``, ``email``) that no allowed source states is *invented* and fails
 the episode, named in the verdict.
 
-**What is read:** the text fields (:data:`TEXT_FIELDS`) of the assistant's successful calls to the apps,
-also inside a dict argument (an edit's ``updates``): messages, emails, replies, a forward's own words,
+**What is read:** the text fields (:data:`WRITTEN_TEXT_FIELDS`) of the assistant's successful calls to the
+apps, also inside a dict argument (an edit's ``updates``): messages, emails, replies, a forward's own words,
 titles, descriptions, notes, locations, payment references. Only the assistant's own words: the part of a
 text below a forward rule and ``>`` lines are quoted (:func:`pare.scenarios.fact_details.own_words`). What
 it says to the user through ``agent_ui`` is not read (the user can ask).
@@ -45,16 +45,17 @@ from decimal import Decimal, InvalidOperation
 from typing import Any, get_args
 
 from pare.scenarios.fact_details import AllowedDetails, Detail, Kind, details, excerpt, own_words
+from pare.scenarios.item_text import TEXT_FIELDS as ITEM_TEXT_FIELDS
 from pare.scenarios.model import Scenario
 from pare.scenarios.times import TimeFormatError, parse_time
 from pare.sim.log import LogEntry
 
-TEXT_FIELDS: frozenset[str] = frozenset(
-    {"content", "body", "subject", "title", "description", "notes", "note", "location", "message", "text",
-     "reason", "reference", "group_title", "headline"}
-)  # fmt: skip
-"""Argument and item fields that hold free text: what the assistant writes there is read; what the final
-state holds there is not a value the episode set."""
+WRITTEN_TEXT_FIELDS: frozenset[str] = frozenset(ITEM_TEXT_FIELDS) | {
+    "body", "note", "message", "text", "reason", "reference", "group_title", "headline"
+}  # fmt: skip
+"""Argument and item fields that hold free text (an item's text fields and the free-text arguments of
+calls): what the assistant writes there is read; what the final state holds there is not a value the
+episode set."""
 
 _TARGET_FIELDS = ("recipients", "recipient", "to", "user_id", "user_ids", "participant_ids",
                   "conversation_id", "email_id", "event_id", "reminder_id", "note_id", "path",
@@ -220,16 +221,16 @@ def _invented(entry: LogEntry, field: str, detail: Detail, words: str) -> Invent
 
 def assistant_texts(entry: LogEntry) -> Iterator[tuple[str, str]]:
     """(field, text) for each free text a log entry has the assistant write into the apps: the
-    :data:`TEXT_FIELDS` of a successful write's arguments, also one level inside a dict argument.
+    :data:`WRITTEN_TEXT_FIELDS` of a successful write's arguments, also one level inside a dict argument.
     """
     if entry.actor != "assistant" or not entry.ok or entry.kind != "write" or entry.app in _CONTROL_APPS:
         return
     for name, value in entry.args.items():
-        if isinstance(value, str) and name in TEXT_FIELDS and value.strip():
+        if isinstance(value, str) and name in WRITTEN_TEXT_FIELDS and value.strip():
             yield name, value
         elif isinstance(value, Mapping):
             for inner, text in value.items():
-                if isinstance(text, str) and inner in TEXT_FIELDS and text.strip():
+                if isinstance(text, str) and inner in WRITTEN_TEXT_FIELDS and text.strip():
                     yield f"{name}.{inner}", text
 
 
@@ -265,7 +266,7 @@ def _allow_values(allowed: AllowedDetails, value: Any, anchor: datetime, *, text
             if moment is not None:
                 allowed.add_readings("time", {moment.time().replace(tzinfo=None)})
                 allowed.add_readings("date", {moment.date(), ("weekday", moment.weekday())})
-            elif texts or key not in TEXT_FIELDS:
+            elif texts or key not in WRITTEN_TEXT_FIELDS:
                 strings.append(leaf)
         elif isinstance(leaf, int | float) and not isinstance(leaf, bool) and _is_money(key):
             amount = _amount(leaf, cents=key.endswith("cents"))
