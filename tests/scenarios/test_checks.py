@@ -469,3 +469,11 @@ def test_any_of_is_checked_at_load_like_its_checks(checks: list[dict[str, Any]],
 
     with pytest.raises((ScenarioError, ValueError), match=message):
         parse(_with_checks({"any_of": checks}))
+
+
+def test_fields_read_inside_any_of_count_as_read() -> None:
+    from pare.scenarios.unjudged import _fields_read
+
+    inside = {"state": {"path": "calendar.events", "where": {"location": {"contains": "hall"}}, "count": 0}}
+    scenario = parse(_with_checks({"any_of": [{"all_of": [REPLIED]}, {"all_of": [inside]}]}))
+    assert "location" in _fields_read(scenario)["calendar"]

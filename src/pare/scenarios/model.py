@@ -12,7 +12,7 @@ import functools
 import hashlib
 import json
 import re
-from collections.abc import Callable, Hashable, Mapping
+from collections.abc import Callable, Hashable, Iterator, Mapping
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from typing import TYPE_CHECKING, Annotated, Any, Literal, Self, TypeVar
@@ -514,6 +514,15 @@ class Check(_Strict):
         """The check's part of its form (``self.action`` for an action check, ...)."""
         body: BaseModel = getattr(self, self.form)
         return body
+
+    def leaves(self) -> Iterator[Check]:
+        """The checks that read the apps: the check itself, or for an ``any_of`` those of its ways."""
+        if self.any_of is None:
+            yield self
+            return
+        for way in self.any_of.root:
+            for check in way.all_of:
+                yield from check.leaves()
 
 
 class AnyOf(_Strict):

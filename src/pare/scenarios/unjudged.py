@@ -133,7 +133,7 @@ def _fields_read(scenario: Scenario) -> dict[str, set[str]]:
     """Per app, the item fields some check reads (``*``: all of them)."""
     read: dict[str, set[str]] = {}
     for goal in scenario.goals:
-        for check in goal.checks:
+        for check in (leaf for top in goal.checks for leaf in top.leaves()):  # an any_of's ways read too
             if check.state is not None:
                 app = check.state.path.split(".", 1)[0]
                 if "value" in check.state.model_fields_set:
