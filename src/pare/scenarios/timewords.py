@@ -515,24 +515,17 @@ class _Reading:
         """
         start, stop, mention = self.taken[position]
         fitting = {day for day in mention.days if day.weekday() == weekday}
-        month_said = _MONTH_IN.search(self.text, start, stop) is not None or _DIGIT_DATE.search(
-            self.text, start, stop
+        month_said = bool(
+            _MONTH_IN.search(self.text, start, stop) or _DIGIT_DATE.search(self.text, start, stop)
         )
         # a date whose month is written stands, even on another weekday: "Friday 16 June" is 16 June (a
         # wrong weekday is the writer's slip, the date is what a check must read)
         if not fitting and not month_said and len({day.day for day in mention.days}) == 1:
             nth = next(iter(mention.days)).day
-            month = self.today.replace(day=1)
-            starts = [
-                month,
-                (month + timedelta(days=32)).replace(day=1),
-                (month - timedelta(days=1)).replace(day=1),
-            ]
-            for first in starts:  # this month, the next, the last
-                found = _safe_date(first.year, first.month, nth)
-                if found is not None and found.weekday() == weekday:
-                    fitting = {found}
-                    break
+            candidates = (_nth_of_month(self.today, nth, which) for which in ("this", "next", "last"))
+            fitting = next(
+                ({day} for day in candidates if day is not None and day.weekday() == weekday), set()
+            )
         if not fitting or fitting == set(mention.days):
             return
         agreed = Mention(mention.start, frozenset(fitting), mention.times)
