@@ -157,3 +157,28 @@ def test_the_opt_out_needs_a_reason() -> None:
     data["goals"][0]["checks"].append({"judge": {**judged, "facts": ["A fact."], "other_details": ""}})
     with pytest.raises(ScenarioError, match="other_details: String should have at least 1 character"):
         parse(data)
+
+
+def test_a_held_out_probe_teaches_the_rule_nothing() -> None:
+    judged: dict[str, Any] = {
+        "criterion": "says yes to lunch on Thursday at 12:30",
+        "action": {"tool": "email__reply_to_email"},
+        "fallback": {"contains": "thursday"},
+        "facts": ["Lunch is on Thursday at 12:30."],
+    }
+    data = base()
+    data["goals"] = [{"id": "g", "description": "goal", "checks": [{"judge": judged}]}]
+    data["oracle"]["interventions"][0]["actions"][0]["args"]["content"] = "Thursday at 12:30 works!"
+    probe = copy.deepcopy(data["oracle"]["interventions"])
+    probe[0]["actions"][0]["args"]["content"] = "Thursday at 1:30 works!"
+    result = _probe(data, "Thursday at 1:30 works!")
+    log, state = result.env.log.entries, result.env.snapshot()
+
+    # a passing variant is a right solution by definition: the details it states are allowed ...
+    data["variants"] = [{"id": "later", "expect": "pass", "why": "w", "interventions": probe}]
+    assert evaluate(parse(data), log, state).success
+    # ... a reviewer's held-out probe is judged as a real assistant's text would be
+    data["variants"][0]["held_out"] = True
+    held_out = parse(data)
+    assert held_out.right_solutions() == [None]
+    assert not evaluate(held_out, log, state).success

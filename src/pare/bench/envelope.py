@@ -27,7 +27,7 @@ _KEPT = 4096
 
 def envelope_solutions(scenario: Scenario) -> list[str | None]:
     """The solutions whose changes make the envelope: the oracle (``None``) and each passing variant."""
-    return [None, *(variant.id for variant in scenario.variants if variant.expect == "pass")]
+    return scenario.right_solutions()
 
 
 async def expected_envelope(scenario: Scenario) -> Envelope:

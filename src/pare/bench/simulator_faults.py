@@ -121,9 +121,9 @@ def _solution_proposals(scenario: Scenario) -> tuple[list[str], list[tuple[str, 
         if variant.interventions is None:
             continue
         texts = [intervention.proposal for intervention in variant.interventions]
-        if variant.expect == "pass":
+        if variant.teaches:
             passing += texts
-        else:
+        elif variant.expect == "fail":
             failing += [(text, variant.fails) for text in texts]
     failing = [(text, fails) for text, fails in failing if text not in passing]
     return passing, failing

@@ -376,7 +376,7 @@ def solution_texts(scenario: Scenario, field_name: str) -> list[str]:
     """
     interventions = list(scenario.oracle.interventions)
     for variant in scenario.variants:
-        if variant.expect == "pass" and variant.interventions is not None:
+        if variant.teaches and variant.interventions is not None:
             interventions += variant.interventions
     texts: list[str] = []
     for intervention in interventions:

@@ -156,7 +156,7 @@ class ScenarioAllowed:
         for event in scenario.events:
             if event.judge is not None:
                 allowed.add(event.judge.facts)
-        for name in (None, *(variant.id for variant in scenario.variants if variant.expect == "pass")):
+        for name in scenario.right_solutions():
             for intervention in scenario.solution(name).interventions:
                 allowed.add((intervention.proposal, intervention.report))
                 for action in intervention.actions:

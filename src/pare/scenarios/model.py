@@ -783,6 +783,18 @@ class Variant(_Strict):
         "back), each with why that is fine. The gate fails a passing variant that the world answered with "
         "an 'otherwise' branch not named here.",
     )
+    held_out: bool = Field(
+        default=False,
+        description="A reviewer's probe, not one of the scenario's solutions: it is judged like any variant, "
+        "but a passing one teaches the checks nothing (the details its texts state are not allowed by that, "
+        "its changes do not widen the side-effect envelope, the strict user does not learn its proposals), "
+        "so its verdict is the one a real assistant doing the same would get.",
+    )
+
+    @property
+    def teaches(self) -> bool:
+        """Whether this variant is one of the scenario's right solutions, which define what is allowed."""
+        return self.expect == "pass" and not self.held_out
 
     @model_validator(mode="after")
     def _differs(self) -> Variant:
@@ -1007,6 +1019,12 @@ class Scenario(_Strict):
                 )
                 return Solution(candidate.id, tuple(user), tuple(interventions))
         raise KeyError(variant)
+
+    def right_solutions(self) -> list[str | None]:
+        """The solutions that define what is right: the oracle (``None``) and each passing variant that is
+        not a held-out probe, in the scenario's order.
+        """
+        return [None, *(variant.id for variant in self.variants if variant.teaches)]
 
     def by_hand(self) -> Solution:
         """The user doing the task alone through the screens (no interventions)."""

@@ -186,7 +186,7 @@ class StrictOracleUser(OracleUser):
 
     def __init__(self, scenario: Scenario, solution: Solution | None = None) -> None:
         super().__init__(scenario, solution)
-        passing = [None, *(variant.id for variant in scenario.variants if variant.expect == "pass")]
+        passing = scenario.right_solutions()
         self.right = frozenset(i.proposal for name in passing for i in scenario.solution(name).interventions)
 
     async def step(self, view: UserView, previous: ToolResult | None) -> Action:

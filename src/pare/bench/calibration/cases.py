@@ -100,7 +100,7 @@ def calibration_cases(
 
 def _right_proposals(scenario: Scenario) -> frozenset[str]:
     """The proposal texts of every right solution: the oracle and the passing variants."""
-    passing = [None, *(variant.id for variant in scenario.variants if variant.expect == "pass")]
+    passing = scenario.right_solutions()
     return frozenset(i.proposal for name in passing for i in scenario.solution(name).interventions)
 
 
