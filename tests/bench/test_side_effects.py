@@ -230,6 +230,16 @@ def test_the_envelope_keeps_the_fields_each_edit_may_write() -> None:
     assert envelope.unexpected([Change("contacts", "contacts", "changed", "c1", fields=("phone",))]) == []
 
 
+def test_an_items_text_fields_are_one_text_for_the_envelope() -> None:
+    # the solutions mark the event off in its title; marking it in its description is the same edit
+    envelope = Envelope.of([[Change("calendar", "events", "changed", "ev1", fields=("title",))]])
+    described = Change("calendar", "events", "changed", "ev1", fields=("description", "notes"))
+    assert envelope.unexpected([described]) == []
+    moved = Change("calendar", "events", "changed", "ev1", fields=("description", "start_datetime"))
+    (extra,) = envelope.unexpected([moved])
+    assert extra.fields == ("start_datetime",)
+
+
 @pytest.mark.parametrize(
     ("extra", "named"),
     [

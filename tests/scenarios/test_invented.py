@@ -7,7 +7,8 @@ from typing import Any
 
 import pytest
 
-from pare.scenarios.invented import invented_details
+from pare.scenarios.fact_details import AllowedDetails
+from pare.scenarios.invented import done_values, invented_details
 from pare.scenarios.loader import ScenarioError
 from pare.scenarios.model import Scenario
 from pare.sim.log import Actor, LogEntry
@@ -204,3 +205,19 @@ def test_a_scenario_may_allow_a_kind_with_a_reason() -> None:
 def test_the_loader_refuses_a_bad_allowance(allowance: dict[str, Any], message: str) -> None:
     with pytest.raises(ScenarioError, match=message):
         tiny(invented_details=allowance)
+
+
+def test_what_the_assistant_did_is_no_stray_detail_but_what_it_read_is() -> None:
+    at = datetime(2025, 3, 3, 9, 0, tzinfo=UTC)
+    booked = LogEntry(
+        3, 1, at, "assistant", "cab", "order_ride", {"pickup_time": "2025-03-03T09:40:00"}, "write", True,
+        result={"ride_id": "r1", "fare": 18.5},
+    )  # fmt: skip
+    listed = LogEntry(2, 1, at, "assistant", "cab", "list_rides", {}, "read", True, result={"at": "11:15"})
+    done = done_values([listed, booked], at)
+    facts = AllowedDetails.of(["The appointment is at 10:30."], at, tuple)
+    text = "Your cab comes at 09:40 (fare £18.50), in time for 10:30"
+    assert facts.stray(text, at) is not None  # the facts alone do not give 09:40
+    assert facts.stray(text, at, also=done.allows_read) is None
+    # a value the assistant only read is not one it did
+    assert facts.stray("Your cab comes at 11:15", at, also=done.allows_read) is not None

@@ -118,6 +118,25 @@ def test_declines(text: str, declined: bool) -> None:
 
 
 @pytest.mark.parametrize(
+    ("text", "answers"),
+    [
+        ("Probably in, I'll confirm later!", False),
+        ("Thanks Jess! Can I let you know in the morning?", False),
+        ("I think the drive should be clear on Monday, but I'll confirm over the weekend", False),
+        ("Not sure yet, Thursday might work", False),
+        ("Yes, I'm in! Maybe we can share a cab", True),
+        ("Thursday at 7 works. I'll let you know when I'm on my way", True),
+        ("We're both coming - hopefully the sun shines for you!", True),
+        ("Hopefully see you soon! Thursday works", True),
+    ],
+)
+def test_a_hedge_is_no_answer_for_declines_false(text: str, answers: bool) -> None:
+    # a hedge neither refuses nor agrees: `declines: false` wants an answer, `declines: true` a refusal
+    assert compile_matcher({"declines": False}).test(text, START) is answers
+    assert not compile_matcher({"declines": True}).test(text, START)
+
+
+@pytest.mark.parametrize(
     ("text", "named"),
     [
         ("Thursday at 18:15 works for us.", True),

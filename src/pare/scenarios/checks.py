@@ -29,9 +29,9 @@ from pare.env.attribution import Attribution, StatePath, item_key, place_of
 from pare.errors import RunFailure, UserInputError, first_error
 from pare.scenarios import explain as explaining
 from pare.scenarios.excerpts import quote
-from pare.scenarios.fact_details import AllowedDetails, solution_texts
+from pare.scenarios.fact_details import AllowedDetails, Detail, solution_texts
 from pare.scenarios.file_identity import ATTACHMENT_FIELDS, FileIdentity
-from pare.scenarios.invented import InventedDetail
+from pare.scenarios.invented import InventedDetail, done_values
 from pare.scenarios.item_text import item_text
 from pare.scenarios.matchers import compile_matcher, written_at
 from pare.scenarios.model import (
@@ -405,7 +405,7 @@ CHECK_RAISED = "the check raised "
 class _Context:
     """What the checks of one evaluation read (a plain class: two are made for every evaluation)."""
 
-    __slots__ = ("answers", "attribution", "credit_user", "log", "reader", "start", "state")
+    __slots__ = ("_done", "answers", "attribution", "credit_user", "log", "reader", "start", "state")
 
     def __init__(
         self,
@@ -428,6 +428,13 @@ class _Context:
         """Reads the calls against the final state: whom each told, attached files by content."""
         self.credit_user = credit_user
         """Count the user's own work as the assistant's (to tell whether the user did the task by hand)."""
+        self._done: AllowedDetails | None = None
+
+    def done(self) -> AllowedDetails:
+        """The details of what the assistant did (its writes' values), read once per evaluation."""
+        if self._done is None:
+            self._done = done_values(self.log, self.start)
+        return self._done
 
     def makers(self, actor: Actor) -> frozenset[Actor]:
         if self.credit_user and actor == "assistant":
@@ -850,7 +857,7 @@ class _JudgeRule(Rule):
         detail = f"no judge model; fallback {self.fallback_text} {verdict} on {counted}"
         if passed and self.allowed is not None:  # as the judge would: a detail the facts lack fails
             strays = [
-                self._stray(text, at) if held else None
+                self._stray(text, at, context) if held else None
                 for text, at, held in zip(candidates, sent, holds, strict=False)
             ]
             if not any(held and stray is None for held, stray in zip(holds, strays, strict=True)):
@@ -872,15 +879,24 @@ class _JudgeRule(Rule):
         found = pattern.find(log, reader)
         return [e.index for e in found if judged_text(pattern.arguments(e, reader), field) is not None]
 
-    def _stray(self, text: str, sent: datetime) -> str | None:
-        """Why the facts rule rejects ``text`` sent at ``sent`` (a detail no allowed text gives), if so."""
+    def _stray(self, text: str, sent: datetime, context: _Context) -> str | None:
+        """Why the facts rule rejects ``text`` sent at ``sent`` (a detail neither an allowed text gives nor
+        the episode did: "your cab comes at 09:40" where the ride booked is at 09:40), if so.
+        """
         if self.allowed is None:
             return None
-        found = self.allowed.stray(text, sent)
+        found = self.allowed.stray(text, sent, also=partial(self._given_elsewhere, context))
         if found is None:
             return None
         detail, around = found
         return f"{quote(around)} states {detail.shown}, which the facts do not give"
+
+    @staticmethod
+    def _given_elsewhere(context: _Context, detail: Detail, sent: datetime) -> bool:
+        """Whether the assistant did what ``detail`` states (a text telling what was done states no detail
+        the facts contradict: whether it was right to do is the state checks' business).
+        """
+        return context.done().allows_read(detail, sent)
 
     def _holds(self, text: str, sent: datetime, start: datetime) -> bool:
         """Whether the fallback accepts ``text`` read as of ``sent`` (a text in parts: as of its first)."""

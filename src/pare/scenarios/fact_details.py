@@ -17,6 +17,9 @@ the facts state details of that kind and none of the allowed texts states this o
   a country code (:mod:`pare.scenarios.numbers`).
 * ``url`` and ``email``: compared without case, scheme, ``www.`` or a trailing slash; a link is also
   allowed when it is an allowed link without its query.
+* ``count`` and ``part_of_day``: a number tied to what it counts ("size twelve", "the 4th floor") and
+  "morning", "afternoon"... (:mod:`pare.scenarios.count_details`); read against a check's facts only,
+  never in everything the assistant writes (:data:`WORLD_KINDS`).
 
 The allowed texts are the facts, the criterion, and what the scenario's oracle and passing variants write
 (their interventions' proposals and reports, and the text field the check reads of every action they
@@ -36,11 +39,15 @@ from decimal import Decimal, InvalidOperation
 from functools import lru_cache
 from typing import Literal, cast
 
+from pare.scenarios.count_details import DURATIONS, counts, ordinal, parts_of_day, says_now, within
 from pare.scenarios.model import Scenario
 from pare.scenarios.numbers import names_number
 from pare.scenarios.timewords import mentions
 
-Kind = Literal["time", "date", "money", "phone", "url", "email"]
+Kind = Literal["time", "date", "money", "phone", "url", "email", "count", "part_of_day"]
+WORLD_KINDS: tuple[Kind, ...] = ("time", "date", "money", "phone", "url", "email")
+"""The kinds read in everything the assistant writes (:mod:`pare.scenarios.invented`): a count or a part of
+the day is often the assistant's own sum or summary, so those two are read against a check's facts only."""
 
 _FORWARD_RULE = re.compile(r"^-{3,}\s*Forwarded message\s*-{3,}\s*$", re.I | re.M)
 """Where a forward's own words end and the forwarded email begins (the email app writes this line)."""
@@ -241,7 +248,16 @@ def details(text: str, anchor: datetime) -> tuple[Detail, ...]:
     for detail in found:
         masked = masked[: detail.start] + " " * (detail.end - detail.start) + masked[detail.end :]
     masked = _ADDRESS.sub(lambda address: " " * len(address.group(0)), masked)
+    counted = list(counts(masked))
+    for one in counted:  # "the 4th floor" is no date
+        if ordinal(one):
+            masked = masked[: one.start] + " " * (one.end - one.start) + masked[one.end :]
     found += _time_and_date_details(masked, anchor)
+    found += (
+        Detail("count" if one.reading[0] == "count" else "part_of_day", frozenset(one.readings), one.shown,
+               one.start, one.end)
+        for one in (*counted, *parts_of_day(masked))
+    )  # fmt: skip
     return tuple(found)
 
 
@@ -259,6 +275,9 @@ class AllowedDetails:
     _allowed: dict[Kind, set[object]]
     _more: Callable[[], Sequence[str]] | None = None
     _texts: list[str] = field(default_factory=list)
+    counted: frozenset[str] = frozenset()
+    """The labels of the counts the facts give: only counts of these are checked ("2 tickets" is read only
+    where the facts count tickets)."""
     within_ranges: bool = True
     """Whether a time inside a range an allowed text gives is allowed ("between 9 and 10" allows 9:30)."""
 
@@ -267,7 +286,13 @@ class AllowedDetails:
         """The details ``facts`` give (read as of ``start``), with ``more`` to widen them when needed."""
         allowed = cls(start, frozenset(), {}, more)
         allowed._add(facts)
-        allowed.kinds = frozenset(allowed._allowed)
+        kinds = set(allowed._allowed)
+        if "time" in kinds:  # facts that give a time give its part of the day
+            kinds.add("part_of_day")
+        allowed.kinds = frozenset(kinds)
+        counted = allowed._allowed.get("count", set())
+        labels = frozenset(cast("tuple[str, tuple[str, str]]", one)[1][0] for one in counted)
+        allowed.counted = labels | DURATIONS if not labels.isdisjoint(DURATIONS) else labels
         return allowed
 
     @classmethod
@@ -304,6 +329,8 @@ class AllowedDetails:
         """
         if detail.kind not in self.kinds:
             return True
+        if detail.kind == "count" and self._label(detail) not in self.counted:
+            return True
         if self._given(detail, sent):
             return True
         if self._more is not None:  # widen once: the criterion and the solutions' texts
@@ -331,6 +358,15 @@ class AllowedDetails:
             return currency not in used and any(
                 isinstance(given, tuple) and given[1] == value for given in allowed
             )
+        if detail.kind == "part_of_day":  # named, or holding a time an allowed text gives
+            (reading,) = detail.readings
+            part = cast("tuple[str, str]", reading)[1]
+            times = self._allowed.get("time", set())
+            return any(
+                within(part, moment) if isinstance(moment, time) else within(part, moment[1])
+                for moment in times
+                if isinstance(moment, time) or (isinstance(moment, tuple) and len(moment) == 3)
+            ) or (says_now(detail.shown, 0) and within(part, sent.time()))
         if detail.kind == "phone":  # any grouping, with or without the country code
             return any(names_number(text, detail.shown) for text in self._texts)
         if detail.kind == "url":  # a link given without its query is the same link
@@ -341,17 +377,30 @@ class AllowedDetails:
             )
         return False
 
-    def stray(self, text: str, sent: datetime) -> tuple[Detail, str] | None:
+    @staticmethod
+    def _label(detail: Detail) -> str:
+        return cast("tuple[str, tuple[str, str]]", next(iter(detail.readings)))[1][0]
+
+    def stray(
+        self, text: str, sent: datetime, also: Callable[[Detail, datetime], bool] | None = None
+    ) -> tuple[Detail, str] | None:
         """The first detail of the assistant's own words in ``text`` (read as of ``sent``) that no allowed
-        text states, with the excerpt around it; ``None`` when every one is allowed.
+        text states (nor ``also`` allows, when given), with the excerpt around it; ``None`` when every one
+        is allowed.
         """
         if not self.kinds:
             return None
         words = own_words(text)
         for detail in sorted(details(words, sent), key=lambda found: found.start):
-            if not self.allows(detail, sent):
+            if not self.allows(detail, sent) and not (also is not None and also(detail, sent)):
                 return detail, excerpt(words, detail.start, detail.end)
         return None
+
+    def allows_read(self, detail: Detail, sent: datetime) -> bool:
+        """Whether ``detail`` is of a kind these details read and one they allow (a kind they do not read
+        is not allowed by them, unlike :meth:`allows`).
+        """
+        return detail.kind in self.kinds and self.allows(detail, sent)
 
 
 def excerpt(text: str, start: int, end: int, margin: int = 24) -> str:

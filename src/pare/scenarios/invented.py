@@ -42,9 +42,9 @@ from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from datetime import datetime
 from decimal import Decimal, InvalidOperation
-from typing import Any, get_args
+from typing import Any
 
-from pare.scenarios.fact_details import AllowedDetails, Detail, Kind, details, excerpt, own_words
+from pare.scenarios.fact_details import WORLD_KINDS, AllowedDetails, Detail, Kind, details, excerpt, own_words
 from pare.scenarios.item_text import TEXT_FIELDS as ITEM_TEXT_FIELDS
 from pare.scenarios.model import Scenario
 from pare.scenarios.times import TimeFormatError, parse_time
@@ -71,7 +71,7 @@ BOOKKEEPING: frozenset[str] = frozenset(
 """Fields that say when an item was written, not what it is about: no detail a text states comes from
 them (an email received at 10:00 does not make "the driver comes at 10am" true)."""
 _CONTROL_APPS = frozenset({"system", "agent_ui"})
-KINDS: tuple[Kind, ...] = get_args(Kind)
+KINDS: tuple[Kind, ...] = WORLD_KINDS
 _RELATIVE = re.compile(r"^\s*(?:day\b|[+-]\s*\d)")
 """A time written relative to the scenario's start (``day+1 09:00``, ``day 14:00``, ``+2h``)."""
 
@@ -250,6 +250,20 @@ def _episode_allowed(
             _allow_values(allowed, entry.args, entry.time)
     _allow_values(allowed, start, begin)
     _allow_values(allowed, final, begin, texts=False)
+    return allowed
+
+
+def done_values(log: Sequence[LogEntry], begin: datetime) -> AllowedDetails:
+    """The details of what the assistant did: the values of its successful writes and of what they
+    returned (the ride's time booked, the event's new start, an order's total), not their free text, of
+    the kinds read everywhere. A text that states one of them tells what was done, which is no invented
+    or contradicted detail: whether what was done is right is the business of the checks of the state.
+    """
+    allowed = AllowedDetails.of_texts((), begin, frozenset(KINDS))
+    for entry in log:
+        if entry.actor == "assistant" and entry.ok and entry.kind == "write":
+            _allow_values(allowed, entry.args, entry.time, texts=False)
+            _allow_values(allowed, entry.result, entry.time, texts=False)
     return allowed
 
 

@@ -568,6 +568,41 @@ def declines(text: str) -> bool:
     )
 
 
+_HEDGE = re.compile(
+    r"(?<![^\W\d_])(?:probably|maybe|perhaps|possibly|hopefully|tentative(?:ly)?|"
+    r"not (?:sure|certain)(?: yet)?|"
+    r"(?:i'll|i will|will|let me) (?:confirm|double-check|get back to you)(?! (?:that|the|your|my)\b)|"
+    r"let you know(?! (?:if|when|whether|once|as soon|how|what|where|who)\b)|"
+    r"i think (?:i|it|that|we|this)(?:'ll| will| should| might| could| can)|"
+    r"(?:i|we) (?:might|may) be able|should be able to)(?![^\W\d_])",
+    re.IGNORECASE,
+)
+"""What keeps an answer from being one: "probably", "I'll confirm later", "can I let you know in the
+morning?", "I think it should be clear" (but not "I'll let you know when I'm on my way")."""
+_FIRM = re.compile(
+    r"(?<![^\W\d_])(?:yes|yeah|yep|definitely|certainly|absolutely|count (?:me|us) in|i'm in|i am in|"
+    r"confirmed|see you|works|sounds (?:good|great|perfect)|(?:that's|is) (?:fine|perfect|great)|perfect|"
+    r"great|happy to|(?:i'll|i will|we'll) be there|i can make|can do|will do|booked|coming|attending|"
+    r"accept(?:ed)?|(?:love|delighted|glad) to|make it|on my way|done|agreed)(?![^\W\d_])",
+    re.IGNORECASE,
+)
+"""Words that make an answer firm: a clause with one and no hedge outweighs a hedge elsewhere ("Yes, I'm
+in! Maybe we can share a cab")."""
+
+
+@lru_cache(maxsize=4096)
+def hedge(text: str) -> str | None:
+    """The hedge that keeps ``text`` from being a firm answer, as written, or ``None``: some clause hedges
+    and no clause without a hedge answers firmly.
+    """
+    parts = [normalise_quotes(part) for part in clauses(text)]
+    found = next((match.group(0) for part in parts if (match := _HEDGE.search(part))), None)
+    if found is None:
+        return None
+    firm = any(_FIRM.search(part) and not _HEDGE.search(part) for part in parts)
+    return None if firm else found
+
+
 @dataclass(frozen=True, slots=True)
 class Refusal:
     """Why a text reads as a refusal, for explanations (:func:`refusal`)."""

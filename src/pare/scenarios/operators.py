@@ -217,7 +217,9 @@ def _read_negated(text: str, wanted: bool, start: datetime) -> bool:
 
 
 def _read_declines(text: str, wanted: bool, start: datetime) -> bool:
-    return meaning.declines(text) is wanted
+    if not wanted:  # an answer that does not refuse, and is one: a hedge neither refuses nor agrees
+        return not meaning.declines(text) and meaning.hedge(text) is None
+    return meaning.declines(text)
 
 
 def _read_day(text: str, expected: Any, start: datetime) -> bool:
@@ -535,7 +537,9 @@ for _operator in (
         "refuses, cancels or says something does not work, read as a whole ('Can't, sorry', 'No thanks', "
         "'I'll pass', 'no need, I have a taxi'), for true; does not, for false. Turning one option down "
         "and taking up another in a later clause ('12:00 won't work, so could I have 14:00?') is a "
-        "counter-offer, not a refusal",
+        "counter-offer, not a refusal. False also needs a firm answer: a hedged one ('probably', 'I'll "
+        "confirm later', 'can I let you know tomorrow?', with no firm 'yes' or 'count me in' beside it) "
+        "neither refuses nor agrees, so it meets neither",
         _reader(_read_declines),
         partial(_flag, "declines"),
         reads="text",

@@ -40,6 +40,7 @@ from typing import Any
 
 from pare.apps.harm import IRREVERSIBLE, Harm
 from pare.env.attribution import CONTROL_APPS, Attribution, item_key
+from pare.scenarios.item_text import TEXT_FIELDS
 from pare.scenarios.model import AllowedChange, ChangeKind
 from pare.scenarios.told import conversation_members, email_addressees
 from pare.sim.log import Actor
@@ -163,10 +164,15 @@ class Envelope:
         return cls(counts, MappingProxyType(fields))
 
     def _unlicensed_fields(self, change: Change) -> tuple[str, ...]:
-        """The fields ``change`` (an edit of an item the solutions edit) writes that no solution does."""
+        """The fields ``change`` (an edit of an item the solutions edit) writes that no solution does. An
+        item's text is all its text: where a solution rewrites one of its text fields (the title), writing
+        another (the description, the notes) is the same kind of edit, not a side effect.
+        """
         allowed = self.fields.get(change.key)
         if change.kind != "changed" or not allowed or not change.fields:
             return ()  # an edit whose fields are not known (a single value, an older envelope): the item
+        if not allowed.isdisjoint(TEXT_FIELDS):
+            allowed = allowed | frozenset(TEXT_FIELDS)
         return tuple(name for name in change.fields if name not in allowed)
 
     def unexpected(self, changes: Sequence[Change], allowed: Sequence[AllowedChange] = ()) -> list[Change]:

@@ -100,6 +100,9 @@ def why_declines_differs(text: str, wanted: bool, start: datetime) -> str:
     """``declines``: the clause that refuses (or takes up another option), or that none refuses."""
     found = meaning.refusal(text)
     if not wanted:
+        hedged = meaning.hedge(text)
+        if found is None and hedged is not None:
+            return f"it hedges ('{hedged}'), with no firm answer beside it: no answer yet"
         assert found is not None  # declines() held
         return f"it reads as a refusal: clause \"{excerpt(found.clause, (found.cue,))}\" has '{found.cue}'"
     if found is None:
