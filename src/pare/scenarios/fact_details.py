@@ -39,15 +39,17 @@ from decimal import Decimal, InvalidOperation
 from functools import lru_cache
 from typing import Literal, cast
 
+from pare.scenarios.code_details import codes, same_code, same_street, streets
 from pare.scenarios.count_details import DURATIONS, counts, ordinal, parts_of_day, says_now, within
 from pare.scenarios.model import Scenario
 from pare.scenarios.numbers import names_number
 from pare.scenarios.timewords import mentions
 
-Kind = Literal["time", "date", "money", "phone", "url", "email", "count", "part_of_day"]
+Kind = Literal["time", "date", "money", "phone", "url", "email", "count", "part_of_day", "code", "street"]
 WORLD_KINDS: tuple[Kind, ...] = ("time", "date", "money", "phone", "url", "email")
 """The kinds read in everything the assistant writes (:mod:`pare.scenarios.invented`): a count or a part of
-the day is often the assistant's own sum or summary, so those two are read against a check's facts only."""
+the day is often the assistant's own sum or summary, and a code or a street is often the world's: these
+four are read against a check's facts only."""
 
 _FORWARD_RULE = re.compile(r"^-{3,}\s*Forwarded message\s*-{3,}\s*$", re.I | re.M)
 """Where a forward's own words end and the forwarded email begins (the email app writes this line)."""
@@ -233,6 +235,11 @@ def _email_details(text: str) -> Iterable[Detail]:
         )
 
 
+def _blank(text: str, start: int, end: int) -> str:
+    """``text`` with ``text[start:end]`` blanked out (read already, as another kind of detail)."""
+    return text[:start] + " " * (end - start) + text[end:]
+
+
 @lru_cache(maxsize=4096)
 def details(text: str, anchor: datetime) -> tuple[Detail, ...]:
     """Every detail of a readable kind ``text`` states, its days read as of ``anchor``.
@@ -247,17 +254,27 @@ def details(text: str, anchor: datetime) -> tuple[Detail, ...]:
     found += [*_money_details(masked), *_phone_details(masked)]
     for detail in found:
         masked = masked[: detail.start] + " " * (detail.end - detail.start) + masked[detail.end :]
+    placed = list(streets(masked))
+    for street in placed:  # a house number is no hour, no count and no code
+        masked = _blank(masked, street.start, street.end)
     masked = _ADDRESS.sub(lambda address: " " * len(address.group(0)), masked)
     counted = list(counts(masked))
-    for one in counted:  # "the 4th floor" is no date
-        if ordinal(one):
-            masked = masked[: one.start] + " " * (one.end - one.start) + masked[one.end :]
-    found += _time_and_date_details(masked, anchor)
+    for count in counted:  # "the 4th floor" is no date
+        if ordinal(count):
+            masked = _blank(masked, count.start, count.end)
+    timed = list(_time_and_date_details(masked, anchor))
+    found += timed
     found += (
         Detail("count" if one.reading[0] == "count" else "part_of_day", frozenset(one.readings), one.shown,
                one.start, one.end)
         for one in (*counted, *parts_of_day(masked))
     )  # fmt: skip
+    found += (Detail("street", frozenset({one.reading}), one.shown, one.start, one.end) for one in placed)
+    for detail in (*timed, *(one for one in found if one.kind == "count")):  # "7pm", "2-bed" are no codes
+        masked = _blank(masked, detail.start, detail.end)
+    found += (
+        Detail("code", frozenset({one.reading}), one.shown, one.start, one.end) for one in codes(masked)
+    )
     return tuple(found)
 
 
@@ -367,6 +384,21 @@ class AllowedDetails:
                 for moment in times
                 if isinstance(moment, time) or (isinstance(moment, tuple) and len(moment) == 3)
             ) or (says_now(detail.shown, 0) and within(part, sent.time()))
+        if detail.kind == "code":  # "hx 20931" is HX-20931 read as two words: a part of 4 or more will do
+            (reading,) = detail.readings
+            code = cast("tuple[str, str]", reading)[1]
+            return any(
+                isinstance(given, tuple) and given[0] == "code" and same_code(given[1], code)
+                for given in allowed
+            )
+        if detail.kind == "street":  # the same street, with the same number where both give one
+            (reading,) = detail.readings
+            name, number = cast("tuple[str, tuple[str, str]]", reading)[1]
+            return any(
+                isinstance(given, tuple) and given[0] == "street" and same_street(given[1][0], name)
+                and (not number or not given[1][1] or given[1][1] == number)
+                for given in allowed
+            )  # fmt: skip
         if detail.kind == "phone":  # any grouping, with or without the country code
             return any(names_number(text, detail.shown) for text in self._texts)
         if detail.kind == "url":  # a link given without its query is the same link
