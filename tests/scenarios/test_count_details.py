@@ -82,3 +82,15 @@ def test_this_morning_is_allowed_when_sent_in_the_morning() -> None:
     assert _stray(TRIP, "I read your email this morning, Sunday works") is None
     evening = START.replace(hour=19)
     assert _stray(TRIP, "I read your email this afternoon, Sunday works", evening) == "this afternoon"
+
+
+@pytest.mark.parametrize(
+    ("text", "stray"),
+    [
+        ("The total is eighty-six pounds forty", None),
+        ("The total is ninety-six pounds forty", "ninety-six pounds forty"),
+        ("That's forty-eight dollars and forty-nine cents", "forty-eight dollars and forty-nine cents"),
+    ],
+)
+def test_amounts_in_words_are_amounts(text: str, stray: str | None) -> None:
+    assert _stray(["The claim totals £86.40."], text) == stray

@@ -35,6 +35,23 @@ _NUMBER = (
     rf"|(?:half\s+a\s+)?dozen|(?:(?:{_TENS})(?:[\s-](?:{_UNITS}|{_ORDINALS}))?|{_UNITS}|{_ORDINALS}))"
 )
 """A number as digits (with an ordinal's ending), in words ("twenty-one", "fourth") or as a dozen."""
+_BELOW_HUNDRED = rf"(?:(?:{_TENS})(?:[\s-](?:{_UNITS}))?|{_UNITS})"
+NUMBER_IN_WORDS = (
+    rf"(?:(?:a|{_BELOW_HUNDRED})\s+thousand(?:\s+(?:and\s+)?)?)?"
+    rf"(?:(?:a|{_UNITS})\s+hundred(?:\s+(?:and\s+)?)?)?{_BELOW_HUNDRED}"
+    rf"|(?:a|{_BELOW_HUNDRED})\s+(?:thousand|hundred)"
+)
+"""A whole number in words, up to the thousands ("ninety-six", "two hundred and forty", "a thousand")."""
+
+
+def words_value(written: str) -> int | None:
+    """The value of a whole number in words (see :data:`NUMBER_IN_WORDS`), read by ``text2num``."""
+    words = " ".join(written.lower().replace("-", " ").split())
+    if words.startswith("a "):
+        words = "one " + words[2:]
+    digits = alpha2digit(words, "en", threshold=0).strip()
+    return int(digits) if digits.isdigit() else None
+
 
 _BEFORE = (r"size|platform|gate|room|table\s+for|seat|row|unit|bay|locker|level|terminal|floor|pitch|"
            r"court|aisle|door|flat|apartment|house|stall|stand|desk|car|coach|carriage|berth|cabin|"

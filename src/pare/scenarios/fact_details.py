@@ -40,7 +40,16 @@ from functools import lru_cache
 from typing import Literal, cast
 
 from pare.scenarios.code_details import codes, same_code, same_street, streets
-from pare.scenarios.count_details import DURATIONS, counts, ordinal, parts_of_day, says_now, within
+from pare.scenarios.count_details import (
+    DURATIONS,
+    NUMBER_IN_WORDS,
+    counts,
+    ordinal,
+    parts_of_day,
+    says_now,
+    within,
+    words_value,
+)
 from pare.scenarios.model import Scenario
 from pare.scenarios.numbers import names_number
 from pare.scenarios.timewords import mentions
@@ -194,6 +203,29 @@ def _money_details(text: str) -> Iterable[Detail]:
             yield Detail("money", frozenset({(currency, value.normalize())}), shown, *match.span())
 
 
+_MONEY_IN_WORDS = re.compile(
+    rf"(?<![\w-])(?P<whole>{NUMBER_IN_WORDS})\s+(?P<unit>pounds?|quid|dollars?|bucks|euros?)"
+    rf"(?:\s+(?:and\s+)?(?P<cents>{NUMBER_IN_WORDS}|\d{{1,2}})(?:\s+(?:pence|p|cents?))?)?(?![\w-])",
+    re.I,
+)
+"""An amount in words: "ninety-six pounds forty", "forty-eight dollars and forty-nine cents"."""
+_WORD_CURRENCIES = {"pound": "GBP", "quid": "GBP", "dollar": "USD", "buck": "USD", "euro": "EUR"}
+
+
+def _money_in_words(text: str) -> Iterable[Detail]:
+    for match in _MONEY_IN_WORDS.finditer(text):
+        whole = words_value(match.group("whole"))
+        cents_written = match.group("cents")
+        cents = None if cents_written is None else (
+            int(cents_written) if cents_written.isdigit() else words_value(cents_written)
+        )  # fmt: skip
+        if whole is None or (cents_written is not None and (cents is None or cents > 99)):
+            continue
+        currency = _WORD_CURRENCIES[match.group("unit").lower().rstrip("s")]
+        value = (Decimal(whole) + Decimal(cents or 0) / 100).normalize()
+        yield Detail("money", frozenset({(currency, value)}), match.group(0), *match.span())
+
+
 def _decimal(whole: str, cents: str | None) -> Decimal:
     try:
         return Decimal(whole.replace(",", "") + (f".{cents}" if cents else ""))
@@ -251,7 +283,7 @@ def details(text: str, anchor: datetime) -> tuple[Detail, ...]:
     masked = text
     for detail in found:
         masked = masked[: detail.start] + " " * (detail.end - detail.start) + masked[detail.end :]
-    found += [*_money_details(masked), *_phone_details(masked)]
+    found += [*_money_details(masked), *_money_in_words(masked), *_phone_details(masked)]
     for detail in found:
         masked = masked[: detail.start] + " " * (detail.end - detail.start) + masked[detail.end :]
     placed = list(streets(masked))
