@@ -14,7 +14,7 @@ from pare.scenarios import OracleAssistant, OracleUser, Scenario, load_scenarios
 from pare.scenarios.loader import ScenarioError
 from pare.scenarios.model import OracleAction, Solution
 from pare.scenarios.side_effects import Change, Envelope
-from tests.scenarios.helpers import parse, sound
+from tests.scenarios.helpers import base, parse, sound
 
 LIBRARY = {scenario.id: scenario for scenario in load_scenarios()}
 
@@ -473,3 +473,21 @@ def test_more_of_an_item_than_any_solution_buys_is_a_side_effect_and_says_how_ma
     assert texts == [f"9 x new {item} in shopping.orders" + texts[0].split("shopping.orders", 1)[1]], texts
     assert not result.success
     assert result.to_dict()["outcome"]["side_effects"][0]["quantity"] == 9
+
+
+def test_an_optional_judge_check_allows_a_message_to_the_person_it_judges() -> None:
+    data = base()
+    judged = {
+        "criterion": "whatever Tom is told is true",
+        "action": {"to": "tom@mail.example"},
+        "fallback": {"not": {"contains": "cancelled"}},
+        "optional": True,
+    }
+    data["goals"][0]["checks"].append({"judge": judged})
+    scenario = parse(data)
+    envelope = Envelope.of([[]])
+    to_tom = Change("email", "emails", "sent", "tom reid", address="tom@mail.example")
+    to_ann = Change("email", "emails", "sent", "ann lee", address="ann@mail.example")
+    assert envelope.unexpected([to_tom, to_ann], scenario.change_allowances()) == [to_ann]
+    judged["optional"] = False  # a required message is the solutions' to send: nothing is implied
+    assert parse(data).change_allowances() == []

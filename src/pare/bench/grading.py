@@ -39,6 +39,6 @@ async def grade(
     changes = assistant_changes(start, final, attribution, harm_of=harm_by_index(log))
     if side_effects:
         envelope = await expected_envelope(scenario)
-        outcome = outcome.with_side_effects(envelope.unexpected(changes, scenario.allowed_changes))
+        outcome = outcome.with_side_effects(envelope.unexpected(changes, scenario.change_allowances()))
         outcome = outcome.with_invented(invented_details(scenario, log, start, final))
     return outcome, changes

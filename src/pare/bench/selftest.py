@@ -268,7 +268,7 @@ def check_scenario(
             continue
         result = details[name]
         result.outcome = result.outcome.with_side_effects(
-            envelope.unexpected(result.changes, scenario.allowed_changes)
+            envelope.unexpected(result.changes, scenario.change_allowances())
         ).with_invented(result.invented)
         verdict = _verdict(name, scenario, users[name], result, expected, why, fails.get(name, []))
         verdicts.append(_with_reactions(verdict, scenario, result, excused.get(name, frozenset())))
@@ -313,7 +313,7 @@ def _mutant_verdicts(
             yield MutantVerdict(mutant.name, mutant.expect, mutant.what, outcome, f"could not run: {error}")
             continue
         result = played[0]
-        side_effects = envelope.unexpected(result.changes, scenario.allowed_changes)
+        side_effects = envelope.unexpected(result.changes, scenario.change_allowances())
         outcome_ = result.outcome.with_side_effects(side_effects).with_invented(result.invented)
         reasons = [
             *(f"check failed: {check.goal}[{check.index}] {check.detail}" for check in outcome_.failures()),

@@ -1020,6 +1020,27 @@ class Scenario(_Strict):
                 return Solution(candidate.id, tuple(user), tuple(interventions))
         raise KeyError(variant)
 
+    def change_allowances(self) -> list[AllowedChange]:
+        """The changes allowed beyond the solutions': ``allowed_changes``, and a message to each person an
+        optional judge check reads what is sent to (by declaring what such a message must say, the check
+        declares that it may be sent, and judges it).
+        """
+        implied = [
+            AllowedChange(
+                app="any",
+                change="sent",
+                target=person,
+                reason=f"goal '{goal.id}' judges whatever is sent to {person} (an optional judge check)",
+            )
+            for goal in self.goals
+            for check in goal.checks
+            if check.judge is not None and check.judge.optional and check.judge.action.to is not None
+            for person in (
+                [check.judge.action.to] if isinstance(check.judge.action.to, str) else check.judge.action.to
+            )
+        ]
+        return [*self.allowed_changes, *implied]
+
     def right_solutions(self) -> list[str | None]:
         """The solutions that define what is right: the oracle (``None``) and each passing variant that is
         not a held-out probe, in the scenario's order.

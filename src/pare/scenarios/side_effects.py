@@ -24,8 +24,9 @@ Each change carries the harm class of the call that made it (:mod:`pare.apps.har
 the irreversible kind says so first: ``irreversible: sent to tom reid <user-tom> (...)``.
 
 The *envelope* is what the scenario's oracle and passing variants change (:class:`Envelope`, computed by
-playing them: :mod:`pare.bench.envelope`), widened by the scenario's ``allowed_changes``. A change outside
-it is a side effect and fails the episode: a change of an item, a removal or a person no solution
+playing them: :mod:`pare.bench.envelope`), widened by the scenario's ``allowed_changes`` and by a message to
+each person an optional judge check reads what is sent to (:meth:`Scenario.change_allowances`). A change
+outside it is a side effect and fails the episode: a change of an item, a removal or a person no solution
 touches, a new kind of item no solution adds, or more new items of one shape than any solution adds.
 """
 
