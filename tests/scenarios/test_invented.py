@@ -221,3 +221,28 @@ def test_what_the_assistant_did_is_no_stray_detail_but_what_it_read_is() -> None
     assert facts.stray(text, at, also=done.allows_read) is None
     # a value the assistant only read is not one it did
     assert facts.stray("Your cab comes at 11:15", at, also=done.allows_read) is not None
+
+
+def test_a_world_detail_of_a_kind_the_story_facts_give_must_be_theirs() -> None:
+    # the standup (day+1 09:30) gives 09:30; the story's facts say lunch is at 12:30
+    data = base()
+    data["goals"][0]["checks"].append(
+        {
+            "judge": {
+                "criterion": "says yes to Thursday's lunch",
+                "action": {"tool": "email__reply_to_email"},
+                "fallback": {"contains": "thursday"},
+                "facts": ["Lunch is on Thursday at 12:30."],
+                "optional": True,
+            }
+        }
+    )
+    scenario = parse(data)
+    note = {"title": "Lunch", "content": "Lunch with Ann at 09:30"}
+    (stated,) = invented_details(scenario, [entry("", app="notes", tool="create_note", args=note)], {}, {})
+    assert stated.shown == "9:30" and "which the story's facts do not give" in stated.describe()
+    assert (
+        found(scenario, entry("", app="notes", tool="create_note", args={"content": "Lunch at 12:30"})) == []
+    )
+    # where the story has no facts, a detail the world gives is allowed as before
+    assert found(tiny(), entry("", app="notes", tool="create_note", args=note)) == []

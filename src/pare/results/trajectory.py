@@ -260,9 +260,17 @@ class InventedRecord(_Verdict):
     tool: str = Field(default="", description="The call, as app__tool.")
     target: str = Field(default="", description="Where the text went, as the call names it.")
     field: str = Field(default="", description="The argument holding the text.")
-    kind: str = Field(default="", description="time, date, money, phone, url or email.")
+    kind: str = Field(
+        default="",
+        description="time, date, money, phone, url or email; also count, part_of_day, code, street.",
+    )
     shown: str = Field(default="", description="The detail as written.")
     excerpt: str = Field(default="", description="The words around it.")
+    against: str = Field(
+        default="nothing in the scenario",
+        description="What does not give it: nothing in the scenario, or the story's facts (a detail the "
+        "world gives somewhere, of a kind the facts give, that neither they nor a solution state).",
+    )
     text: str = ""
 
 

@@ -29,6 +29,13 @@ it says to the user through ``agent_ui`` is not read (the user can ask).
 A time is allowed only when a source names it: one inside a range a source gives is not (a delivery window
 of 08:00-18:00 does not give "the driver comes at 10am").
 
+**The story's facts.** A detail the world gives somewhere may still be the wrong one ("MOT at 9am", 09:00
+being another meeting of the seed). Where the scenario's judge checks have facts, a detail of a kind
+they give must also be one the facts, the criteria or the solutions' texts give, or one the assistant
+did (:func:`done_values`); otherwise it is named as one "the story's facts do not give"
+(:func:`story_details`). Counts, parts of the day, codes and streets, which the world is not read for,
+are read here.
+
 A datetime written as a value (``2025-06-02T10:00:00``) gives its day and its clock time; a number under
 a money-like key (``price``, ``total``, ``amount``...) gives that amount in any currency (``_cents``:
 divided by 100). A scenario whose story asks the assistant to compute new values opts out per kind with
@@ -93,6 +100,9 @@ class InventedDetail:
     """The detail as written ("10:00", "£1,642")."""
     excerpt: str
     """The words around it."""
+    against: str = "nothing in the scenario"
+    """What does not give it: nothing in the scenario (an invented detail), or the story's facts (a detail
+    the world gives somewhere, of a kind the facts give, that neither they nor a solution state)."""
 
     def describe(self) -> str:
         """One line: ``#14 messaging__send_message to user-jonas states 10:00, which nothing in the
@@ -100,8 +110,8 @@ class InventedDetail:
         """
         where = f" to {self.target}" if self.target else ""
         return (
-            f"#{self.order} {self.tool}{where} states {self.shown} in {self.field}, which nothing in the "
-            f'scenario gives ("{self.excerpt}")'
+            f"#{self.order} {self.tool}{where} states {self.shown} in {self.field}, which {self.against} "
+            f'{"do not give" if self.against.endswith("facts") else "gives"} ("{self.excerpt}")'
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -114,6 +124,7 @@ class InventedDetail:
             "kind": self.kind,
             "shown": self.shown,
             "excerpt": self.excerpt,
+            "against": self.against,
             "text": self.describe(),
         }
 
@@ -193,10 +204,19 @@ def invented_details(
     allowed = scenario_allowed(scenario)
     episode: AllowedDetails | None = None
     found: list[InventedDetail] = []
+    story = story_details(scenario)
+    done: AllowedDetails | None = None
     for entry, field, text in written:
         words = own_words(text)
         for detail in sorted(details(words, entry.time), key=lambda one: one.start):
             if allowed.allows(detail, entry.time):
+                # the world gives it, but where the story's facts give details of its kind, one that neither
+                # they nor the solutions give, nor what the assistant did, is a wrong detail ("MOT at 9am"
+                # in a reminder, 09:00 being the seed's planning meeting)
+                if story is not None and detail.kind in story.kinds and not story.allows(detail, entry.time):
+                    done = done or done_values(log, scenario.start)
+                    if not done.allows_read(detail, entry.time):
+                        found.append(_invented(entry, field, detail, words, against_facts=True))
                 continue
             if episode is None:  # most episodes' details are the scenario's: read the episode only if not
                 episode = _episode_allowed(scenario.start, kinds, log, start, final)
@@ -205,7 +225,41 @@ def invented_details(
     return found
 
 
-def _invented(entry: LogEntry, field: str, detail: Detail, words: str) -> InventedDetail:
+def story_details(scenario: Scenario) -> AllowedDetails | None:
+    """The details the story's facts allow (every judge check's and event judge's facts, widened by the
+    criteria and by every text the scenario's solutions write), or ``None`` when it has no facts.
+    """
+    facts = [fact for goal in scenario.goals for check in goal.checks if check.judge is not None
+             for fact in check.judge.facts]  # fmt: skip
+    if not facts:
+        return None
+
+    def more() -> list[str]:
+        texts = [check.judge.criterion for goal in scenario.goals for check in goal.checks if check.judge]
+        for name in scenario.right_solutions():
+            for intervention in scenario.solution(name).interventions:
+                texts += [intervention.proposal, intervention.report]
+                for action in intervention.actions:
+                    texts += [value for value in _strings(action.args)]
+        return texts
+
+    return AllowedDetails.of(facts, scenario.start, more)
+
+
+def _strings(value: Any) -> Iterator[str]:
+    if isinstance(value, str):
+        yield value
+    elif isinstance(value, Mapping):
+        for inner in value.values():
+            yield from _strings(inner)
+    elif isinstance(value, list):
+        for inner in value:
+            yield from _strings(inner)
+
+
+def _invented(
+    entry: LogEntry, field: str, detail: Detail, words: str, *, against_facts: bool = False
+) -> InventedDetail:
     target = next((entry.args[name] for name in _TARGET_FIELDS if entry.args.get(name)), "")
     shown_target = ", ".join(map(str, target)) if isinstance(target, list) else str(target)
     return InventedDetail(
@@ -216,6 +270,7 @@ def _invented(entry: LogEntry, field: str, detail: Detail, words: str) -> Invent
         detail.kind,
         detail.shown,
         excerpt(words, detail.start, detail.end),
+        "the story's facts" if against_facts else "nothing in the scenario",
     )
 
 
