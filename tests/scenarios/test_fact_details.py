@@ -90,6 +90,12 @@ def test_money_is_read_by_currency_and_value() -> None:
     assert _stray(["Half is $25.70."], "your half is $25.07") == "$25.07"
 
 
+def test_a_trunk_zero_in_brackets_is_the_same_number() -> None:
+    facts = ["Her new mobile is +31 6 4182 7390."]
+    assert _stray(facts, "Call her on +31 (0)6 41 82 73 90") is None
+    assert _stray(facts, "Call her on +31 (0)6 41 82 73 99") == "+31 (0)6 41 82 73 99"
+
+
 def test_phone_numbers_are_their_digits() -> None:
     facts = ["Call the clinic on 07700 900742."]
     assert _stray(facts, "ring them on 0770-090-0742") is None

@@ -479,3 +479,16 @@ def test_cant_wait_is_eager_but_cant_wait_till_refuses_the_wait() -> None:
 
     assert affirms("Can't wait to see you on Thursday", "thursday")
     assert not affirms("It can't wait till February", "february")
+
+
+@pytest.mark.parametrize(
+    ("text", "cut"),
+    [
+        ("Leave the key in the glovebox as Dockside can't test the brakes without it", True),
+        ("Don't bring the car since the garage is closed", True),
+        ("Send it as soon as you can", False),
+        ("Fine as long as it is before noon", False),
+    ],
+)
+def test_a_reason_with_its_own_subject_is_a_clause_of_its_own(text: str, cut: bool) -> None:
+    assert (len(clauses(text)) > 1) is cut

@@ -238,7 +238,9 @@ def _phone_details(text: str) -> Iterable[Detail]:
         written = match.group(0).strip()
         digits = re.sub(r"\D", "", written)
         if 9 <= len(digits) <= 15 and not _ISO_DATE.match(written) and "\n" not in written:
-            yield Detail("phone", frozenset({digits}), written, *match.span())
+            # "+31 (0)6 ...": the trunk zero in brackets is dialled at home only, so the number is both
+            trunk = {re.sub(r"\D", "", written.replace("(0)", ""))} if "(0)" in written else set()
+            yield Detail("phone", frozenset({digits, *trunk}), written, *match.span())
 
 
 def _url_key(url: str) -> str:

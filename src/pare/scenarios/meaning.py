@@ -462,10 +462,17 @@ _CONTRAST_BREAK = re.compile(
     r"(?!OK\b|I\b|A\b)(?:[A-Z]|\d+(?![\d.]*\s*%))"
 )
 """Where "not" sets one named thing against another inside a clause."""
-_REASON_BREAK = re.compile(r"\s(?=(?:because\s(?!of\b)|(?:as|so)\s+(?:i|we)(?:'|\s)))", re.IGNORECASE)
+_REASON_BREAK = re.compile(
+    # "as soon as you can", "as long as it is" compare, they give no reason
+    r"(?<!soon)(?<!long)(?<!much)(?<!far)(?<!well)(?<!often)(?<!quickly)(?<!early)"
+    r"\s(?=(?:because\s(?!of\b)|(?:as|so)\s+(?:i|we)(?:'|\s)"
+    r"|(?:as|since)\s+(?:he|she|they|it|you|the\s+\w+|\w+)\s+(?:can't|cannot|won't|doesn't|don't|isn't|"
+    r"aren't|wasn't|weren't|needs?|has|have|is|are|was|were|will|would|could|should|did|does|can)\b))",
+    re.IGNORECASE,
+)
 """Where a reason or a consequence of one's own begins ("you won't have to wait for me as I'll be there at
-14:45", "no need to keep the old bed because I've ordered a frame"): a negation in the one does not reach
-what the other names."""
+14:45", "no need to keep the old bed because I've ordered a frame", "leave the key in the glovebox, as
+Dockside can't test the brakes without it"): a negation in the one does not reach what the other names."""
 
 
 def _split_contrast(part: str) -> list[str]:
