@@ -94,3 +94,16 @@ def test_this_morning_is_allowed_when_sent_in_the_morning() -> None:
 )
 def test_amounts_in_words_are_amounts(text: str, stray: str | None) -> None:
     assert _stray(["The claim totals £86.40."], text) == stray
+
+
+def test_a_month_alone_is_read_where_the_facts_name_one() -> None:
+    at = datetime(2025, 6, 10, 9, 0, tzinfo=UTC)
+    facts = ["The raise has applied since April 2025."]
+    found = AllowedDetails.of(facts, at, lambda: ())
+    assert found.stray("It has applied since April", at) is None
+    assert found.stray("since April this year", at) is None
+    stray = found.stray("It has applied since April last year", at)
+    assert stray is not None and stray[0].shown == "April last year"
+    # "May I" is no month, and facts with days only leave months alone
+    assert found.stray("May I ask about it?", at) is None
+    assert AllowedDetails.of(["Paid on 1 April 2025."], at, lambda: ()).stray("the May payslip", at) is None

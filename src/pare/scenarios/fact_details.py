@@ -54,11 +54,13 @@ from pare.scenarios.model import Scenario
 from pare.scenarios.numbers import names_number
 from pare.scenarios.timewords import mentions
 
-Kind = Literal["time", "date", "money", "phone", "url", "email", "count", "part_of_day", "code", "street"]
+Kind = Literal[
+    "time", "date", "money", "phone", "url", "email", "count", "part_of_day", "code", "street", "month"
+]
 WORLD_KINDS: tuple[Kind, ...] = ("time", "date", "money", "phone", "url", "email")
 """The kinds read in everything the assistant writes (:mod:`pare.scenarios.invented`): a count or a part of
-the day is often the assistant's own sum or summary, and a code or a street is often the world's: these
-four are read against a check's facts only."""
+the day is often the assistant's own sum or summary, and a code, a street or a month is often the world's:
+these five are read against a check's facts only."""
 
 _FORWARD_RULE = re.compile(r"^-{3,}\s*Forwarded message\s*-{3,}\s*$", re.I | re.M)
 """Where a forward's own words end and the forwarded email begins (the email app writes this line)."""
@@ -136,6 +138,47 @@ def _time_and_date_details(text: str, anchor: datetime) -> Iterable[Detail]:
             if weekday is not None:  # "Saturday" said of the one a week on is still that Saturday
                 days |= {("weekday", day.weekday()) for day in mention.days}
             yield Detail("date", days, shown, mention.start, end)
+
+
+_MONTH_NUMBERS = {name: number for number, names in enumerate(
+    (("January", "Jan"), ("February", "Feb"), ("March", "Mar"), ("April", "Apr"), ("May",), ("June", "Jun"),
+     ("July", "Jul"), ("August", "Aug"), ("September", "Sep", "Sept"), ("October", "Oct"),
+     ("November", "Nov"), ("December", "Dec")), start=1) for name in names}  # fmt: skip
+_MONTH_ALONE = re.compile(
+    r"(?<![\w/])(?:(?P<which>[Ll]ast|[Tt]his|[Nn]ext)\s+)?(?P<month>" + "|".join(_MONTH_NUMBERS) + r")\b\.?"
+    r"(?!\s*(?:the\s+)?\d{1,2}(?:st|nd|rd|th)?\b(?![\d,]\d))"
+    r"(?:,?\s+(?P<year>(?:19|20)\d\d)\b|\s+(?P<relative>last|this|next)\s+year\b)?"
+)
+"""A month named without its day ("April 2024", "since April last year", "next March", "in June"),
+capitalised: "may" and "march" are verbs too."""
+_DAY_BEFORE = re.compile(r"\d{1,2}(?:st|nd|rd|th)?\s+(?:of\s+)?$")
+_NOT_A_MONTH_AFTER = re.compile(r"\s+(?:I|we|you|he|she|they|it|be|have|not)\b")
+
+
+def _month_details(text: str, anchor: datetime) -> Iterable[Detail]:
+    """Every month named without its day, as its ``("month", year, month)`` readings: a year given or said
+    ("last year"); "last"/"next" the one before or after now; else this year's or the nearest other.
+    """
+    for match in _MONTH_ALONE.finditer(text):
+        name = match.group("month")
+        if _DAY_BEFORE.search(text[: match.start()]) or (
+            name == "May" and _NOT_A_MONTH_AFTER.match(text, match.end())
+        ):
+            continue
+        month, year = _MONTH_NUMBERS[name], anchor.year
+        which, relative = (match.group("which") or "").lower(), match.group("relative")
+        if match.group("year"):
+            years = {int(match.group("year"))}
+        elif relative:
+            years = {year + {"last": -1, "this": 0, "next": 1}[relative]}
+        elif which == "last":
+            years = {year if month < anchor.month else year - 1}
+        elif which == "next":
+            years = {year if month > anchor.month else year + 1}
+        else:
+            years = {year, year + 1 if month < anchor.month else year - 1}
+        readings: frozenset[object] = frozenset(("month", one, month) for one in years)
+        yield Detail("month", readings, match.group(0).strip(), *match.span())
 
 
 def _minutes(moment: time) -> int:
@@ -298,6 +341,7 @@ def details(text: str, anchor: datetime) -> tuple[Detail, ...]:
             masked = _blank(masked, count.start, count.end)
     timed = list(_time_and_date_details(masked, anchor))
     found += timed
+    found += _month_details(masked, anchor)
     found += (
         Detail("count" if one.reading[0] == "count" else "part_of_day", frozenset(one.readings), one.shown,
                one.start, one.end)
@@ -394,6 +438,11 @@ class AllowedDetails:
         allowed = self._allowed.get(detail.kind, set())
         if not detail.readings.isdisjoint(allowed):
             return True
+        if detail.kind == "month":  # a day the allowed texts give gives its month
+            days = self._allowed.get("date", set())
+            return any(
+                ("month", day.year, day.month) in detail.readings for day in days if isinstance(day, date)
+            )
         if detail.kind == "time":  # a time inside a range the allowed texts give
             return self.within_ranges and any(
                 isinstance(span, tuple) and span[1] <= moment <= span[2]
