@@ -107,3 +107,11 @@ def test_a_month_alone_is_read_where_the_facts_name_one() -> None:
     # "May I" is no month, and facts with days only leave months alone
     assert found.stray("May I ask about it?", at) is None
     assert AllowedDetails.of(["Paid on 1 April 2025."], at, lambda: ()).stray("the May payslip", at) is None
+
+
+def test_an_amount_said_as_a_difference_may_be_what_two_given_amounts_differ_by() -> None:
+    facts = ["The tent was $179 and is now $139."]
+    assert _stray(facts, "Now $139, that's $40 less") is None
+    assert _stray(facts, "Now $139: it saves you $40") is None
+    assert _stray(facts, "Now $139, $30 less") == "$30"
+    assert _stray(facts, "You owe $40") == "$40"  # not said as a difference

@@ -243,7 +243,23 @@ def _money_details(text: str) -> Iterable[Detail]:
                 currency, value = _CURRENCY_WORDS[lowered], _decimal(whole2, cents2)
         if value is not None:
             shown = match.group(0).strip()
-            yield Detail("money", frozenset({(currency, value.normalize())}), shown, *match.span())
+            readings: set[object] = {(currency, value.normalize())}
+            before = text[max(0, match.start() - 24) : match.start()]
+            if _DIFFERENCE_AFTER.match(text, match.end()) or _DIFFERENCE_BEFORE.search(before):
+                readings.add(("difference", currency, value.normalize()))
+            yield Detail("money", frozenset(readings), shown, *match.span())
+
+
+_DIFFERENCE_AFTER = re.compile(
+    r"\s*(?:less|more|cheaper|dearer|extra|off|under|over|higher|lower|up|down|saved|saving|difference)\b",
+    re.I,
+)
+_DIFFERENCE_BEFORE = re.compile(
+    r"(?:sav(?:e|es|ed|ing)(?:\s+(?:you|us|me|her|him|them))?|difference\s+of|extra|up\s+by|down\s+by|rise\s+of|increase\s+of|"
+    r"reduction\s+of|discount\s+of|cheaper\s+by)\s*$",
+    re.I,
+)
+"""Words that say an amount is what two amounts differ by ("$40 less", "saves $6.50", "up by £70")."""
 
 
 _MONEY_IN_WORDS = re.compile(
@@ -267,6 +283,19 @@ def _money_in_words(text: str) -> Iterable[Detail]:
         currency = _WORD_CURRENCIES[match.group("unit").lower().rstrip("s")]
         value = (Decimal(whole) + Decimal(cents or 0) / 100).normalize()
         yield Detail("money", frozenset({(currency, value)}), match.group(0), *match.span())
+
+
+@lru_cache(maxsize=1024)
+def _differences(amounts: frozenset[Decimal]) -> frozenset[Decimal]:
+    """What two of ``amounts`` differ by (of at most 40 amounts: a text's own arithmetic on the amounts it
+    was given, not a search over every number of a long statement). Sums are not read: a total twice over
+    is the usual wrong amount ("charged twice").
+    """
+    if len(amounts) > 40:
+        return frozenset()
+    ordered = sorted(amounts)
+    found = {(high - low).normalize() for index, low in enumerate(ordered) for high in ordered[index + 1 :]}
+    return frozenset(found)
 
 
 def _decimal(whole: str, cents: str | None) -> Decimal:
@@ -452,12 +481,19 @@ class AllowedDetails:
             )
         if detail.kind == "date":  # the day the text is sent on ("today") is no invented detail
             return sent.date() in detail.readings
-        if detail.kind == "money":  # a sign the scenario never uses is a slip of the sign: read the value
-            currency, value = cast("tuple[str, Decimal]", next(iter(detail.readings)))
-            used = {given[0] for given in allowed if isinstance(given, tuple)}
-            return currency not in used and any(
-                isinstance(given, tuple) and given[1] == value for given in allowed
+        if detail.kind == "money":
+            currency, value = next(
+                cast("tuple[str, Decimal]", one)
+                for one in detail.readings
+                if isinstance(one, tuple) and len(one) == 2
             )
+            amounts = [given for given in allowed if isinstance(given, tuple) and len(given) == 2]
+            said_as_difference = ("difference", currency, value) in detail.readings
+            same_currency = frozenset(amount[1] for amount in amounts if amount[0] == currency)
+            if said_as_difference and value in _differences(same_currency):
+                return True  # "$40 less", "saves £6.50": what two given amounts differ by
+            used = {amount[0] for amount in amounts}  # a sign the scenario never uses is a slip of the sign
+            return currency not in used and any(amount[1] == value for amount in amounts)
         if detail.kind == "part_of_day":  # named, or holding a time an allowed text gives
             (reading,) = detail.readings
             part = cast("tuple[str, str]", reading)[1]

@@ -435,7 +435,8 @@ def _amounts_in(text: str) -> list[Decimal]:
     found: list[Decimal] = []
     for detail in fact_details.details(text, datetime(2000, 1, 1, tzinfo=UTC)):
         if detail.kind == "money":
-            found += [reading[1] for reading in detail.readings if isinstance(reading, tuple)]
+            # an amount is (currency, value); ("difference", currency, value) says how it was put
+            found += [one[1] for one in detail.readings if isinstance(one, tuple) and len(one) == 2]
     return found
 
 
