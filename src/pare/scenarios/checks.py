@@ -14,6 +14,7 @@ and one :func:`register_check_form` call.
 from __future__ import annotations
 
 import asyncio
+import dataclasses
 import typing
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping, Sequence
@@ -51,6 +52,7 @@ from pare.scenarios.model import (
 )
 from pare.scenarios.occurrences import DUE_FIELD, occurrence_records
 from pare.scenarios.patterns import CompiledPattern
+from pare.scenarios.read_moment import due_moment, fires_at
 from pare.scenarios.reading import CallReader
 from pare.scenarios.side_effects import Change
 from pare.sim.log import Actor, LogEntry
@@ -700,10 +702,27 @@ class _StateRule(Rule):
         if not where.reads_days or not place:
             return where.test
         attribution, log = context.attribution, context.log
+        # A reminder's text is read as of when it fires too ("tomorrow, Sunday" in Saturday's reminder, "in
+        # six weeks" as of when written): where the two readings differ, the assistant has the benefit of
+        # the doubt, so an item matches a wanted condition in either reading, an unwanted one in both.
+        unwanted = self.count.max == 0
+        settle = all if unwanted else any
 
         def test(record: Mapping[str, Any], key: str, start: datetime, reader: CallReader | None) -> bool:
             mark = attribution.mark((*place, key))
-            with written_at(_entry_time(log, mark.changed_at) if mark is not None else None):
+            written = _entry_time(log, mark.changed_at) if mark is not None else None
+            fires = due_moment(record, written) if written is not None else None
+            moments = (written,) if fires is None else (written, fires)
+            return settle(_test_at(moment, record, key, start, reader) for moment in moments)
+
+        def _test_at(
+            moment: datetime | None,
+            record: Mapping[str, Any],
+            key: str,
+            start: datetime,
+            reader: CallReader | None,
+        ) -> bool:
+            with written_at(moment):
                 return where.test(record, key, start, reader)
 
         return test
@@ -763,6 +782,13 @@ class _Texts:
     """Each text given to the judge (or the fallback), with the log indexes of the calls it is from."""
     sent: list[datetime]
     """When each call in ``read`` was made."""
+    fires: list[datetime | None] = dataclasses.field(default_factory=list)
+    """For each candidate that is a reminder's text, when it fires: it is read as of then too."""
+
+    def moments(self, index: int) -> tuple[datetime, ...]:
+        """When the candidate at ``index`` is read: when sent, and for a reminder when it fires too."""
+        fire = self.fires[index] if index < len(self.fires) else None
+        return (self.sent[index],) if fire is None else (self.sent[index], fire)
 
 
 def judged_text(args: Mapping[str, Any], field: str) -> str | None:
@@ -814,8 +840,9 @@ class _JudgeRule(Rule):
         if check.together and len(candidates) > 1:
             # one answer sent in parts is judged as the whole
             candidates = [(tuple(entry.index for entry, _ in read), "\n\n".join(text for _, text in read))]
-        # days and times in a text are read as of when it was sent
-        return _Texts(described, [entry for entry, _ in read], candidates, [entry.time for entry, _ in read])
+        # days and times in a text are read as of when it was sent (a reminder's also as of when it fires)
+        fires = [fires_at(entry) for entry, _ in read] if len(candidates) == len(read) else []
+        return _Texts(described, [entry for entry, _ in read], candidates, [e.time for e, _ in read], fires)
 
     def judged(self, context: _Context) -> tuple[JudgedText, ...]:
         answers = context.answers
@@ -851,14 +878,18 @@ class _JudgeRule(Rule):
             detail = f"judge {'accepted' if passed else 'rejected'} {counted} for: {check.criterion}"
             return passed, detail + "".join(f"{JUDGE_SAID}{reason}" for reason in reasons[:_EXPLAINED]) + more
         sent = texts.sent
-        holds = [self._holds(text, at, context.start) for text, at in zip(candidates, sent, strict=False)]
+        moments = [texts.moments(index) for index in range(min(len(candidates), len(sent)))]
+        holds = [
+            any(self._holds(text, at, context.start) for at in when)
+            for text, when in zip(candidates, moments, strict=False)
+        ]
         passed = any(holds)
         verdict = "holds" if passed else "fails"
         detail = f"no judge model; fallback {self.fallback_text} {verdict} on {counted}"
         if passed and self.allowed is not None:  # as the judge would: a detail the facts lack fails
             strays = [
-                self._stray(text, at, context) if held else None
-                for text, at, held in zip(candidates, sent, holds, strict=False)
+                self._stray_at(text, when, context) if held else None
+                for text, when, held in zip(candidates, moments, holds, strict=False)
             ]
             if not any(held and stray is None for held, stray in zip(holds, strays, strict=True)):
                 rejected = [stray for stray in strays if stray is not None]
@@ -890,6 +921,17 @@ class _JudgeRule(Rule):
             return None
         detail, around = found
         return f"{quote(around)} states {detail.shown}, which the facts do not give"
+
+    def _stray_at(self, text: str, moments: tuple[datetime, ...], context: _Context) -> str | None:
+        """Why the facts rule rejects ``text`` read as of each of ``moments`` (``None`` when one reading
+        is clean).
+        """
+        found = None
+        for at in moments:
+            found = self._stray(text, at, context)
+            if found is None:
+                return None
+        return found
 
     @staticmethod
     def _given_elsewhere(context: _Context, detail: Detail, sent: datetime) -> bool:

@@ -54,6 +54,7 @@ from typing import Any
 from pare.scenarios.fact_details import WORLD_KINDS, AllowedDetails, Detail, Kind, details, excerpt, own_words
 from pare.scenarios.item_text import TEXT_FIELDS as ITEM_TEXT_FIELDS
 from pare.scenarios.model import Scenario
+from pare.scenarios.read_moment import fires_at
 from pare.scenarios.times import TimeFormatError, parse_time
 from pare.sim.log import LogEntry
 
@@ -193,7 +194,9 @@ def invented_details(
     scenario: Scenario, log: Sequence[LogEntry], start: Mapping[str, Any], final: Mapping[str, Any]
 ) -> list[InventedDetail]:
     """Every detail the assistant wrote into the apps in the episode of ``scenario`` (its ``log``, from
-    the ``start`` to the ``final`` state) that no allowed source states, in the order written.
+    the ``start`` to the ``final`` state) that no allowed source states, in the order written. A
+    reminder's text is read as of when it is written and as of when it fires: it states a wrong detail only
+    if it does both ways (:mod:`pare.scenarios.read_moment`).
     """
     kinds = checked_kinds(scenario)
     if not kinds:
@@ -201,28 +204,61 @@ def invented_details(
     written = [(entry, field, text) for entry in log for field, text in assistant_texts(entry)]
     if not written:
         return []
-    allowed = scenario_allowed(scenario)
-    episode: AllowedDetails | None = None
+    reading = _Reading(scenario, kinds, log, start, final)
     found: list[InventedDetail] = []
-    story = story_details(scenario)
-    done: AllowedDetails | None = None
     for entry, field, text in written:
         words = own_words(text)
-        for detail in sorted(details(words, entry.time), key=lambda one: one.start):
-            if allowed.allows(detail, entry.time):
+        stated = reading.unsupported(words, entry.time)
+        fires = fires_at(entry)
+        if stated and fires is not None and not reading.unsupported(words, fires):
+            stated = []
+        found += [_invented(entry, field, detail, words, against_facts=facts) for detail, facts in stated]
+    return found
+
+
+class _Reading:
+    """What an episode's texts are read against: the scenario's texts, the story's facts, what the
+    assistant did and the episode's own texts (the last two read only when needed).
+    """
+
+    def __init__(
+        self,
+        scenario: Scenario,
+        kinds: frozenset[Kind],
+        log: Sequence[LogEntry],
+        start: Mapping[str, Any],
+        final: Mapping[str, Any],
+    ) -> None:
+        self.scenario, self.kinds, self.log, self.start, self.final = scenario, kinds, log, start, final
+        self.allowed = scenario_allowed(scenario)
+        self.story = story_details(scenario)
+        self._episode: AllowedDetails | None = None
+        self._done: AllowedDetails | None = None
+
+    def unsupported(self, words: str, at: datetime) -> list[tuple[Detail, bool]]:
+        """The details of ``words`` read as of ``at`` that no source gives, each with whether it is the
+        story's facts that do not give it (the world does).
+        """
+        found: list[tuple[Detail, bool]] = []
+        for detail in sorted(details(words, at), key=lambda one: one.start):
+            if self.allowed.allows(detail, at):
                 # the world gives it, but where the story's facts give details of its kind, one that neither
                 # they nor the solutions give, nor what the assistant did, is a wrong detail ("MOT at 9am"
                 # in a reminder, 09:00 being the seed's planning meeting)
-                if story is not None and detail.kind in story.kinds and not story.allows(detail, entry.time):
-                    done = done or done_values(log, scenario.start)
-                    if not done.allows_read(detail, entry.time):
-                        found.append(_invented(entry, field, detail, words, against_facts=True))
+                story = self.story
+                if story is not None and detail.kind in story.kinds and not story.allows(detail, at):
+                    if self._done is None:
+                        self._done = done_values(self.log, self.scenario.start)
+                    if not self._done.allows_read(detail, at):
+                        found.append((detail, True))
                 continue
-            if episode is None:  # most episodes' details are the scenario's: read the episode only if not
-                episode = _episode_allowed(scenario.start, kinds, log, start, final)
-            if not episode.allows(detail, entry.time):
-                found.append(_invented(entry, field, detail, words))
-    return found
+            if self._episode is None:  # most details are the scenario's: read the episode only if not
+                self._episode = _episode_allowed(
+                    self.scenario.start, self.kinds, self.log, self.start, self.final
+                )
+            if not self._episode.allows(detail, at):
+                found.append((detail, False))
+        return found
 
 
 def story_details(scenario: Scenario) -> AllowedDetails | None:
