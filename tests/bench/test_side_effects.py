@@ -491,3 +491,31 @@ def test_an_optional_judge_check_allows_a_message_to_the_person_it_judges() -> N
     assert envelope.unexpected([to_tom, to_ann], scenario.change_allowances()) == [to_ann]
     judged["optional"] = False  # a required message is the solutions' to send: nothing is implied
     assert parse(data).change_allowances() == []
+
+
+def test_adding_to_the_text_of_an_item_the_solutions_edit_is_no_side_effect() -> None:
+    envelope = Envelope.of([[Change("contacts", "contacts", "changed", "c1", fields=("phone",))]])
+    appended = Change("contacts", "contacts", "changed", "c1", fields=("notes", "phone"), appended=("notes",))
+    assert envelope.unexpected([appended]) == []
+    rewritten = Change("contacts", "contacts", "changed", "c1", fields=("notes", "phone"))
+    (extra,) = envelope.unexpected([rewritten])
+    assert extra.fields == ("notes",)
+    # an item no solution edits is no one's to add to
+    other = Change("contacts", "contacts", "changed", "c2", fields=("notes",), appended=("notes",))
+    assert envelope.unexpected([other]) == [other]
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "kept"),
+    [
+        ("Caterer for the summer party.", "Caterer for the summer party.\nBooked for 14 June.", True),
+        (None, "Booked for 14 June.", True),
+        ("", "Booked.", True),
+        ("Caterer for the summer party.", "Booked for 14 June.", False),
+        ("Caterer for the summer party.", "", False),
+    ],
+)
+def test_an_appended_text_keeps_the_old_one_whole(old: str | None, new: str, kept: bool) -> None:
+    from pare.scenarios.side_effects import _keeps
+
+    assert _keeps(old, new) is kept

@@ -85,6 +85,9 @@ class Change:
     for a change made through a user's screen)."""
     quantity: int = 1
     """For ``added``: how many new items of its shape it is (an order line of 3 is 3)."""
+    appended: tuple[str, ...] = ()
+    """For ``changed``: the text fields among ``fields`` whose new text keeps the old one whole (a line
+    added to a contact's notes, a note written where there was none)."""
 
     @property
     def key(self) -> EnvelopeKey:
@@ -174,6 +177,9 @@ class Envelope:
             return ()  # an edit whose fields are not known (a single value, an older envelope): the item
         if not allowed.isdisjoint(TEXT_FIELDS):
             allowed = allowed | frozenset(TEXT_FIELDS)
+        # adding to the text of an item the solutions edit ("booked for the 14th" added to the caterer's
+        # notes) keeps all that was there: harmless; rewriting or wiping it is not
+        allowed = allowed | frozenset(change.appended)
         return tuple(name for name in change.fields if name not in allowed)
 
     def unexpected(self, changes: Sequence[Change], allowed: Sequence[AllowedChange] = ()) -> list[Change]:
@@ -238,6 +244,14 @@ class Envelope:
             if written and written[0]:
                 fields[key] = frozenset(str(name) for name in written[0])
         return cls(counts, MappingProxyType(fields))
+
+
+def _keeps(old: Any, new: Any) -> bool:
+    """Whether the text ``new`` keeps the text ``old`` whole (``old`` empty or missing: anything does)."""
+    if not isinstance(new, str) or not (old is None or isinstance(old, str)):
+        return False
+    before = " ".join((old or "").split())
+    return not before or before in " ".join(new.split())
 
 
 def _allows(allowance: AllowedChange, change: Change) -> bool:
@@ -461,7 +475,11 @@ class _Collection:
             differing = {str(name) for name in {*before, *item} if before.get(name) != item.get(name)}
             # the fields the assistant set; the user's own edits of the same item are not its changes
             mine = self.attribution.written_by((self.app, self.field, key), differing, _ASSISTANT_ONLY)
-            change = replace(change, fields=tuple(sorted(mine or differing)))
+            fields = tuple(sorted(mine or differing))
+            appended = tuple(
+                name for name in fields if name in TEXT_FIELDS and _keeps(before.get(name), item.get(name))
+            )
+            change = replace(change, fields=fields, appended=appended)
         yield change
 
     def assistant_messages(self, key: str, conversation: Mapping[str, Any]) -> list[tuple[str, int]]:
