@@ -3,6 +3,7 @@ slack and the by-hand run, on a small scenario built for the purpose."""
 
 from __future__ import annotations
 
+import copy
 from typing import Any
 
 import pytest
@@ -12,7 +13,7 @@ from pare.bench import run_episode
 from pare.bench.selftest import check_scenario
 from pare.scenarios import OracleAssistant, OracleUser
 from pare.scenarios.oracle import SlowUser
-from tests.scenarios.helpers import REPLY, fair, intervention, parse, sound
+from tests.scenarios.helpers import REPLY, base, fair, intervention, parse, sound
 
 
 def test_a_fair_scenario_passes_every_run_of_the_gate() -> None:
@@ -300,3 +301,19 @@ def test_a_no_proposal_scenario_turns_the_gate_round() -> None:
         "variant:eager_event",
     ]
     assert [run.expected_success for run in verdict.runs] == [True, True, True, False, True, False, False]
+
+
+def test_a_near_miss_may_be_declared_to_fail_through_a_side_effect_or_an_invented_detail() -> None:
+    data = base()
+    wrong = copy.deepcopy(data["oracle"]["interventions"])
+    wrong[0]["actions"][0]["args"]["content"] = "Thursday works, see you at 15:20!"
+    data["variants"] = [
+        {"id": "invents", "expect": "fail", "why": "15:20 is made up", "fails": ["invented_details"],
+         "interventions": wrong},
+        {"id": "claims_a_change", "expect": "fail", "why": "w", "fails": ["side_effects"],
+         "interventions": wrong},
+    ]  # fmt: skip
+    verdict = check_scenario(parse(data), runs={"oracle", "variant:invents", "variant:claims_a_change"})
+    assert verdict.run("variant:invents").ok
+    (problem,) = verdict.run("variant:claims_a_change").problems
+    assert "should make a side effect" in problem

@@ -463,6 +463,10 @@ def _verdict(
     problems.extend(
         f"goal '{goal_id}' should fail ({why}) but was met" for goal_id in fails if goal_id in met
     )
+    if "side_effects" in fails and not result.outcome.side_effects:
+        problems.append(f"it should make a side effect ({why}) but made none")
+    if "invented_details" in fails and not result.outcome.invented:
+        problems.append(f"it should state a detail nothing gives ({why}) but stated none")
     if expected and not result.success:
         problems.extend(
             f"check failed: {check.goal}[{check.index}] {check.detail}" for check in result.outcome.failures()

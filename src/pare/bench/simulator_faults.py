@@ -137,6 +137,9 @@ def _decision_faults(
     result: EpisodeResult,
 ) -> Iterator[SimulatorFault]:
     failed_goals = {goal.id for goal in result.outcome.goals if not goal.passed}
+    # what a near-miss may be declared to fail besides goals
+    failed_goals |= {"side_effects"} if result.outcome.side_effects else set()
+    failed_goals |= {"invented_details"} if result.outcome.invented else set()
     for proposal in proposals:
         turn = proposal.answered_turn or proposal.turn
         good = any(matches(proposal.content, text) for text in passing)

@@ -755,6 +755,10 @@ class Oracle(_Strict):
     )
 
 
+VERDICT_PARTS = ("side_effects", "invented_details")
+"""What a variant's ``fails`` may name besides goals: the parts of the verdict that are no goal."""
+
+
 class Variant(_Strict):
     """Another solution the checks must judge as declared: a correct one written differently (another
     tool, order, wording or artefact) that must pass, or a tempting near-miss that must fail.
@@ -774,7 +778,8 @@ class Variant(_Strict):
     fails: list[str] = Field(
         default_factory=list,
         description="For expect: fail, the goals that must be the ones failed (so a near-miss fails for the "
-        "reason it was written for, not by accident).",
+        "reason it was written for, not by accident); 'side_effects' or 'invented_details' where it must "
+        "fail through a change no solution makes or a detail nothing gives.",
     )
     otherwise_ok: dict[str, Annotated[str, Field(min_length=1)]] = Field(
         default_factory=dict,

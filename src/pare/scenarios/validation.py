@@ -24,6 +24,7 @@ from pare.scenarios.checks import CHECK_FORMS
 from pare.scenarios.item_text import TEXT_FIELDS, has_text_fields
 from pare.scenarios.kinds import matcher_problems
 from pare.scenarios.model import (
+    VERDICT_PARTS,
     WHERE_ANY,
     WHERE_KEY,
     WHERE_TEXT,
@@ -273,7 +274,7 @@ class _Validator:
             if variant.id in seen:
                 yield Problem((*where, "id"), f"two variants share the id '{variant.id}'")
             seen.add(variant.id)
-            goals = [goal.id for goal in self.scenario.goals]
+            goals = [*(goal.id for goal in self.scenario.goals), *VERDICT_PARTS]
             for index, goal_id in enumerate(variant.fails):
                 if goal_id not in goals:
                     hint = did_you_mean(goal_id, goals)
