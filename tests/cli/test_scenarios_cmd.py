@@ -38,6 +38,22 @@ def test_check_passes_a_sound_scenario(
     assert "[variant:wrong_person] NO replied:" in out
 
 
+def test_check_counts_held_out_probes_and_fails_on_a_misjudged_one(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
+) -> None:
+    data = sound()
+    right = [{**data["variants"][0], "id": "probe_right", "held_out": True}]
+    probe = {**data["variants"][0], "id": "probe_misjudged", "held_out": True}
+    probe["expect"] = "pass" if probe["expect"] == "fail" else "fail"
+    probe.pop("fails", None)
+    data["variants"] = [*data["variants"], *right, probe]
+    _write(tmp_path, data)
+    assert main(["scenarios", "check", str(tmp_path)]) == 1
+    out = capsys.readouterr().out
+    kind = "correct rejected" if probe["expect"] == "pass" else "wrong accepted"
+    assert "held-out probes: 2 judged, 1 misjudged (50 %)" in out and f"1 {kind}" in out
+
+
 def test_check_fails_a_scenario_whose_checks_prove_nothing(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], wide_console: None
 ) -> None:

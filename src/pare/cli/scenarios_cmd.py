@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
 from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
@@ -255,6 +256,7 @@ def check(
     unread: list[str] = []
     unjudged: list[str] = []
     fields: list[str] = []
+    held_out = HeldOutTally()
     total = 0.0
     with collector.long_lived_frozen():
         for scenario, (verdict, outcomes) in zip(
@@ -281,6 +283,7 @@ def check(
                 f"{verdict.seconds * 1000:.0f}",
             )
             score.add(scenario.id, verdict.mutants)
+            held_out.add(scenario, verdict)
             breaches.extend(verdict.breaches())
             warnings.extend(f"{scenario.id}: {line}" for line in verdict.warnings)
             unread.extend(f"{scenario.id}: {line}" for line in verdict.unread_sends)
@@ -295,6 +298,8 @@ def check(
         console.print(f"[yellow]warning[/yellow] {markup_safe(line)}", highlight=False)
     found = {"unread send": unread, "unread field": fields, "unjudged event": unjudged}
     _print_unjudged(console, found)
+    if held_out.judged:
+        console.print(held_out.summary(), highlight=False)
     if breaches:
         console.print(f"[red]{len(breaches)} breach(es):[/red]")
         for line in breaches:
@@ -305,6 +310,34 @@ def check(
     console.print(
         f"all {len(scenarios)} scenarios pass the gate ({wall:.2f} s on {on}; {total:.2f} s of self-tests)"
     )
+
+
+@dataclass
+class HeldOutTally:
+    """How the checks judged reviewers' held-out probes (variants with ``held_out: true``)."""
+
+    judged: int = 0
+    correct_rejected: list[str] = field(default_factory=list)
+    wrong_accepted: list[str] = field(default_factory=list)
+
+    def add(self, scenario: Scenario, verdict: ScenarioVerdict) -> None:
+        """Count the held-out probes of ``scenario`` that could be played."""
+        probes = {f"variant:{variant.id}" for variant in scenario.variants if variant.held_out}
+        for run in verdict.runs:
+            if run.run not in probes or run.success is None:
+                continue
+            self.judged += 1
+            if run.success != run.expected_success:
+                misjudged = self.correct_rejected if run.expected_success else self.wrong_accepted
+                misjudged.append(f"{scenario.id} {run.run}")
+
+    def summary(self) -> str:
+        """One line: held-out probes judged and misjudged, by kind."""
+        wrong = len(self.correct_rejected) + len(self.wrong_accepted)
+        return (
+            f"held-out probes: {self.judged} judged, {wrong} misjudged ({100 * wrong / self.judged:.0f} %): "
+            f"{len(self.correct_rejected)} correct rejected, {len(self.wrong_accepted)} wrong accepted"
+        )
 
 
 def _mutant_cells(verdict: ScenarioVerdict) -> tuple[str, str]:
