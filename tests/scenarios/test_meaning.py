@@ -492,3 +492,12 @@ def test_cant_wait_is_eager_but_cant_wait_till_refuses_the_wait() -> None:
 )
 def test_a_reason_with_its_own_subject_is_a_clause_of_its_own(text: str, cut: bool) -> None:
     assert (len(clauses(text)) > 1) is cut
+
+
+def test_a_decimal_comma_does_not_cut_a_clause() -> None:
+    assert clauses("It is €25,70 each, and 1,200 in all, 10, 20 or 30") == [
+        "It is €25,70 each",
+        "and 1,200 in all",
+        "10",
+        "20 or 30",
+    ]

@@ -205,9 +205,9 @@ _PICTOGRAPH_RUN = f"[{_PICTOGRAPH}](?:[{_PICTOGRAPH}\ufe0e\ufe0f\u200d\u20e3\U00
 tag characters): one sentence break, so no joiner is left behind as a clause of its own."""
 
 _CLAUSE_BREAK = re.compile(
-    # a comma breaks a clause, except inside a number written with thousands separators (44,200)
-    # a full stop breaks one too, except in "no. 22" (a number, not a refusal)
-    r"[;!?\n]|,(?!(?<=\d,)\d{3}\b)|(?<![Nn]o)\.(?=\s|$)|(?<=[Nn]o)\.(?=\s|$)(?!\s*\d)|"
+    # a comma breaks a clause, except inside a number written with thousands separators (44,200) or a
+    # decimal comma (€25,70); a full stop breaks one too, except in "no. 22" (a number, not a refusal)
+    r"[;!?\n]|,(?!(?<=\d,)\d{2,3}\b)|(?<![Nn]o)\.(?=\s|$)|(?<=[Nn]o)\.(?=\s|$)(?!\s*\d)|"
     # a colon before a space ("Update: Thursday works", not 18:15) and a dash between words ("Not Friday -
     # Thursday works", "Friday—Thursday"), but not between two numbers (the range 2 - 4pm)
     r":(?=\s|$)|(?<=[^\d\s])\s+[-\u2013\u2014]+\s+|\s+[-\u2013\u2014]+\s+(?=[^\d\s])|(?<!\d)[\u2013\u2014](?!\d)|"
