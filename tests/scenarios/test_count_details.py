@@ -115,3 +115,11 @@ def test_an_amount_said_as_a_difference_may_be_what_two_given_amounts_differ_by(
     assert _stray(facts, "Now $139: it saves you $40") is None
     assert _stray(facts, "Now $139, $30 less") == "$30"
     assert _stray(facts, "You owe $40") == "$40"  # not said as a difference
+
+
+def test_any_word_the_facts_count_is_a_label() -> None:
+    facts = ["The deck must be 10 slides."]
+    assert _stray(facts, "Ten slides, as asked") is None
+    assert _stray(facts, "I made 12 slides") == "12 slides"
+    # a number of three digits names a model, it counts nothing; function words are no labels
+    assert _stray(["Order 2 cartridges."], "the 305 cartridge, 2 cartridges, 3 of them") is None

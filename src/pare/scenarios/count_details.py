@@ -137,18 +137,36 @@ def ordinal(found: Found) -> bool:
     return bool(re.search(rf"\d(?:st|nd|rd|th)\b|\b(?:{_ORDINALS})\b", found.shown, re.I))
 
 
+_NOT_COUNTED = frozenset(
+    ("of", "and", "or", "to", "the", "a", "an", "in", "at", "on", "for", "from", "by", "with", "past", "till",
+     "until", "before", "after", "am", "pm", "percent", "per", "more", "less", "each", "times", "time",
+     "pound", "dollar", "euro", "pence", "cent", "quid", "buck", "since", "ago", "later", "earlier",
+     "instead", "back", "away", "today", "tomorrow", "tonight", "then", "now", "left", "over", "under",
+     "about", "than")
+)  # fmt: skip
+_ANY_NOUN = re.compile(rf"(?<![\w.,:£$€#/-]){_NUMBER}\s+(?P<label>[a-z][a-z'-]{{2,}})\b")
+"""Any other count: a number under 100 and the lower-case word after it ("10 slides", "three
+cartridges"), read for the labels a check's facts count; a word of :data:`_NOT_COUNTED` is no label."""
+
+
 def counts(text: str) -> Iterable[Found]:
-    """Every count of ``text``, as ``("count", (label, value))`` readings."""
+    """Every count of ``text``, as ``("count", (label, value))`` readings: of the labels listed here,
+    and of any word after a number (:data:`_ANY_NOUN`).
+    """
     seen: set[int] = set()
-    for pattern in (_LABEL_FIRST, _NUMBER_FIRST):
+    for pattern in (_LABEL_FIRST, _NUMBER_FIRST, _ANY_NOUN):
         for match in pattern.finditer(text):
             if match.start() in seen:
                 continue
             value = _value(match.group("number"))
             if value is None:
                 continue
-            seen.add(match.start())
             label = _label(match.group("label"))
+            if pattern is _ANY_NOUN and (
+                match.group("label") in _NOT_COUNTED or label in _NOT_COUNTED or len(value) > 2
+            ):
+                continue  # a word that counts nothing; "305 cartridge" names a model, it counts none
+            seen.add(match.start())
             shown = " ".join(match.group(0).split())
             first = match.groupdict().get("first")
             other = _value(first) if first else None
