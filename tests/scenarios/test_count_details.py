@@ -115,6 +115,7 @@ def test_an_amount_said_as_a_difference_may_be_what_two_given_amounts_differ_by(
     assert _stray(facts, "Now $139: it saves you $40") is None
     assert _stray(facts, "Now $139, $30 less") == "$30"
     assert _stray(facts, "You owe $40") == "$40"  # not said as a difference
+    assert _stray(["A budget of $80; the cups cost $36."], "Spent $36, $44 left") is None
 
 
 def test_any_word_the_facts_count_is_a_label() -> None:

@@ -251,7 +251,8 @@ def _money_details(text: str) -> Iterable[Detail]:
 
 
 _DIFFERENCE_AFTER = re.compile(
-    r"\s*(?:less|more|cheaper|dearer|extra|off|under|over|higher|lower|up|down|saved|saving|difference)\b",
+    r"\s*(?:less|more|cheaper|dearer|extra|off|under|over|higher|lower|up|down|saved|saving|difference|left|"
+    r"remaining|to spare|in change)\b",
     re.I,
 )
 _DIFFERENCE_BEFORE = re.compile(
@@ -259,7 +260,8 @@ _DIFFERENCE_BEFORE = re.compile(
     r"reduction\s+of|discount\s+of|cheaper\s+by)\s*$",
     re.I,
 )
-"""Words that say an amount is what two amounts differ by ("$40 less", "saves $6.50", "up by £70")."""
+"""Words that say an amount is what two amounts differ by ("$40 less", "saves $6.50", "up by £70", "$44
+left")."""
 
 
 _MONEY_IN_WORDS = re.compile(
