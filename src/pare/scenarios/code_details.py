@@ -20,7 +20,8 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable
-from dataclasses import dataclass
+
+from pare.scenarios.count_details import Found
 
 _STREET_KINDS = (r"Road|Rd|Way|Street|St|Lane|Ln|Close|Avenue|Ave|Drive|Dr|Place|Pl|Court|Terrace|Gardens|"
                  r"Crescent|Square|Sq|Row|Hill|Park|Grove|Mews|Walk|Parade|Quay|Wharf|Boulevard|"
@@ -51,16 +52,6 @@ _NOT_CODE = re.compile(
     re.I,
 )
 """Words with letters and digits that are no identifier: ordinals, times, units, "2-bed", "Q3"."""
-
-
-@dataclass(frozen=True, slots=True)
-class Found:
-    """One code or street: its reading, how the verdict shows it, and where it is."""
-
-    reading: tuple[str, object]
-    shown: str
-    start: int
-    end: int
 
 
 def _key(code: str) -> str:

@@ -86,7 +86,7 @@ _ENDINGS = re.compile(r"(?:st|nd|rd|th)$", re.I)
 
 @dataclass(frozen=True, slots=True)
 class Found:
-    """One count or part of the day: its reading, how the verdict shows it, and where it is."""
+    """One count, part of the day, code or street: its reading, how the verdict shows it, and where it is."""
 
     reading: tuple[str, object]
     shown: str

@@ -276,21 +276,10 @@ def story_details(scenario: Scenario) -> AllowedDetails | None:
             for intervention in scenario.solution(name).interventions:
                 texts += [intervention.proposal, intervention.report]
                 for action in intervention.actions:
-                    texts += [value for value in _strings(action.args)]
+                    texts += [leaf for _, leaf in _leaves(action.args, "") if isinstance(leaf, str)]
         return texts
 
     return AllowedDetails.of(facts, scenario.start, more)
-
-
-def _strings(value: Any) -> Iterator[str]:
-    if isinstance(value, str):
-        yield value
-    elif isinstance(value, Mapping):
-        for inner in value.values():
-            yield from _strings(inner)
-    elif isinstance(value, list):
-        for inner in value:
-            yield from _strings(inner)
 
 
 def _invented(
