@@ -131,7 +131,8 @@ def _probe(scenario_data: dict[str, Any], content: str) -> Any:
     return run_episode(scenario, OracleUser(scenario), OracleAssistant(scenario))
 
 
-def test_a_probe_with_a_wrong_time_passes_without_the_facts_rule_and_fails_with_it() -> None:
+def _lunch() -> dict[str, Any]:
+    """The tiny scenario whose one goal is a judge check with facts: lunch on Thursday at 12:30."""
     judged: dict[str, Any] = {
         "criterion": "says yes to lunch on Thursday at 12:30",
         "action": {"tool": "email__reply_to_email"},
@@ -141,6 +142,11 @@ def test_a_probe_with_a_wrong_time_passes_without_the_facts_rule_and_fails_with_
     data = base()
     data["goals"] = [{"id": "g", "description": "goal", "checks": [{"judge": judged}]}]
     data["oracle"]["interventions"][0]["actions"][0]["args"]["content"] = "Thursday at 12:30 works!"
+    return data
+
+
+def test_a_probe_with_a_wrong_time_passes_without_the_facts_rule_and_fails_with_it() -> None:
+    data = _lunch()
     result = _probe(data, "Thursday at 1:30 works!")
     log, state = result.env.log.entries, result.env.snapshot()
 
@@ -166,15 +172,7 @@ def test_the_opt_out_needs_a_reason() -> None:
 
 
 def test_a_held_out_probe_teaches_the_rule_nothing() -> None:
-    judged: dict[str, Any] = {
-        "criterion": "says yes to lunch on Thursday at 12:30",
-        "action": {"tool": "email__reply_to_email"},
-        "fallback": {"contains": "thursday"},
-        "facts": ["Lunch is on Thursday at 12:30."],
-    }
-    data = base()
-    data["goals"] = [{"id": "g", "description": "goal", "checks": [{"judge": judged}]}]
-    data["oracle"]["interventions"][0]["actions"][0]["args"]["content"] = "Thursday at 12:30 works!"
+    data = _lunch()
     probe = copy.deepcopy(data["oracle"]["interventions"])
     probe[0]["actions"][0]["args"]["content"] = "Thursday at 1:30 works!"
     result = _probe(data, "Thursday at 1:30 works!")
