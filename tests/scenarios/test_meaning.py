@@ -486,6 +486,7 @@ def test_cant_wait_is_eager_but_cant_wait_till_refuses_the_wait() -> None:
     [
         ("Leave the key in the glovebox as Dockside can't test the brakes without it", True),
         ("Don't bring the car since the garage is closed", True),
+        ("I went for the lighter spring version so it won't be too warm", True),
         ("Send it as soon as you can", False),
         ("Fine as long as it is before noon", False),
     ],

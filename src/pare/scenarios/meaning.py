@@ -465,7 +465,7 @@ _CONTRAST_BREAK = re.compile(
 _REASON_BREAK = re.compile(
     # "as soon as you can", "as long as it is" compare, they give no reason
     r"(?<!soon)(?<!long)(?<!much)(?<!far)(?<!well)(?<!often)(?<!quickly)(?<!early)"
-    r"\s(?=(?:because\s(?!of\b)|(?:as|so)\s+(?:i|we)(?:'|\s)"
+    r"\s(?=(?:because\s(?!of\b)|(?:as|so)\s+(?:i|we)(?:'|\s)|so\s+(?:that\s+)?(?:he|she|they|it|you|there)(?:'|\s)"
     r"|(?:as|since)\s+(?:he|she|they|it|you|the\s+\w+|\w+)\s+(?:can't|cannot|won't|doesn't|don't|isn't|"
     r"aren't|wasn't|weren't|needs?|has|have|is|are|was|were|will|would|could|should|did|does|can)\b))",
     re.IGNORECASE,
