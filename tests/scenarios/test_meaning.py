@@ -109,6 +109,8 @@ def test_negated_clauses_affirm_nothing(text: str, affirmed: bool) -> None:
         ("No bus needed, a taxi will meet you at Central at midnight", False),
         ("Afraid the audit review is not going ahead this afternoon", True),
         ("They've called off Friday's session", True),
+        ("Sorry, I can't get it back to you, I'm away", True),
+        ("I can't get over how good it was, see you Friday", False),
         ("The offsite is scrapped, sorry", True),
         ("Friday's session is not happening, but Monday works", False),
     ],

@@ -397,8 +397,16 @@ _BARE_REFUSAL = re.compile(
 )
 """A clause that is only a refusal ("Can't, sorry"; "No, I'm fine"; "Sadly not")."""
 
-_REFUSAL_PATTERNS = (re.compile(r"(?<![^\W\d_])no\s+need(?!\s+(?:to|for)\b)", re.I),)
-"""Refusals that need more than a phrase: "no need" (but not "no need to worry")."""
+_REFUSAL_PATTERNS = (
+    re.compile(r"(?<![^\W\d_])no\s+need(?!\s+(?:to|for)\b)", re.I),
+    re.compile(
+        r"(?<![^\W\d_])(?:i|we)(?:'ll)?\s+(?:can't|cannot|won't|will\s+not)\s+(?:be\s+able\s+to\s+)?"
+        r"(?:get\s+(?!over\b)|return|bring|give|send|lend|drop|attend|join|manage|be\s+there|be\s+back|pick)",
+        re.I,
+    ),
+)
+"""Refusals that need more than a phrase: "no need" (but not "no need to worry"); "I can't get it back to
+you", "we won't be able to attend" (an act of one's own turned down; not "I can't get over it")."""
 
 COUNTER_OFFER_CUES: tuple[str, ...] = (
     "instead",
