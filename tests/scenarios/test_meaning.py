@@ -489,11 +489,12 @@ def test_cant_wait_is_eager_but_cant_wait_till_refuses_the_wait() -> None:
         ("Leave the key in the glovebox as Dockside can't test the brakes without it", True),
         ("Don't bring the car since the garage is closed", True),
         ("I went for the lighter spring version so it won't be too warm", True),
+        ("The TN-25 is compatible as well if TN-23 is out of stock", True),
         ("Send it as soon as you can", False),
         ("Fine as long as it is before noon", False),
     ],
 )
-def test_a_reason_with_its_own_subject_is_a_clause_of_its_own(text: str, cut: bool) -> None:
+def test_a_reason_or_a_condition_with_its_own_subject_is_a_clause_of_its_own(text: str, cut: bool) -> None:
     assert (len(clauses(text)) > 1) is cut
 
 

@@ -211,7 +211,7 @@ _CLAUSE_BREAK = re.compile(
     # a colon before a space ("Update: Thursday works", not 18:15) and a dash between words ("Not Friday -
     # Thursday works", "Friday—Thursday"), but not between two numbers (the range 2 - 4pm)
     r":(?=\s|$)|(?<=[^\d\s])\s+[-\u2013\u2014]+\s+|\s+[-\u2013\u2014]+\s+(?=[^\d\s])|(?<!\d)[\u2013\u2014](?!\d)|"
-    r"\s(?=(?:but|however|although|though|whereas|except|instead of|rather than|"
+    r"\s(?=(?:but|however|although|though|whereas|except|instead of|rather than|if|unless|"
     r"apart from|other than|unlike)\b)|" + _PICTOGRAPH_RUN,
     re.IGNORECASE,
 )
