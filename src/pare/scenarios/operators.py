@@ -730,8 +730,8 @@ for _operator in (
         "has a clause that meets it on its own (clauses as negation reads them: a sentence is cut at "
         "commas, colons, dashes, 'but', 'if', and a reason or consequence with its own subject, 'as the "
         "garage can't...', 'so it won't...'): `{in_a_clause: {contains: harbour, not: {contains_any: "
-        "[skipped, left out]}}}` finds Harbour put forward without an excuse in the same clause; negated clauses "
-        "are tested too, so put `affirms` inside for words that must not be negated",
+        "[skipped, left out]}}}` finds Harbour put forward without an excuse in the same clause; negated "
+        "clauses are tested too, so put `affirms` inside for words that must not be negated",
         partial(_in_some, meaning.clauses),
         compile_matcher,
         reads="matchers",
