@@ -246,3 +246,13 @@ def test_a_world_detail_of_a_kind_the_story_facts_give_must_be_theirs() -> None:
     )
     # where the story has no facts, a detail the world gives is allowed as before
     assert found(tiny(), entry("", app="notes", tool="create_note", args=note)) == []
+
+
+def test_a_seed_message_speaks_as_of_when_it_was_written() -> None:
+    # written on Tuesday 25 February: its "Saturday" is 1 March, before the scenario starts (Monday 3 March)
+    data = base()
+    email = data["seed"]["email"]["emails"][0]
+    email["content"], email["timestamp"] = "Dinner at Luigi's on Saturday, I'll pay and you settle up.", "-6d"
+    scenario = parse(data)
+    assert found(scenario, entry("Paid my share of Luigi's dinner of 1 March")) == []
+    assert found(scenario, entry("Paid my share of Luigi's dinner of 2 March")) != []

@@ -181,7 +181,39 @@ class ScenarioAllowed:
                 _allow_values(allowed, event.otherwise.args, self.scenario.start)
 
     def _seed(self, allowed: AllowedDetails) -> None:
-        _allow_values(allowed, self.scenario.seed, self.scenario.start)
+        _allow_seed(allowed, self.scenario.seed, self.scenario.start)
+
+
+_WRITTEN_AT = ("timestamp", "sent_at", "received_at", "created_at")
+"""The fields that say when a seed item was written: its days ("Saturday", "yesterday") are read as of
+then."""
+
+
+def _allow_seed(allowed: AllowedDetails, value: Any, anchor: datetime) -> None:
+    """Allow what the seed ``value`` holds (as :func:`_allow_values` does), each item's texts read as of
+    when it was written where it says so (a message of last Tuesday that says "Saturday" means the
+    Saturday after it, not the one after the scenario's start).
+    """
+    if isinstance(value, Mapping):
+        written = next(
+            (moment for key in _WRITTEN_AT if isinstance(value.get(key), str)
+             if (moment := _datetime(value[key], anchor)) is not None),
+            None,
+        )  # fmt: skip
+        if written is not None and written != anchor:
+            _allow_values(allowed, value, anchor)  # as of the start too: the scenario's own reading
+            _allow_values(allowed, value, written)
+            return
+        for key, item in value.items():
+            if isinstance(item, Mapping | list):
+                _allow_seed(allowed, item, anchor)
+            else:
+                _allow_values(allowed, {key: item}, anchor)
+    elif isinstance(value, list):
+        for item in value:
+            _allow_seed(allowed, item, anchor)
+    else:
+        _allow_values(allowed, value, anchor)
 
 
 def scenario_allowed(scenario: Scenario) -> ScenarioAllowed:
