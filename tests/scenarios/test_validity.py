@@ -317,3 +317,14 @@ def test_a_near_miss_may_be_declared_to_fail_through_a_side_effect_or_an_invente
     assert verdict.run("variant:invents").ok
     (problem,) = verdict.run("variant:claims_a_change").problems
     assert "should make a side effect" in problem
+
+
+def test_a_scripted_step_that_never_came_is_a_problem_of_the_run() -> None:
+    data = base()
+    steps = copy.deepcopy(data["oracle"]["user"])
+    # nothing is left to come after the reply: the wait ends the episode, and the last step never plays
+    steps += [{"tool": "wait"}, {"tool": "go_home"}, {"tool": "open_app", "args": {"app_name": "calendar"}}]
+    data["variants"] = [{"id": "waits_then_looks", "expect": "pass", "why": "w", "user": steps}]
+    verdict = check_scenario(parse(data), runs={"oracle", "variant:waits_then_looks"})
+    problems = verdict.run("variant:waits_then_looks").problems
+    assert any("played 3 of its 5 user steps" in problem for problem in problems), problems

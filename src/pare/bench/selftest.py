@@ -449,10 +449,13 @@ def _verdict(
 ) -> RunVerdict:
     """The verdict on one played run: what went wrong, and whether it succeeded as demanded."""
     problems = _problems(name, scenario, result)
-    if name == "by_hand" and isinstance(user, OracleUser) and user.position < len(user.steps):
+    scripted = name in ("by_hand", "oracle") or name.startswith("variant:")
+    # a scripted step that never came tested nothing (a "wait" with nothing to come ends the episode)
+    if scripted and type(user) is OracleUser and user.position < len(user.steps):
         problems.append(
-            f"by_hand played {user.position} of its {len(user.steps)} steps: step "
-            f"#{user.position + 1} ({user.steps[user.position].tool}) never came (its 'when' never held)"
+            f"{name} played {user.position} of its {len(user.steps)} user steps: step "
+            f"#{user.position + 1} ({user.steps[user.position].tool}) never came (its 'when' never held, or "
+            "the episode ended first)"
         )
     met = {goal.id for goal in result.outcome.goals if goal.passed}
     success = result.success
