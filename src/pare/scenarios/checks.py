@@ -910,13 +910,16 @@ class _JudgeRule(Rule):
         found = pattern.find(log, reader)
         return [e.index for e in found if judged_text(pattern.arguments(e, reader), field) is not None]
 
-    def _stray(self, text: str, sent: datetime, context: _Context) -> str | None:
-        """Why the facts rule rejects ``text`` sent at ``sent`` (a detail neither an allowed text gives nor
-        the episode did: "your cab comes at 09:40" where the ride booked is at 09:40), if so.
+    def _stray(
+        self, text: str, sent: datetime, context: _Context, read_at: datetime | None = None
+    ) -> str | None:
+        """Why the facts rule rejects ``text`` sent at ``sent`` (read as of ``read_at``: a reminder's when it
+        fires) for a detail neither an allowed text gives nor the episode did ("your cab comes at 09:40"
+        where the ride booked is at 09:40), if so.
         """
         if self.allowed is None:
             return None
-        found = self.allowed.stray(text, sent, also=partial(self._given_elsewhere, context))
+        found = self.allowed.stray(text, sent, also=partial(self._given_elsewhere, context), read_at=read_at)
         if found is None:
             return None
         detail, around = found
@@ -927,8 +930,8 @@ class _JudgeRule(Rule):
         is clean).
         """
         found = None
-        for at in moments:
-            found = self._stray(text, at, context)
+        for at in moments:  # the day it is sent is no stray detail; the day a reminder fires may be one
+            found = self._stray(text, moments[0], context, read_at=at)
             if found is None:
                 return None
         return found

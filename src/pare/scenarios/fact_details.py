@@ -535,16 +535,21 @@ class AllowedDetails:
         return cast("tuple[str, tuple[str, str]]", next(iter(detail.readings)))[1][0]
 
     def stray(
-        self, text: str, sent: datetime, also: Callable[[Detail, datetime], bool] | None = None
+        self,
+        text: str,
+        sent: datetime,
+        also: Callable[[Detail, datetime], bool] | None = None,
+        *,
+        read_at: datetime | None = None,
     ) -> tuple[Detail, str] | None:
-        """The first detail of the assistant's own words in ``text`` (read as of ``sent``) that no allowed
-        text states (nor ``also`` allows, when given), with the excerpt around it; ``None`` when every one
-        is allowed.
+        """The first detail of the assistant's own words in ``text`` (sent at ``sent``, its days read as of
+        ``read_at``, default ``sent``: a reminder's as of when it fires) that no allowed text states (nor
+        ``also`` allows, when given), with the excerpt around it; ``None`` when every one is allowed.
         """
         if not self.kinds:
             return None
         words = own_words(text)
-        for detail in sorted(details(words, sent), key=lambda found: found.start):
+        for detail in sorted(details(words, read_at or sent), key=lambda found: found.start):
             if not self.allows(detail, sent) and not (also is not None and also(detail, sent)):
                 return detail, excerpt(words, detail.start, detail.end)
         return None
