@@ -330,3 +330,9 @@ def test_a_word_time_before_what_it_times_is_still_a_time() -> None:
     assert _times("the ten to six slot") == [{"05:50", "17:50"}]
     assert _times("the half seven train") == [{"07:30", "19:30"}]
     assert _times("at one point") == []  # "one" counts a point here
+
+
+def test_a_count_later_counts_from_another_moment_and_names_no_day() -> None:
+    at = datetime(2025, 5, 1, 9, tzinfo=UTC)
+    assert mentions("the course kicks off a week later", at) == ()
+    assert [sorted(m.days) for m in mentions("in a week", at)] == [[date(2025, 5, 8)]]

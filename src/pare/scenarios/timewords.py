@@ -27,7 +27,8 @@ what they find (a stretch of text read by the first is not read again by the sec
   "in two weeks") and a month before "the" and its day ("June the 2nd"). Its search also proposes false
   dates ("we" as Wednesday, "may" as May, a lone "22" as the 22nd, "a month" after a price, "an hour" in
   "it takes half an hour"), so only a phrase without a comma, with a number, that counts from now ("in
-  ...", "... from now", "... later") or names a month and "the" day is taken from it; it gives a day only
+  ...", "... from now", "... ago"; "... later" counts from another moment) or names a month and "the" day
+  is taken from it; it gives a day only
   where the phrase names one, and a time only where the rules read none. Only a text with such a count or
   month form is given to it at all.
 
@@ -207,7 +208,7 @@ _LIBRARY_CUE = re.compile(
     + _COUNT
     + r"\s+"
     + _UNIT
-    + r"\s+(?:from\s+(?:now|today|tomorrow)|later|ago)|"
+    + r"\s+(?:from\s+(?:now|today|tomorrow)|ago)|"
     + _MONTH_WORD
     + r"\s+the\s+\d)"
     + _WORD_END,
@@ -215,11 +216,12 @@ _LIBRARY_CUE = re.compile(
 )
 """What the library reads and the rules do not: a count of units from now ("in two days", "3 days from
 now", "in an hour") or a month before "the" and its day ("June the 2nd"). Only a text with one is given to
-it, and only the stretch around it."""
+it, and only the stretch around it. "A week later" is not read: it counts from another moment than now
+("the course starts a week later, Saturday the tenth")."""
 _RELATIVE_PHRASE = re.compile(
     r"^(?:in|within)\s|"
     + _WORD_START
-    + r"(?:from\s+(?:now|today|tomorrow)|later|ago)"
+    + r"(?:from\s+(?:now|today|tomorrow)|ago)"
     + _WORD_END
     + "|"
     + _MONTH_WORD
