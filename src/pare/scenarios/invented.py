@@ -293,10 +293,22 @@ class _Reading:
         return found
 
 
+@dataclass(frozen=True, slots=True)
+class _StoryFacts:
+    """The story's facts of a scenario, kept on it (:func:`story_details`)."""
+
+    allowed: AllowedDetails | None
+
+
 def story_details(scenario: Scenario) -> AllowedDetails | None:
-    """The details the story's facts allow (every judge check's and event judge's facts, widened by the
-    criteria and by every text the scenario's solutions write), or ``None`` when it has no facts.
+    """The details the story's facts allow (the facts of every goal's judge checks, widened by the
+    criteria and by every text the scenario's solutions write), or ``None`` when it has no facts; made once
+    per scenario.
     """
+    return scenario.derived(_StoryFacts, lambda: _StoryFacts(_story_details(scenario))).allowed
+
+
+def _story_details(scenario: Scenario) -> AllowedDetails | None:
     facts = [fact for goal in scenario.goals for check in goal.checks if check.judge is not None
              for fact in check.judge.facts]  # fmt: skip
     if not facts:
