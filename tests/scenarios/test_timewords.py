@@ -336,3 +336,18 @@ def test_a_count_later_counts_from_another_moment_and_names_no_day() -> None:
     at = datetime(2025, 5, 1, 9, tzinfo=UTC)
     assert mentions("the course kicks off a week later", at) == ()
     assert [sorted(m.days) for m in mentions("in a week", at)] == [[date(2025, 5, 8)]]
+
+
+@pytest.mark.parametrize(
+    ("text", "day"),
+    [
+        ("Saturday the tenth works", date(2025, 5, 10)),
+        ("on the tenth of May", date(2025, 5, 10)),
+        ("see you on the twenty-first.", date(2025, 5, 21)),
+        ("the first time we met", None),
+        ("the first of all", None),
+    ],
+)
+def test_an_ordinal_day_in_words_is_a_day(text: str, day: date | None) -> None:
+    found = [sorted(m.days)[0] for m in mentions(text, datetime(2025, 5, 1, 9, tzinfo=UTC)) if m.days]
+    assert found == ([day] if day else [])

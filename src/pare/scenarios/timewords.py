@@ -13,7 +13,8 @@ what they find (a stretch of text read by the first is not read again by the sec
     day before;
   - "the 2nd" is the next 2nd on or after the reference day: said on 5 June it is 2 July, said on
     1 June it is 2 June (the library picks a fixed month); "the 5th of this month" (of next, of last
-    month) is that month's;
+    month) is that month's; in words too ("Saturday the tenth", "the twenty-first of May"; not "the
+    first time");
   - "half nine" is 09:30 or 21:30 (British usage: half past nine), "quarter past 3", "ten to four",
     "20 past 3", "nine o'clock", "at nine";
   - "8 in the evening", "8 tonight", "9 in the morning", "11 at night": the part of the day picks the
@@ -611,12 +612,43 @@ class _Reading:
             )
 
 
+_DAY_ORDINAL_WORDS = ("first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth",
+                      "tenth", "eleventh", "twelfth", "thirteenth", "fourteenth", "fifteenth", "sixteenth",
+                      "seventeenth", "eighteenth", "nineteenth", "twentieth")  # fmt: skip
+_DAY_ORDINALS = {word: number for number, word in enumerate(_DAY_ORDINAL_WORDS, start=1)}
+_DAY_ORDINAL = re.compile(
+    r"(?<=\bthe\s)(?:(twenty|thirty)[\s-])?(" + "|".join(_DAY_ORDINAL_WORDS) + r")\b"
+    # a day, not "the first time": a weekday before it, "of" a month, or the phrase ending after it
+    r"(?:(?=\s+of\s+(?:jan|feb|mar|apr|may|jun|jul|aug|sep|oct|nov|dec))|(?=\s*(?:[.,;:!?)]|$))|(?=\s+(?:at|from|until|till|and|or|when)\b))",
+    re.I,
+)
+"""A day of the month as an ordinal in words after "the" ("Saturday the tenth", "the twenty-first of
+May")."""
+_ENDING = {1: "st", 2: "nd", 3: "rd", 21: "st", 22: "nd", 23: "rd", 31: "st"}
+_WEEKDAY_ORDINAL = re.compile(
+    r"(?<=day\sthe\s)(?:(twenty|thirty)[\s-])?(" + "|".join(_DAY_ORDINAL_WORDS) + r")\b", re.I
+)
+"""An ordinal after a weekday ("Saturday the tenth") is a day whatever follows."""
+
+
+def _day_in_digits(match: re.Match[str]) -> str:
+    """An ordinal day in words as digits ("tenth" as "10th"), padded to its length so positions hold."""
+    tens = {"twenty": 20, "thirty": 30}.get((match.group(1) or "").lower(), 0)
+    number = tens + _DAY_ORDINALS[match.group(2).lower()]
+    if number > 31:
+        return match.group(0)
+    return f"{number}{_ENDING.get(number, 'th')}".ljust(len(match.group(0)))
+
+
 @lru_cache(maxsize=8192)
 def mentions(text: str, anchor: datetime) -> tuple[Mention, ...]:
     """Every day and clock time named in ``text``, in order, resolved against ``anchor``.
 
     Remembered per text and reference moment: checks read the same messages again and again.
     """
+    if "the " in text.lower():  # "the tenth" is the 10th
+        text = _DAY_ORDINAL.sub(_day_in_digits, text)
+        text = _WEEKDAY_ORDINAL.sub(_day_in_digits, text)
     reading = _Reading(text, anchor)
     reading.add_days()
     reading.add_ranges()
