@@ -194,13 +194,11 @@ def _part_name(written: str) -> str:
 
 
 def parts_of_day(text: str) -> Iterable[Found]:
-    """Every part of the day ``text`` names, as ``("part", name)`` readings (``("this", name)`` too when
-    the text says "this morning" or "tonight": the part it is sent in will do).
+    """Every part of the day ``text`` names, as ``("part", name)`` readings ("this morning" and "tonight"
+    are told by :func:`says_now`: the part the text is sent in will do for them).
     """
     for match in _PART.finditer(text):
-        name = _part_name(match.group("part"))
-        found = Found(("part", name), match.group(0), *match.span())
-        yield found
+        yield Found(("part", _part_name(match.group("part"))), match.group(0), *match.span())
 
 
 def says_now(text: str, start: int) -> bool:

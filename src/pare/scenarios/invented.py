@@ -79,7 +79,6 @@ BOOKKEEPING: frozenset[str] = frozenset(
 """Fields that say when an item was written, not what it is about: no detail a text states comes from
 them (an email received at 10:00 does not make "the driver comes at 10am" true)."""
 _CONTROL_APPS = frozenset({"system", "agent_ui"})
-KINDS: tuple[Kind, ...] = WORLD_KINDS
 _RELATIVE = re.compile(r"^\s*(?:day\b|[+-]\s*\d)")
 """A time written relative to the scenario's start (``day+1 09:00``, ``day 14:00``, ``+2h``)."""
 
@@ -101,9 +100,14 @@ class InventedDetail:
     """The detail as written ("10:00", "£1,642")."""
     excerpt: str
     """The words around it."""
-    against: str = "nothing in the scenario"
-    """What does not give it: nothing in the scenario (an invented detail), or the story's facts (a detail
-    the world gives somewhere, of a kind the facts give, that neither they nor a solution state)."""
+    against_facts: bool = False
+    """Whether it is the story's facts that do not give it (the world gives it somewhere, in a kind the
+    facts give, but neither they nor a solution state it); else nothing in the scenario gives it."""
+
+    @property
+    def against(self) -> str:
+        """What does not give it, as the verdict says: "the story's facts" or "nothing in the scenario"."""
+        return "the story's facts" if self.against_facts else "nothing in the scenario"
 
     def describe(self) -> str:
         """One line: ``#14 messaging__send_message to user-jonas states 10:00, which nothing in the
@@ -112,7 +116,7 @@ class InventedDetail:
         where = f" to {self.target}" if self.target else ""
         return (
             f"#{self.order} {self.tool}{where} states {self.shown} in {self.field}, which {self.against} "
-            f'{"do not give" if self.against.endswith("facts") else "gives"} ("{self.excerpt}")'
+            f'{"do not give" if self.against_facts else "gives"} ("{self.excerpt}")'
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -133,7 +137,7 @@ class InventedDetail:
 def checked_kinds(scenario: Scenario) -> frozenset[Kind]:
     """The kinds of detail checked in ``scenario``: all but those it allows (``invented_details``)."""
     allowance = scenario.invented_details
-    return frozenset(KINDS) - frozenset(allowance.allow if allowance is not None else ())
+    return frozenset(WORLD_KINDS) - frozenset(allowance.allow if allowance is not None else ())
 
 
 class ScenarioAllowed:
@@ -339,7 +343,7 @@ def _invented(
         detail.kind,
         detail.shown,
         excerpt(words, detail.start, detail.end),
-        "the story's facts" if against_facts else "nothing in the scenario",
+        against_facts,
     )
 
 
@@ -383,7 +387,7 @@ def done_values(log: Sequence[LogEntry], begin: datetime) -> AllowedDetails:
     the kinds read everywhere. A text that states one of them tells what was done, which is no invented
     or contradicted detail: whether what was done is right is the business of the checks of the state.
     """
-    allowed = AllowedDetails.of_texts((), begin, frozenset(KINDS))
+    allowed = AllowedDetails.of_texts((), begin, frozenset(WORLD_KINDS))
     for entry in log:
         if entry.actor == "assistant" and entry.ok and entry.kind == "write":
             _allow_values(allowed, entry.args, entry.time, texts=False)
