@@ -519,3 +519,71 @@ def test_an_appended_text_keeps_the_old_one_whole(old: str | None, new: str, kep
     from pare.scenarios.side_effects import _keeps
 
     assert _keeps(old, new) is kept
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "lost"),
+    [
+        # kept: the same words in another layout, in another field, or with other filler
+        ("Bins: black bin Tuesday night", {"content": "Black bin - Tuesday night (bins)"}, ()),
+        ("Spare key: Tom at number 50", {"title": "Spare key with Tom, number 50", "content": ""}, ()),
+        # lost: a value altered, a line gone
+        (
+            "Spare key: Tom at number 50",
+            {"content": "Spare key: Tom at number 52"},
+            ("Spare key: Tom at number 50",),
+        ),
+        ("Wifi: abc\nBins: Tuesday", {"content": "Wifi: xyz"}, ("Wifi: abc", "Bins: Tuesday")),
+    ],
+)
+def test_a_line_of_an_items_old_text_is_kept_by_its_words(
+    old: str, new: dict[str, str], lost: tuple[str, ...]
+) -> None:
+    from pare.scenarios.side_effects import lost_lines
+
+    assert lost_lines({"content": old}, new, ["content"]) == tuple(("content", line) for line in lost)
+
+
+def test_a_line_every_solution_keeps_must_stay_when_the_item_is_rewritten() -> None:
+    wifi, key_line = ("content", "Wifi: abc"), ("content", "Spare key: Tom at number 50")
+    solution = Change("notes", "notes", "changed", "n1", fields=("content",), lost=(wifi,))
+    envelope = Envelope.of([[solution]])
+    assert Envelope.from_json(envelope.to_json()) == envelope
+    assert Envelope.from_json([["notes", "notes", "changed", "n1", 1, ["content"]]]).lost == {}  # older rows
+    assert envelope.unexpected([solution]) == []  # the line the task is about may change
+    also_key = Change("notes", "notes", "changed", "n1", fields=("content",), lost=(wifi, key_line))
+    (extra,) = envelope.unexpected([also_key])
+    assert extra.lost == (key_line,)
+    assert extra.describe() == f"changed notes.notes n1: dropped or altered {key_line[1]!r}"
+    # a text field no solution writes may be written whole: the solutions retitle a cancelled viewing,
+    # this run rewrites its now stale description instead
+    retitled = Envelope.of([[Change("calendar", "events", "changed", "ev1", fields=("title",))]])
+    described = Change(
+        "calendar",
+        "events",
+        "changed",
+        "ev1",
+        fields=("description",),
+        lost=(("description", "Cab at 13:35"),),
+    )
+    assert retitled.unexpected([described]) == []
+
+
+def test_an_over_eager_rewrite_of_a_note_that_alters_another_line_is_named() -> None:
+    scenario = LIBRARY["wifi_password_changed_update_house_note"]
+    oracle_content = scenario.solution().interventions[-1].actions[-1].args["content"]
+    assert "Spare key: Tom at number 50" in oracle_content
+    for content, named in [
+        # the same note laid out anew, every line's words kept: no loss
+        (oracle_content.replace(" - password:", ", password"), []),
+        (
+            oracle_content.replace("number 50", "number 48"),
+            [
+                "changed notes.notes note-house ('House info'): "
+                "dropped or altered 'Spare key: Tom at number 50'"
+            ],
+        ),
+    ]:
+        extra = {"tool": "notes__update_note", "args": {"note_id": "note-house", "content": content}}
+        result = play(scenario, over_eager(scenario, extra))
+        assert [change.describe() for change in result.outcome.side_effects] == named

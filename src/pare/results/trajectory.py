@@ -242,6 +242,10 @@ class SideEffectRecord(_Verdict):
     fields: list[str] = Field(
         default_factory=list, description="The fields it wrote that no solution writes."
     )
+    lost: list[str] = Field(
+        default_factory=list,
+        description="Lines of the item's old text it dropped or altered that every solution keeps.",
+    )
     harm: str | None = Field(
         default=None,
         description="The class of the tool whose call made it: reversible, costly, irreversible.",
