@@ -527,6 +527,11 @@ def test_an_appended_text_keeps_the_old_one_whole(old: str | None, new: str, kep
         # kept: the same words in another layout, in another field, or with other filler
         ("Bins: black bin Tuesday night", {"content": "Black bin - Tuesday night (bins)"}, ()),
         ("Spare key: Tom at number 50", {"title": "Spare key with Tom, number 50", "content": ""}, ()),
+        # its dates and times written another way
+        ("ELLIE - 30th, Sat 14 June", {"content": "ELLIE - 30th, Sat June 14th"}, ()),
+        ("Due 2026-06-04, call at 18:00", {"content": "Due 4 June 2026, call at 6 in the evening"}, ()),
+        ("Call at 18:00", {"content": "Call at 7 in the evening"}, ("Call at 18:00",)),
+        ("Bins: black Tuesday", {"content": "Bins: black Thursday"}, ("Bins: black Tuesday",)),
         # lost: a value altered, a line gone
         (
             "Spare key: Tom at number 50",

@@ -37,6 +37,7 @@ import re
 from collections import Counter
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, replace
+from datetime import datetime
 from types import MappingProxyType
 from typing import Any
 
@@ -44,6 +45,7 @@ from pare.apps.harm import IRREVERSIBLE, Harm
 from pare.env.attribution import CONTROL_APPS, Attribution, item_key
 from pare.scenarios.item_text import TEXT_FIELDS, item_text
 from pare.scenarios.model import AllowedChange, ChangeKind
+from pare.scenarios.timewords import Mention, mentions
 from pare.scenarios.told import conversation_members, email_addressees
 from pare.sim.log import Actor
 
@@ -286,24 +288,125 @@ def _keeps(old: Any, new: Any) -> bool:
     return not before or before in " ".join(new.split())
 
 
-_WORD = re.compile(r"\w+")
+_WORD = re.compile(r"\d+|[^\W\d_]+")
 _FILLER = frozenset({"a", "an", "the", "and", "at", "on", "in", "of", "to", "for", "is", "are", "s"})
 """Words whose absence changes no detail of a line: a line kept in other words still has its names,
 numbers and days."""
+_CALENDAR_WORDS = frozenset(
+    {
+        "january",
+        "february",
+        "march",
+        "april",
+        "may",
+        "june",
+        "july",
+        "august",
+        "september",
+        "october",
+        "november",
+        "december",
+        "jan",
+        "feb",
+        "mar",
+        "apr",
+        "jun",
+        "jul",
+        "aug",
+        "sep",
+        "sept",
+        "oct",
+        "nov",
+        "dec",
+        "monday",
+        "tuesday",
+        "wednesday",
+        "thursday",
+        "friday",
+        "saturday",
+        "sunday",
+        "mon",
+        "tue",
+        "tues",
+        "wed",
+        "thu",
+        "thur",
+        "thurs",
+        "fri",
+        "sat",
+        "sun",
+        "am",
+        "pm",
+        "morning",
+        "afternoon",
+        "evening",
+        "night",
+        "noon",
+        "midday",
+        "midnight",
+        "o",
+        "clock",
+        "st",
+        "nd",
+        "rd",
+        "th",
+        "today",
+        "tonight",
+        "tomorrow",
+    }
+)
+"""The words a date or a time is written with: "Sat 14 June" is "June 14th", "18:00" is "6pm"."""
+_READ_AT = datetime(2000, 1, 1)
+"""The one moment both texts' days are read against: only whether they name the same days matters."""
 
 
 def _words(text: str) -> frozenset[str]:
-    return frozenset(_WORD.findall(text.casefold())) - _FILLER
+    """The words of ``text`` that carry its details, numbers without their leading zeros."""
+    found = _WORD.findall(text.casefold())
+    return frozenset(word.lstrip("0") or "0" if word.isdigit() else word for word in found) - _FILLER
+
+
+def _parts(mention: Mention) -> set[str]:
+    """The numbers a date or a time may be written with: its day, month and year; its hour (on either
+    clock) and minute.
+    """
+    parts: set[str] = set()
+    for day in mention.days:
+        parts.update((str(day.day), str(day.month), str(day.year)))
+    for moment in mention.times:
+        parts.update((str(moment.hour), str(moment.hour % 12 or 12), str(moment.minute)))
+    return parts
+
+
+def _line_kept(line: str, text: str, words: frozenset[str]) -> bool:
+    """Whether ``text`` (its ``words``) still holds ``line``: every word of it, or, where the line's
+    dates and times are written another way, the same days and times and every other word.
+    """
+    missing = _words(line) - words
+    if not missing:
+        return True
+    named = mentions(line, _READ_AT)
+    if not named:
+        return False
+    now = mentions(text, _READ_AT)
+    explained: set[str] = set(_CALENDAR_WORDS)
+    for mention in named:
+        if not any(mention.days & other.days or mention.times & other.times for other in now):
+            return False  # a day or a time of the line is gone
+        explained |= _parts(mention)
+    return missing <= explained
 
 
 def lost_lines(
     before: Mapping[str, Any], item: Mapping[str, Any], fields: Iterable[str]
 ) -> tuple[LostLine, ...]:
-    """The lines of ``before``'s text ``fields`` whose words the item's text (all of it,
-    :func:`item_text`) no longer has, each with its field. A line is kept in any layout or field, so
-    moving it or rewording its filler is no loss; a changed number, name or day, or a line gone, is.
+    """The lines of ``before``'s text ``fields`` that the item's text (all of it, :func:`item_text`) no
+    longer holds, each with its field. A line is kept in any layout or field and with its dates and
+    times written another way, so moving it or rewording its filler is no loss; a changed number, name
+    or day, or a line gone, is.
     """
-    now = _words(item_text(item) or "")
+    text = item_text(item) or ""
+    words = _words(text)
     lost: list[LostLine] = []
     for field in fields:
         old = before.get(field)
@@ -311,7 +414,7 @@ def lost_lines(
             continue
         for line in old.splitlines():
             line = " ".join(line.split())
-            if line and (field, line) not in lost and not _words(line) <= now:
+            if line and (field, line) not in lost and not _line_kept(line, text, words):
                 lost.append((field, line))
     return tuple(lost)
 
