@@ -130,6 +130,10 @@ def test_declines(text: str, declined: bool) -> None:
         ("Thursday at 7 works. I'll let you know when I'm on my way", True),
         ("We're both coming - hopefully the sun shines for you!", True),
         ("Hopefully see you soon! Thursday works", True),
+        ("I'll try and get there for six", False),
+        ("I'll be there if I can get away from work", False),
+        ("I might make Thursday, fingers crossed", False),
+        ("Yes, I'll be there. I'll try to bring the chairs", True),
     ],
 )
 def test_a_hedge_is_no_answer_for_declines_false(text: str, answers: bool) -> None:

@@ -53,6 +53,13 @@ def _days(text: str, anchor: datetime = JUNE_1) -> list[set[date]]:
         ("9 in the morning", [{"09:00"}]),
         ("half nine in the evening", [{"21:30"}]),
         ("at 11 at night", [{"23:00"}]),
+        # the part of the day said just before the time picks it too
+        ("tomorrow evening, about half six", [{"18:30"}]),
+        ("Friday morning at 9", [{"09:00"}]),
+        ("tonight at 8", [{"20:00"}]),
+        ("five to midnight", [{"23:55"}]),
+        ("at five to midnight", [{"23:55"}]),
+        ("quarter past noon", [{"12:15"}]),
     ],
 )
 def test_informal_clock_times_are_read(text: str, readings: list[set[str]]) -> None:
@@ -70,6 +77,7 @@ def test_informal_clock_times_are_read(text: str, readings: list[set[str]]) -> N
         "it costs $18.15",
         "half one of the boxes",
         "five to ten people",
+        "meet at 5 Market Row",  # "Mar" in a street name is no month
     ],
 )
 def test_numbers_that_are_not_times_are_not_read_as_times(text: str) -> None:
@@ -177,6 +185,13 @@ def test_someone_else_being_away_is_not_a_negation() -> None:
 )
 def test_bounds_and_friendly_phrases_are_not_negations(clause: str) -> None:
     assert not is_negated(clause)
+
+
+@pytest.mark.parametrize(
+    "text", ["the flat on the 4th floor", "her 30th birthday", "the 2nd time she asked", "5 Market Row, 9am"]
+)
+def test_an_ordinal_that_counts_something_or_a_street_is_no_day(text: str) -> None:
+    assert _days(text) == []
 
 
 def test_the_part_of_the_day_picks_the_reading_a_check_wants() -> None:

@@ -589,11 +589,13 @@ _HEDGE = re.compile(
     r"(?:i'll|i will|will|let me) (?:confirm|double-check|get back to you)(?! (?:that|the|your|my)\b)|"
     r"let you know(?! (?:if|when|whether|once|as soon|how|what|where|who)\b)|"
     r"i think (?:i|it|that|we|this)(?:'ll| will| should| might| could| can)|"
-    r"(?:i|we) (?:might|may) be able|should be able to)(?![^\W\d_])",
+    r"(?:i|we) (?:might|may) be able|should be able to|(?:i'll|i will|we'll|we will|will) try (?:and|to)|"
+    r"if (?:i|we) can(?! help)|fingers crossed|all being well|with any luck|(?:i|we) might)(?![^\W\d_])",
     re.IGNORECASE,
 )
 """What keeps an answer from being one: "probably", "I'll confirm later", "can I let you know in the
-morning?", "I think it should be clear" (but not "I'll let you know when I'm on my way")."""
+morning?", "I think it should be clear", "I'll try and get there", "if I can" (but not "I'll let you know
+when I'm on my way")."""
 _FIRM = re.compile(
     r"(?<![^\W\d_])(?:yes|yeah|yep|definitely|certainly|absolutely|count (?:me|us) in|i'm in|i am in|"
     r"confirmed|see you|works|sounds (?:good|great|perfect)|(?:that's|is) (?:fine|perfect|great)|perfect|"
@@ -614,8 +616,23 @@ def hedge(text: str) -> str | None:
     found = next((match.group(0) for part in parts if (match := _HEDGE.search(part))), None)
     if found is None:
         return None
-    firm = any(_FIRM.search(part) and not _HEDGE.search(part) for part in parts)
+    firm = any(
+        _FIRM.search(part) and not _HEDGE.search(part) and not _hedged_condition(parts[index + 1 :])
+        for index, part in enumerate(parts)
+    )
     return None if firm else found
+
+
+def _hedged_condition(following: list[str]) -> bool:
+    """Whether the clause after a firm one makes it conditional on a hedge: "I'll be there" and "if I can
+    get away" is no firm answer.
+    """
+    return (
+        bool(following) and _CONDITION.match(following[0]) is not None and bool(_HEDGE.search(following[0]))
+    )
+
+
+_CONDITION = re.compile(r"\s*(?:if|unless|as long as|provided)\b", re.IGNORECASE)
 
 
 @dataclass(frozen=True, slots=True)

@@ -88,10 +88,22 @@ _RELATIVE_DAY = re.compile(
 _RELATIVE_OFFSETS = {"the day after tomorrow": 2, "tomorrow": 1, "yesterday": -1, "last night": -1,
                      "the day before yesterday": -2}  # fmt: skip
 """Days from the reference day that each relative word names (the others name that day itself)."""
-_DAY_MONTH = re.compile(r"(?<!\d)" + _ORDINAL + r"(?:\s+of)?\s+" + _MONTH_WORD + r"(?:\s+(\d{4}))?", re.I)
+_DAY_MONTH = re.compile(
+    r"(?<!\d)" + _ORDINAL + r"(?:\s+of)?\s+" + _MONTH_WORD + _WORD_END + r"(?:\s+(\d{4}))?", re.I
+)
 _MONTH_DAY = re.compile(_MONTH_WORD + r"\s+" + _ORDINAL + r"(?![\d:])(?:,?\s+(\d{4}))?", re.I)
+_COUNTED_BY_ORDINAL = (
+    r"(?!\s+(?:floor|storey|story|time|times|place|row|class|edition|birthday|anniversary|year|grade|"
+    r"attempt|round|generation|series|season|book|chapter|century|avenue|street|person|people|item|one|"
+    r"in\s+line|choice|option|stop|flat|house|door|gate|platform|bedroom|pair|week|day|month)\b)"
+)
+"""What an ordinal counts when it is no day of the month: "the 4th floor", "her 30th birthday"."""
 _THE_NTH = re.compile(
-    _WORD_START + r"the\s+(\d{1,2})(?:st|nd|rd|th)" + _WORD_END + r"(?:\s+of\s+(this|next|last)\s+month)?",
+    _WORD_START
+    + r"the\s+(\d{1,2})(?:st|nd|rd|th)"
+    + _WORD_END
+    + _COUNTED_BY_ORDINAL
+    + r"(?:\s+of\s+(this|next|last)\s+month)?",
     re.I,
 )
 """"the 2nd" and "the 5th of this month" (or of next or last month, which say the month)."""
@@ -138,6 +150,12 @@ _PAST_TO = re.compile(
     re.I,
 )
 """"quarter past 3", "half past nine", "ten to four", "20 past 3", "25 minutes to 4"."""
+_PAST_TO_NAMED = re.compile(
+    _WORD_START + r"(a\s+quarter|quarter|half|twenty[\s-]five|twenty|ten|five|\d{1,2}\s+minutes|\d{1,2})\s+"
+    r"(past|after|to)\s+(midnight|noon|midday)" + _WORD_END,
+    re.I,
+)
+""""five to midnight" (23:55), "quarter past noon" (12:15)."""
 _HALF_HOUR = re.compile(
     _WORD_START + r"half\s+" + _HOUR + _WORD_END + r"(?![:.]\d|\s+(?:an?\s+)?(?:hours?|days?))", re.I
 )
@@ -169,6 +187,14 @@ _PERIOD = (
     r"(?:this|tomorrow|[a-z]+day)\s+(morning|afternoon|evening|night))" + _WORD_END
 )
 _PERIOD_AFTER = re.compile(_PERIOD, re.I)
+_PERIOD_BEFORE = re.compile(
+    _WORD_START
+    + r"(morning|afternoon|evening|tonight|night)[\s,]+(?:(?:at|about|around|from|say|by|maybe|roughly|"
+    r"approximately|approx\.?|ish|-|\u2013)[\s,]+){0,2}$",
+    re.I,
+)
+"""The part of the day said just before a time ("this evening at 7", "Friday morning, about half nine"):
+it picks the time's reading where the time alone has two."""
 """The part of the day said after a time ("8 in the evening"): it picks the time's reading."""
 _HOUR_BEFORE_PERIOD = re.compile(
     _NOT_A_PRICE + _WORD_START + _HOUR + r"(?:[:.](\d{2}))?(?=" + _PERIOD + ")", re.I
@@ -382,6 +408,7 @@ _HINTS: dict[re.Pattern[str], tuple[str, ...]] = {
     _DASH_RANGE: (_DIGIT_NEEDED,),
     _WORDED_RANGE: ("between", "from"),
     _PAST_TO: ("past", "after", "to"),
+    _PAST_TO_NAMED: ("midnight", "noon", "midday"),
     _HALF_HOUR: ("half",),
     _HOUR_BEFORE_PERIOD: ("morning", "afternoon", "evening", "night"),
     _HOUR_SUFFIX: ("am", "a.m", "pm", "p.m", "o'clock"),
@@ -425,6 +452,10 @@ class _Reading:
         period = _PERIOD_AFTER.match(self.text, span[1]) if times else None
         if period is not None:  # "8 in the evening": the part of the day picks the reading
             times = _in_period(times, next(group for group in period.groups() if group).lower())
+        elif len(times) > 1:  # "tomorrow evening, about half six": said just before, it picks too
+            before = _PERIOD_BEFORE.search(self.text, max(0, span[0] - 40), span[0])
+            if before is not None:
+                times = _in_period(times, before.group(1).lower().removeprefix("to"))
         mention = Mention(span[0], frozenset(days), times)
         self.taken.append((span[0], span[1], mention))
         self.found.append(mention)
@@ -568,6 +599,14 @@ class _Reading:
             self.found += [Mention(match.start(), times=starts), Mention(middle, times=ends)]
 
     def add_times(self) -> None:
+        for match in self.scan(_PAST_TO_NAMED):  # before "at five" takes the hour of "at five to midnight"
+            amount, direction = match.group(1).lower(), match.group(2).lower()
+            minutes = _MINUTE_WORDS.get(" ".join(amount.replace("-", " ").split()))
+            minutes = int(amount.split()[0]) if minutes is None else minutes
+            if 0 < minutes < 60:
+                base = 0 if match.group(3).lower() == "midnight" else 12
+                whole = (base * 60 + (minutes if direction != "to" else -minutes)) % (24 * 60)
+                self.add(match.span(), times=[time(whole // 60, whole % 60)])
         for match in self.scan(_PAST_TO):
             amount, direction = match.group(1).lower(), match.group(2).lower()
             hour = _hour_number(match.group(3))
