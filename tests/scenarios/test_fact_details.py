@@ -90,6 +90,14 @@ def test_money_is_read_by_currency_and_value() -> None:
     assert _stray(["Half is $25.70."], "your half is $25.07") == "$25.07"
 
 
+def test_a_share_is_read_where_the_facts_give_one_and_may_be_worked_out_from_their_amounts() -> None:
+    facts = ["The HALDEN12 code takes 12% off the $67.20 order.", "Rent goes from $2,050 to $2,296."]
+    assert _stray(facts, "with the twelve per cent code") is None
+    assert _stray(facts, "with the 15% HALDEN12 discount") == "15%"
+    assert _stray(facts, "the rent rises by about 12%") is None  # 246 of 2,050
+    assert _stray(["The code takes £5 off."], "a 15% discount") is None  # no share given: not read
+
+
 def test_a_trunk_zero_in_brackets_is_the_same_number() -> None:
     facts = ["Her new mobile is +31 6 4182 7390."]
     assert _stray(facts, "Call her on +31 (0)6 41 82 73 90") is None

@@ -55,7 +55,18 @@ from pare.scenarios.numbers import names_number
 from pare.scenarios.timewords import mentions
 
 Kind = Literal[
-    "time", "date", "money", "phone", "url", "email", "count", "part_of_day", "code", "street", "month"
+    "time",
+    "date",
+    "money",
+    "phone",
+    "url",
+    "email",
+    "count",
+    "part_of_day",
+    "code",
+    "street",
+    "month",
+    "percent",
 ]
 WORLD_KINDS: tuple[Kind, ...] = ("time", "date", "money", "phone", "url", "email")
 """The kinds read in everything the assistant writes (:mod:`pare.scenarios.invented`): a count or a part of
@@ -273,6 +284,26 @@ _MONEY_IN_WORDS = re.compile(
 _WORD_CURRENCIES = {"pound": "GBP", "quid": "GBP", "dollar": "USD", "buck": "USD", "euro": "EUR"}
 
 
+_PERCENT = re.compile(
+    rf"(?<![\w.,-])(?:(?P<digits>\d{{1,3}}(?:\.\d{{1,2}})?)|(?P<words>{NUMBER_IN_WORDS}))"
+    r"(?:\s?%|[\s-]?per[\s-]?cent\b)",
+    re.I,
+)
+""""12%", "12.5 per cent", "ten-percent": a share, read where the facts give one ("a 15% discount" where
+it is 12%)."""
+
+
+def _percent_details(text: str) -> Iterable[Detail]:
+    if "%" not in text and "cent" not in text.lower():
+        return
+    for match in _PERCENT.finditer(text):
+        digits = match.group("digits")
+        value = Decimal(digits) if digits else words_value(match.group("words"))
+        if value is not None:
+            yield Detail("percent", frozenset({("percent", Decimal(value).normalize())}), match.group(0),
+                         *match.span())  # fmt: skip
+
+
 def _money_in_words(text: str) -> Iterable[Detail]:
     for match in _MONEY_IN_WORDS.finditer(text):
         whole = words_value(match.group("whole"))
@@ -285,6 +316,22 @@ def _money_in_words(text: str) -> Iterable[Detail]:
         currency = _WORD_CURRENCIES[match.group("unit").lower().rstrip("s")]
         value = (Decimal(whole) + Decimal(cents or 0) / 100).normalize()
         yield Detail("money", frozenset({(currency, value)}), match.group(0), *match.span())
+
+
+@lru_cache(maxsize=1024)
+def _shares(amounts: frozenset[Decimal]) -> frozenset[Decimal]:
+    """What one of ``amounts`` is of another and by how much it differs from it, in percent (of at most 40
+    amounts, as for :func:`_differences`): "a 12% rise" from $2,050 to $2,296, "about 89%" of the limit.
+    """
+    if len(amounts) > 40:
+        return frozenset()
+    found: set[Decimal] = set()
+    for part in amounts:
+        for whole in amounts:
+            if whole > 0 and part != whole:
+                found.add(100 * part / whole)
+                found.add(abs(100 * (part - whole) / whole))
+    return frozenset(found)
 
 
 @lru_cache(maxsize=1024)
@@ -359,7 +406,12 @@ def details(text: str, anchor: datetime) -> tuple[Detail, ...]:
     masked = text
     for detail in found:
         masked = masked[: detail.start] + " " * (detail.end - detail.start) + masked[detail.end :]
-    found += [*_money_details(masked), *_money_in_words(masked), *_phone_details(masked)]
+    found += [
+        *_money_details(masked),
+        *_money_in_words(masked),
+        *_percent_details(masked),
+        *_phone_details(masked),
+    ]
     for detail in found:
         masked = masked[: detail.start] + " " * (detail.end - detail.start) + masked[detail.end :]
     placed = list(streets(masked))
@@ -496,6 +548,15 @@ class AllowedDetails:
                 return True  # "$40 less", "saves £6.50": what two given amounts differ by
             used = {amount[0] for amount in amounts}  # a sign the scenario never uses is a slip of the sign
             return currency not in used and any(amount[1] == value for amount in amounts)
+        if detail.kind == "percent":  # "an 11% rise": what one given amount is of another, near enough
+            (reading,) = detail.readings
+            share = cast("tuple[str, Decimal]", reading)[1]
+            given_amounts = frozenset(
+                cast("Decimal", given[1])
+                for given in self._allowed.get("money", set())
+                if isinstance(given, tuple) and len(given) == 2
+            )
+            return any(abs(share - ratio) <= 1 for ratio in _shares(given_amounts))
         if detail.kind == "part_of_day":  # named, or holding a time an allowed text gives
             (reading,) = detail.readings
             part = cast("tuple[str, str]", reading)[1]
