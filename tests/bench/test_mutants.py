@@ -67,6 +67,7 @@ def test_wrong_person_day_hour_and_left_out_action_are_killed_and_rewrites_pass(
         "reorder:1.1": "passed",
         "time_phrasing:1.1:content": "passed",
         "time_phrasing:1.1:content:words": "passed",
+        "time_phrasing:1.1:content:spoken": "passed",
         "split_message:1.1": "passed",
     }
     assert played["drop_action:1.2"].detail.startswith("check failed: ")
@@ -82,6 +83,8 @@ def test_rewrites_say_the_same_thing_another_way() -> None:
     assert "Wednesday 5pm-7pm" in phrased and "at 5:15pm" in phrased and "17:" not in phrased
     said = by_name["time_phrasing:1.1:content:words"].solution.interventions[0].actions[0].args["content"]
     assert "5pm-7pm" in said and "at 5.15 in the afternoon" in said  # a range keeps the short form
+    spoken = by_name["time_phrasing:1.1:content:spoken"].solution.interventions[0].actions[0].args["content"]
+    assert "5pm-7pm" in spoken and "at quarter past five in the afternoon" in spoken
     halves = by_name["split_message:1.1"].solution.interventions[0].actions[:2]
     assert [a.tool for a in halves] == ["messaging__send_message"] * 2
     assert " ".join(a.args["content"] for a in halves) == oracle[0].args["content"]

@@ -60,6 +60,8 @@ def _days(text: str, anchor: datetime = JUNE_1) -> list[set[date]]:
         ("five to midnight", [{"23:55"}]),
         ("at five to midnight", [{"23:55"}]),
         ("quarter past noon", [{"12:15"}]),
+        ("cab at half seven from the lobby", [{"07:30", "19:30"}]),
+        ("twenty to two outside the office", [{"01:40", "13:40"}]),
     ],
 )
 def test_informal_clock_times_are_read(text: str, readings: list[set[str]]) -> None:
@@ -185,6 +187,20 @@ def test_someone_else_being_away_is_not_a_negation() -> None:
 )
 def test_bounds_and_friendly_phrases_are_not_negations(clause: str) -> None:
     assert not is_negated(clause)
+
+
+def test_a_count_after_a_dash_is_no_end_of_a_range() -> None:
+    assert _times("HL presale 10:00 - 2x standing") == [{"10:00", "22:00"}]
+
+
+def test_a_zero_padded_hour_is_the_morning_and_thousands_are_no_hours() -> None:
+    assert _times("by 09:30") == [{"09:30"}]
+    assert _times("by 9:30") == [{"09:30", "21:30"}]
+    assert _times("the rent goes from 2,950 to 2,900") == []
+
+
+def test_half_an_hour_ago_is_not_an_hour_ago() -> None:
+    assert _times("she ate it half an hour ago", datetime(2025, 6, 2, 8, 50, tzinfo=UTC)) == []
 
 
 @pytest.mark.parametrize(

@@ -301,6 +301,35 @@ def _shift_time(oracle: _Oracle) -> Iterator[_Edit]:
                 yield _Edit(_where(i, j, label), what, oracle.replaced(i, j, [_with_args(action, shifted)]))
 
 
+def _shift_text_time(oracle: _Oracle) -> Iterator[_Edit]:
+    """The clock times in a sent or written text an hour later, said as people say them ("half seven in
+    the evening" where the text had 18:30): the wrong time in words the reader must read too.
+    """
+    for i, j, action, key, value in _texts_of(oracle):
+        if not _CLOCK.search(value):
+            continue
+        later = _CLOCK.sub(lambda match: _spoken(_an_hour_later(match)), value)
+        args = {**action.args, key: later}
+        what = f"{action.tool} {key} with its times an hour later, as " + ", ".join(
+            _spoken(_an_hour_later(m)) for m in _CLOCK.finditer(value)
+        )
+        yield _Edit(_where(i, j, key), what, oracle.replaced(i, j, [_with_args(action, args)]))
+
+
+def _an_hour_later(match: re.Match[str]) -> re.Match[str]:
+    """``match`` (of :data:`_CLOCK`) read an hour later, as a match of the same pattern in the same place
+    (so a range's ends are still seen as such).
+    """
+    hour, minute = (int(match.group(1)) + 1) % 24, match.group(2)
+    text = match.string
+    shifted = f"{hour:02d}:{minute}"
+    moved = text[: match.start()] + shifted + text[match.end() :]
+    found = _CLOCK.match(moved, match.start())
+    if found is None:  # the pattern reads what it wrote
+        raise AssertionError(f"no clock time in {shifted!r}")
+    return found
+
+
 def _shifted(value: Any, shift: timedelta) -> tuple[Any, list[str]]:
     """``value`` with every time in it moved by ``shift``, and the keys of the times moved."""
     if isinstance(value, Mapping):
@@ -440,6 +469,10 @@ def _other_slot(oracle: _Oracle) -> Iterator[_Edit]:
     """
     start = oracle.scenario.start
     used = {moment for text in oracle.used if (moment := _moment(text, start)) is not None}
+    # what the seed's items are already at is no slot on offer ("we have to move your 08:00")
+    used |= {
+        moment for text in _strings(oracle.scenario.seed) if (moment := _moment(text, start)) is not None
+    }
     for i, j, action in oracle.writes:
         found = _first_time(action.args, start)
         if found is None:
@@ -602,7 +635,7 @@ def _time_phrasing(oracle: _Oracle) -> Iterator[_Edit]:
     """The clock times in a sent or written text in the 12-hour form (09:30 as 9:30am, 18:00 as 6pm), then
     in words (9.30 in the morning, 6 in the evening; a range stays in the 12-hour form).
     """
-    for form, phrase in (("", _twelve_hour), ("words", _in_words)):
+    for form, phrase in (("", _twelve_hour), ("words", _in_words), ("spoken", _spoken)):
         for i, j, action, key, value in _texts_of(oracle):
             rephrased = _CLOCK.sub(phrase, value)
             if rephrased != value:
@@ -614,6 +647,48 @@ def _time_phrasing(oracle: _Oracle) -> Iterator[_Edit]:
                 yield _Edit(where, what, oracle.replaced(i, j, [_with_args(action, args)]))
 
 
+_SPOKEN_HOURS = ("twelve", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten",
+                 "eleven")  # fmt: skip
+_SPOKEN_MINUTES = {5: "five", 10: "ten", 15: "quarter", 20: "twenty", 25: "twenty-five", 30: "half"}
+
+
+def _spoken(match: re.Match[str]) -> str:
+    """A clock time as said in Britain: "half seven in the evening", "quarter to nine in the morning",
+    "ten past six in the evening", "seven o'clock in the evening" (a range's ends, and minutes off the
+    five, stay in the 12-hour form).
+    """
+    hour, minute = int(match.group(1)), int(match.group(2))
+    if _in_a_range(match) or minute % 5:
+        return _twelve_hour(match)
+    if (hour, minute) in ((12, 0), (0, 0)):
+        return "12 noon" if hour else "midnight"
+    part = _part_of_day(hour)
+    if minute == 0:
+        return f"{_SPOKEN_HOURS[hour % 12]} o'clock {part}"
+    if minute == 30:
+        return f"half {_SPOKEN_HOURS[hour % 12]} {part}"
+    if minute < 30:
+        return f"{_SPOKEN_MINUTES[minute]} past {_SPOKEN_HOURS[hour % 12]} {part}"
+    return f"{_SPOKEN_MINUTES[60 - minute]} to {_SPOKEN_HOURS[(hour + 1) % 12]} {part}"
+
+
+def _in_a_range(match: re.Match[str]) -> bool:
+    """Whether the time ``match`` found is one end of a range ("17:00-19:00")."""
+    text = match.string
+    after = text[match.end() : match.end() + 2].lstrip()[:1]
+    before = text[max(0, match.start() - 2) : match.start()].rstrip()[-1:]
+    return after in ("-", "\u2013") or before in ("-", "\u2013")
+
+
+def _part_of_day(hour: int) -> str:
+    """How a time's part of the day is said after it."""
+    if hour < 5 or hour >= 22:
+        return "at night"
+    if hour < 12:
+        return "in the morning"
+    return "in the afternoon" if hour < 18 else "in the evening"
+
+
 def _twelve_hour(match: re.Match[str]) -> str:
     hour, minute = int(match.group(1)), int(match.group(2))
     suffix = "am" if hour < 12 else "pm"
@@ -623,23 +698,12 @@ def _twelve_hour(match: re.Match[str]) -> str:
 
 def _in_words(match: re.Match[str]) -> str:
     """A clock time as said: "6 in the evening", "9.30 in the morning", "12 noon"."""
-    text = match.string
-    if text[match.end() : match.end() + 2].lstrip()[:1] in ("-", "\u2013") or text[
-        max(0, match.start() - 2) : match.start()
-    ].rstrip()[-1:] in ("-", "\u2013"):
+    if _in_a_range(match):
         return _twelve_hour(match)  # one end of a range: "5pm-7pm" reads better than words
     hour, minute = int(match.group(1)), int(match.group(2))
     if (hour, minute) == (12, 0):
         return "12 noon"
-    part = (
-        "at night"
-        if hour < 5 or hour >= 22
-        else "in the morning"
-        if hour < 12
-        else "in the afternoon"
-        if hour < 18
-        else "in the evening"
-    )
+    part = _part_of_day(hour)
     clock = hour % 12 or 12
     return f"{clock} {part}" if minute == 0 else f"{clock}.{minute:02d} {part}"
 
@@ -907,6 +971,7 @@ _OPERATORS: dict[str, Operator] = {
     "early_proposal": _early_proposal,
     "reorder": _reorder,
     "time_phrasing": _time_phrasing,
+    "shift_text_time": _shift_text_time,
     "split_message": _split_message,
     "reply_as_new": _reply_as_new,
     "new_as_reply": _new_as_reply,

@@ -118,14 +118,20 @@ _COUNTED = (
     r"could|that|then|please|if|for|or|and|but|so|ok|okay|fine|sharp|latest|the|to|with|instead|thanks|thank|"
     r"see|cheers|as|we|i|you|anyway|anyhow|though|too|also|maybe|probably|hopefully|earliest|ish|yeah|yes|"
     r"tomorrow|sat|sun|mon|tue|wed|thu|fri|now|again|instead|slots?|appointments?|bookings?|trains?|bus|"
-    r"meetings?|sessions?|class|call|viewing|showing|one|option|start|kick-?off)\b)[a-z]"
+    r"meetings?|sessions?|class|call|viewing|showing|one|option|start|kick-?off|from|outside|near|by|"
+    r"downstairs|upstairs|opposite|behind|round|before|after|until|till|via|when|where|pick-?up|arrival)\b)[a-z]"
 )
 """A word after a number that says the number counts something ("between 2 and 4 guests", "at one point"),
 so it is not an hour."""
 _ENDPOINT = r"(\d{1,2})(?:[:.](\d{2}))?(?:\s?" + _SUFFIX + r")?"
 """One end of a range of clock times: "2", "2pm", "9:30", "9.30am"."""
 _DASH_RANGE = re.compile(
-    _NOT_A_PRICE + _ENDPOINT + r"\s*(?:[-\u2013\u2014]|to|until|till)\s*" + _ENDPOINT + r"(?![\d:.])", re.I
+    _NOT_A_PRICE
+    + _ENDPOINT
+    + r"\s*(?:[-\u2013\u2014]|to|until|till)\s*"
+    + _ENDPOINT
+    + r"(?![\d:.]|[x\u00d7])",
+    re.I,
 )
 """"2-4pm", "9:30 to 11", "14:00-16:00": read only when one end has am/pm or minutes (a bare "2-4" may be a
 score or a count)."""
@@ -174,7 +180,7 @@ _AT_HOUR = re.compile(
     _WORD_START
     + r"(?:at|from|by|around|until|till)\s+"
     + _HOUR
-    + r"(?:\s+(fifteen|thirty|forty[\s-]?five))?(?![\d:%]|\.\d|\s?(?:am|pm|a\.m|p\.m))"
+    + r"(?:\s+(fifteen|thirty|forty[\s-]?five))?(?![\d:%]|[.,]\d|\s?(?:am|pm|a\.m|p\.m))"
     + _WORD_END
     + r"(?!"
     + _STREET
@@ -231,7 +237,7 @@ _LIBRARY_CUE = re.compile(
     + _COUNT
     + r"\s+"
     + _UNIT
-    + r"|"
+    + r"|(?<!half\s)"  # "half an hour ago" is no hour ago
     + _COUNT
     + r"\s+"
     + _UNIT
@@ -628,9 +634,10 @@ class _Reading:
             hour = _hour_number(match.group(1))
             self.add(match.span(), times=_clock_readings(hour, int(match.group(2) or 0), None))
         for match in self.scan(_CLOCK):
-            self.add(
-                match.span(), times=_clock_readings(int(match.group(1)), int(match.group(2)), match.group(3))
-            )
+            written, suffix = match.group(1), match.group(3)
+            if suffix is None and len(written) == 2 and written.startswith("0"):
+                suffix = "am"  # "09:30" is written on the 24-hour clock: the morning only
+            self.add(match.span(), times=_clock_readings(int(written), int(match.group(2)), suffix))
         for match in self.scan(_HOUR_SUFFIX):
             suffix = match.group(2)
             hour = _hour_number(match.group(1))
