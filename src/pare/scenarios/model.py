@@ -862,6 +862,7 @@ class AllowedChange(_Strict):
 MUTANT_OPERATORS = (
     "swap_person",
     "shift_time",
+    "shift_text_time",
     "drop_action",
     "send_as_draft",
     "extra_write",
