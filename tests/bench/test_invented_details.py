@@ -53,7 +53,7 @@ def test_a_wrong_time_in_a_reminders_description_fails_the_episode_and_is_named(
     assert not outcome.success
     (detail,) = outcome.invented
     sentence = detail.describe()
-    assert sentence.startswith(f"#{detail.order} reminder__add_reminder states 7:40 in description")
+    assert sentence.startswith(f"#{detail.order} reminder__add_reminder states 07:40 in description")
     assert "which nothing in the scenario gives" in sentence and "open at 07:40" in sentence
     assert outcome.to_dict()["invented"][0]["text"] == sentence
     record = summarize(result.trajectory())
@@ -75,7 +75,7 @@ def test_the_invented_details_survive_the_trajectory_file_and_a_regrade_finds_th
     text = write_trajectory(result.trajectory())
     read = parse_trajectory(text)
     assert [record.text for record in read.outcome.invented] == [result.outcome.invented[0].describe()]
-    assert read.outcome.invented[0].kind == "time" and read.outcome.invented[0].shown == "7:40"
+    assert read.outcome.invented[0].kind == "time" and read.outcome.invented[0].shown == "07:40"
     begin = build_environment(scenario, EnvConfig()).snapshot()  # rebuilt as pare regrade does
     outcome, _ = asyncio.run(
         grade(scenario, read.log_entries(), begin, final_state(read, begin), read.attribution_state())

@@ -33,6 +33,7 @@ def test_mutants_are_named_by_operator_and_the_same_every_time() -> None:
         "swap_person:1.1:user_id",
         "shift_time:1.2:+1d",
         "shift_time:1.2:+1h",
+        "shift_text_time:1.1:content",
         "drop_action:1.1",
         "drop_action:1.2",
     ]
@@ -62,6 +63,7 @@ def test_wrong_person_day_hour_and_left_out_action_are_killed_and_rewrites_pass(
         "swap_person:1.1:user_id": "killed",
         "shift_time:1.2:+1d": "killed",
         "shift_time:1.2:+1h": "killed",
+        "shift_text_time:1.1:content": "killed",
         "drop_action:1.1": "killed",
         "drop_action:1.2": "killed",
         "reorder:1.1": "passed",
@@ -83,6 +85,9 @@ def test_rewrites_say_the_same_thing_another_way() -> None:
     assert "Wednesday 5pm-7pm" in phrased and "at 5:15pm" in phrased and "17:" not in phrased
     said = by_name["time_phrasing:1.1:content:words"].solution.interventions[0].actions[0].args["content"]
     assert "5pm-7pm" in said and "at 5.15 in the afternoon" in said  # a range keeps the short form
+    later = _by_name(scenario.id, "shift_text_time")["shift_text_time:1.1:content"]
+    told = later.solution.interventions[0].actions[0].args["content"]
+    assert "6pm-8pm" in told and "at quarter past six in the evening" in told  # 17:15 an hour later
     spoken = by_name["time_phrasing:1.1:content:spoken"].solution.interventions[0].actions[0].args["content"]
     assert "5pm-7pm" in spoken and "at quarter past five in the afternoon" in spoken
     halves = by_name["split_message:1.1"].solution.interventions[0].actions[:2]

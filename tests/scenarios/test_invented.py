@@ -62,7 +62,7 @@ def test_the_seed_states_texts_allow_their_details_and_its_values_their_day_and_
 
 def test_when_an_item_was_written_is_no_detail_of_it() -> None:
     # the seed email's timestamp is -1h (08:00): a bookkeeping time, not something the email says
-    assert found(tiny(), entry("Thursday works, I'll call at 08:00.")) == ["8:00"]
+    assert found(tiny(), entry("Thursday works, I'll call at 08:00.")) == ["08:00"]
 
 
 def test_the_events_texts_and_their_otherwise_branches_allow_their_details() -> None:
@@ -223,6 +223,19 @@ def test_what_the_assistant_did_is_no_stray_detail_but_what_it_read_is() -> None
     assert facts.stray("Your cab comes at 11:15", at, also=done.allows_read) is not None
 
 
+def test_the_assistants_own_text_echoed_back_by_a_call_is_not_what_it_did() -> None:
+    at = datetime(2025, 3, 3, 9, 0, tzinfo=UTC)
+    added = LogEntry(
+        3, 1, at, "assistant", "calendar", "add_calendar_event",
+        {"title": "Cab 08:45 to the garage", "start_datetime": "2025-03-03T10:00:00"}, "write", True,
+        result={"done": "Added event ev-1 'Cab 08:45 to the garage': Mon 3 Mar 10:00.", "id": "ev-1"},
+    )  # fmt: skip
+    done = done_values([added], at)
+    facts = AllowedDetails.of(["The MOT is at 10:00."], at, tuple)
+    assert facts.stray("Cab 08:45 to the garage", at, also=done.allows_read) is not None
+    assert facts.stray("MOT at 10:00", at, also=done.allows_read) is None
+
+
 def test_a_world_detail_of_a_kind_the_story_facts_give_must_be_theirs() -> None:
     # the standup (day+1 09:30) gives 09:30; the story's facts say lunch is at 12:30
     data = base()
@@ -240,7 +253,7 @@ def test_a_world_detail_of_a_kind_the_story_facts_give_must_be_theirs() -> None:
     scenario = parse(data)
     note = {"title": "Lunch", "content": "Lunch with Ann at 09:30"}
     (stated,) = invented_details(scenario, [entry("", app="notes", tool="create_note", args=note)], {}, {})
-    assert stated.shown == "9:30" and "which the story's facts do not give" in stated.describe()
+    assert stated.shown == "09:30" and "which the story's facts do not give" in stated.describe()
     assert (
         found(scenario, entry("", app="notes", tool="create_note", args={"content": "Lunch at 12:30"})) == []
     )

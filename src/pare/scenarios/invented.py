@@ -391,8 +391,38 @@ def done_values(log: Sequence[LogEntry], begin: datetime) -> AllowedDetails:
     for entry in log:
         if entry.actor == "assistant" and entry.ok and entry.kind == "write":
             _allow_values(allowed, entry.args, entry.time, texts=False)
-            _allow_values(allowed, entry.result, entry.time, texts=False)
+            _allow_values(allowed, _without_echo(entry.result, entry.args), entry.time, texts=False)
     return allowed
+
+
+def _without_echo(result: Any, args: Mapping[str, Any]) -> Any:
+    """``result`` with the free text the call wrote taken out where it echoes it ("Added event ... 'Cab
+    08:45'"): a text the assistant wrote tells nothing of what was done.
+    """
+    written = sorted(
+        {
+            leaf
+            for key, leaf in _leaves(args, "")
+            if key in WRITTEN_TEXT_FIELDS and isinstance(leaf, str) and leaf
+        },
+        key=len,
+        reverse=True,
+    )
+    if not written:
+        return result
+
+    def strip(value: Any) -> Any:
+        if isinstance(value, str):
+            for text in written:
+                value = value.replace(text, " ")
+            return value
+        if isinstance(value, Mapping):
+            return {key: strip(item) for key, item in value.items()}
+        if isinstance(value, list):
+            return [strip(item) for item in value]
+        return value
+
+    return strip(result)
 
 
 def _allow_values(allowed: AllowedDetails, value: Any, anchor: datetime, *, texts: bool = True) -> None:
