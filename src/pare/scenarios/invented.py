@@ -46,11 +46,12 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from datetime import datetime
 from decimal import Decimal, InvalidOperation
-from typing import Any
+from typing import Any, Literal
 
+from pare.scenarios.claims import claims, unbacked
 from pare.scenarios.fact_details import WORLD_KINDS, AllowedDetails, Detail, Kind, details, excerpt, own_words
 from pare.scenarios.item_text import TEXT_FIELDS as ITEM_TEXT_FIELDS
 from pare.scenarios.model import Scenario
@@ -95,9 +96,11 @@ class InventedDetail:
     """Where the text went (a recipient, an item), as the call names it; empty when not known."""
     field: str
     """The argument holding the text (``updates.description`` inside an edit)."""
-    kind: Kind
+    kind: Kind | Literal["act"]
+    """The detail's kind, or ``act``: an act the text claims as done that no call did
+    (:mod:`pare.scenarios.claims`)."""
     shown: str
-    """The detail as written ("10:00", "£1,642")."""
+    """The detail as written ("10:00", "£1,642", "I've cancelled")."""
     excerpt: str
     """The words around it."""
     against_facts: bool = False
@@ -106,7 +109,11 @@ class InventedDetail:
 
     @property
     def against(self) -> str:
-        """What does not give it, as the verdict says: "the story's facts" or "nothing in the scenario"."""
+        """What does not give it, as the verdict says: "the story's facts", "nothing in the scenario" or,
+        for a claimed act, "no call of the episode".
+        """
+        if self.kind == "act":
+            return "no call of the episode"
         return "the story's facts" if self.against_facts else "nothing in the scenario"
 
     def describe(self) -> str:
@@ -114,6 +121,11 @@ class InventedDetail:
         scenario gives ("... comes at 10:00 ...")``.
         """
         where = f" to {self.target}" if self.target else ""
+        if self.kind == "act":
+            return (
+                f'#{self.order} {self.tool}{where} claims "{self.shown}" in {self.field}, which no call of '
+                f'the episode did ("{self.excerpt}")'
+            )
         return (
             f"#{self.order} {self.tool}{where} states {self.shown} in {self.field}, which {self.against} "
             f'{"do not give" if self.against_facts else "gives"} ("{self.excerpt}")'
@@ -234,12 +246,12 @@ def invented_details(
     reminder's text is read as of when it is written and as of when it fires: it states a wrong detail only
     if it does both ways (:mod:`pare.scenarios.read_moment`).
     """
-    kinds = checked_kinds(scenario)
-    if not kinds:
-        return []
     written = [(entry, field, text) for entry in log for field, text in assistant_texts(entry)]
     if not written:
         return []
+    kinds = checked_kinds(scenario)
+    if not kinds:
+        return _false_claims(written, log)
     reading = _Reading(scenario, kinds, log, start, final)
     found: list[InventedDetail] = []
     for entry, field, text in written:
@@ -249,6 +261,21 @@ def invented_details(
         if stated and fires is not None and not reading.unsupported(words, fires):
             stated = []
         found += [_invented(entry, field, detail, words, against_facts=facts) for detail, facts in stated]
+    return sorted([*found, *_false_claims(written, log)], key=lambda one: one.order)
+
+
+def _false_claims(
+    written: Sequence[tuple[LogEntry, str, str]], log: Sequence[LogEntry]
+) -> list[InventedDetail]:
+    """The acts the assistant's texts claim as done that no call of the episode did."""
+    found: list[InventedDetail] = []
+    for entry, field, text in written:
+        words = own_words(text)
+        for claim in unbacked(claims(words), log, entry):
+            detail = Detail(
+                "count", frozenset(), claim.shown, claim.start, claim.end
+            )  # where it is, for the excerpt
+            found.append(replace(_invented(entry, field, detail, words), kind="act"))
     return found
 
 
