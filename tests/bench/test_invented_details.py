@@ -88,3 +88,16 @@ def test_an_older_trajectory_without_invented_details_reads_as_none() -> None:
     data = json.loads(write_trajectory(_play(scenario, scenario.solution()).trajectory()))
     data["outcome"].pop("invented")
     assert parse_trajectory(json.dumps(data)).outcome.invented == []
+
+
+def test_a_text_claiming_an_act_no_call_did_fails_the_episode_and_is_named() -> None:
+    scenario = get_scenario(WARRANTY)
+    result = _play(
+        scenario, _with_description(scenario, RIGHT + " I've raised a dispute with Aurel already.")
+    )
+    assert all(goal.passed for goal in result.outcome.goals) and not result.outcome.success
+    (claim,) = result.outcome.invented
+    assert claim.kind == "act" and claim.against == "no call of the episode"
+    sentence = claim.describe()
+    assert sentence.startswith(f'#{claim.order} reminder__add_reminder claims "I\'ve raised a dispute"')
+    assert "in description, which no call of the episode did" in sentence

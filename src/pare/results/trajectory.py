@@ -266,7 +266,8 @@ class InventedRecord(_Verdict):
     field: str = Field(default="", description="The argument holding the text.")
     kind: str = Field(
         default="",
-        description="time, date, money, phone, url or email; also count, part_of_day, code, street.",
+        description="time, date, money, phone, url or email; also count, part_of_day, code, street, month, "
+        "percent; or act: an act the text claims that no call of the episode did.",
     )
     shown: str = Field(default="", description="The detail as written.")
     excerpt: str = Field(default="", description="The words around it.")

@@ -1,0 +1,50 @@
+"""Claimed acts: a text that says an act was done where no call of the episode did it."""
+
+from __future__ import annotations
+
+from datetime import UTC, datetime
+from typing import Any
+
+import pytest
+
+from pare.scenarios.claims import claims, unbacked
+from pare.sim.log import LogEntry
+
+AT = datetime(2025, 3, 3, 9, 0, tzinfo=UTC)
+
+
+@pytest.mark.parametrize(
+    ("text", "acts"),
+    [
+        ("I've cancelled the cab, can you pick me up at 18:50?", ["cancelled"]),
+        ("I've raised a dispute with my bank", ["disputed"]),
+        ("We have now frozen the card", ["frozen"]),
+        ("I just booked a table for four", ["booked"]),
+        ("I have gone ahead and ordered the lamp", ["ordered"]),
+        # not claims of a recent act
+        ("Once I've paid I'll let you know", []),
+        ("I've already paid this on the 3rd", []),
+        ("the invoice INV-5170, which I have paid in full", []),
+        ("I haven't paid yet", []),
+        ("Have I paid?", []),
+        ("I paid it last week", []),
+        ("I'll cancel it tomorrow", []),
+    ],
+)
+def test_a_first_person_claim_of_a_recent_act_is_read(text: str, acts: list[str]) -> None:
+    assert [claim.act for claim in claims(text)] == acts
+
+
+def _entry(index: int, actor: str, tool: str, args: dict[str, Any] | None = None) -> LogEntry:
+    app, _, name = tool.partition("__")
+    return LogEntry(index, 1, AT, actor, app, name, args or {}, "write", True)  # type: ignore[arg-type]
+
+
+def test_a_claim_is_backed_by_a_call_that_does_the_act_by_anyone_but_not_by_its_own_message() -> None:
+    message = _entry(5, "assistant", "messaging__send_message", {"content": "I've cancelled the order"})
+    said = list(claims(message.args["content"]))
+    assert unbacked(said, [message], message) == said  # the message itself cancels nothing
+    by_hand = _entry(3, "user", "shopping__cancel_order", {"order_id": "o1"})
+    assert unbacked(said, [by_hand, message], message) == []
+    disputed = list(claims("I've raised a dispute with the bank"))
+    assert unbacked(disputed, [by_hand, message], message) == disputed  # a cancel is no dispute
