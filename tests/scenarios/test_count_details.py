@@ -48,6 +48,9 @@ def test_lengths_of_time_are_one_family() -> None:
     facts = ["Priya moved to Rotterdam for two years."]
     assert _stray(facts, "for the two-year posting") is None
     assert _stray(facts, "at the hub for two months") == "two months"
+    # an ordinal of a length of time is a place in time, not a length
+    assert _stray(facts, "Hope the first weeks in Rotterdam go well") is None
+    assert _stray(facts, "Good luck on the second day") is None
 
 
 def test_a_range_allows_either_end_and_gives_both() -> None:

@@ -90,6 +90,20 @@ def test_money_is_read_by_currency_and_value() -> None:
     assert _stray(["Half is $25.70."], "your half is $25.07") == "$25.07"
 
 
+def test_a_rough_time_may_be_five_minutes_off() -> None:
+    facts = ["The cab arrives at 09:46."]
+    assert _stray(facts, "it gets there around quarter to ten") is None
+    assert _stray(facts, "it gets there at quarter to ten") == "9:45"
+    assert _stray(facts, "it gets there around ten") == "10:00"
+
+
+def test_a_figure_the_facts_give_without_a_currency_is_that_amount() -> None:
+    facts = ["The offer is a salary of 41,500 a year.", "The invoice is 86.40."]
+    assert _stray(facts, "a salary of £41,500") is None
+    assert _stray(facts, "pay the $86.40 invoice") is None
+    assert _stray(facts, "a salary of £42,500") == "£42,500"
+
+
 def test_a_share_is_read_where_the_facts_give_one_and_may_be_worked_out_from_their_amounts() -> None:
     facts = ["The HALDEN12 code takes 12% off the $67.20 order.", "Rent goes from $2,050 to $2,296."]
     assert _stray(facts, "with the twelve per cent code") is None

@@ -199,6 +199,12 @@ def test_a_zero_padded_hour_is_the_morning_and_thousands_are_no_hours() -> None:
     assert _times("the rent goes from 2,950 to 2,900") == []
 
 
+def test_the_nth_after_a_past_act_may_be_the_last_one() -> None:
+    june_20 = datetime(2025, 6, 20, 9, 0, tzinfo=UTC)
+    assert _days("I paid it on the 11th", june_20) == [{date(2025, 6, 11), date(2025, 7, 11)}]
+    assert _days("due on the 11th", june_20) == [{date(2025, 7, 11)}]
+
+
 def test_half_an_hour_ago_is_not_an_hour_ago() -> None:
     assert _times("she ate it half an hour ago", datetime(2025, 6, 2, 8, 50, tzinfo=UTC)) == []
 

@@ -130,6 +130,9 @@ def _value(number: str) -> str | None:
     return str(int(digits)) if digits.isdigit() else digits if re.fullmatch(r"\d+\.5", digits) else None
 
 
+_ORDINAL_WORD = re.compile(rf"\d(?:st|nd|rd|th)\b|\b(?:{_ORDINALS})\b", re.I)
+
+
 def ordinal(found: Found) -> bool:
     """Whether ``found`` counts with an ordinal ("4th floor", "the fourth floor"), which a date reader would
     take for a day of the month.
@@ -168,6 +171,8 @@ def counts(text: str) -> Iterable[Found]:
                 continue  # a word that counts nothing; "305 cartridge" names a model, it counts none
             seen.add(match.start())
             shown = " ".join(match.group(0).split())
+            if label in DURATIONS and _ORDINAL_WORD.search(match.group("number")):
+                continue  # "the first weeks", "the second day": a place in time, no length of it
             first = match.groupdict().get("first")
             other = _value(first) if first else None
             if other is not None:  # a range: either end will do

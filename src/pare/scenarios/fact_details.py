@@ -141,6 +141,8 @@ def _time_and_date_details(text: str, anchor: datetime) -> Iterable[Detail]:
                     if 0 < _minutes(last) - _minutes(first) < 12 * 60  # one reading of each end, not 9 to 22
                 }
                 readings |= {("span", first, last) for first, last in spans}
+            if _ROUGHLY.search(text, max(0, mention.start - 16), mention.start):
+                readings |= _near(mention.times)  # "around quarter to ten" for a cab due at 09:46
             yield Detail("time", readings, shown, mention.start, end)
         if mention.days:
             shown = " or ".join(f"{day:%a} {day.day} {day:%b}" for day in sorted(mention.days))
@@ -149,6 +151,24 @@ def _time_and_date_details(text: str, anchor: datetime) -> Iterable[Detail]:
             if weekday is not None:  # "Saturday" said of the one a week on is still that Saturday
                 days |= {("weekday", day.weekday()) for day in mention.days}
             yield Detail("date", days, shown, mention.start, end)
+
+
+_ROUGHLY = re.compile(
+    r"\b(?:around|about|roughly|approximately|approx\.?|circa|ca\.|just after|just before)\s+(?:at\s+)?$",
+    re.I,
+)
+"""A word that makes the time after it a rough one."""
+
+
+def _near(times: Iterable[time]) -> frozenset[object]:
+    """The clock times within five minutes of ``times``, each as ``("near", time)``: what a rough time may
+    stand for (a reading that matches a time given exactly, not another text's rough one widened again).
+    """
+    found: set[object] = set()
+    for moment in times:
+        base = moment.hour * 60 + moment.minute
+        found.update(("near", time(((base + step) // 60) % 24, (base + step) % 60)) for step in range(-5, 6))
+    return frozenset(found)
 
 
 _MONTH_NUMBERS = {name: number for number, names in enumerate(
@@ -318,6 +338,10 @@ def _money_in_words(text: str) -> Iterable[Detail]:
         yield Detail("money", frozenset({(currency, value)}), match.group(0), *match.span())
 
 
+_FIGURE = re.compile(r"(?<![\d.,])(?:\d{1,3}(?:,\d{3})+(?:\.\d{2})?|\d+\.\d{2})(?![\d.,]\d)")
+"""A figure written like money without a currency: with thousands separators or two decimals."""
+
+
 @lru_cache(maxsize=1024)
 def _shares(amounts: frozenset[Decimal]) -> frozenset[Decimal]:
     """What one of ``amounts`` is of another and by how much it differs from it, in percent (of at most 40
@@ -453,6 +477,9 @@ class AllowedDetails:
     _allowed: dict[Kind, set[object]]
     _more: Callable[[], Sequence[str]] | None = None
     _texts: list[str] = field(default_factory=list)
+    _figures: set[Decimal] = field(default_factory=set)
+    """Money-like figures the allowed texts give without a currency ("salary 41,500", "86.40"): an amount of
+    that value is given, in any currency."""
     counted: frozenset[str] = frozenset()
     """The labels of the counts the facts give: only counts of these are checked ("2 tickets" is read only
     where the facts count tickets)."""
@@ -467,6 +494,8 @@ class AllowedDetails:
         kinds = set(allowed._allowed)
         if "time" in kinds:  # facts that give a time give its part of the day
             kinds.add("part_of_day")
+        if allowed._figures:  # "a salary of 41,500" gives an amount, without its currency
+            kinds.add("money")
         allowed.kinds = frozenset(kinds)
         counted = allowed._allowed.get("count", set())
         labels = frozenset(cast("tuple[str, tuple[str, str]]", one)[1][0] for one in counted)
@@ -493,6 +522,10 @@ class AllowedDetails:
     def _add(self, texts: Iterable[str], anchor: datetime | None = None) -> None:
         for text in texts:
             self._texts.append(text)
+            if "," in text or "." in text:
+                self._figures.update(
+                    Decimal(match.group(0).replace(",", "")).normalize() for match in _FIGURE.finditer(text)
+                )
             for detail in details(text, anchor or self.start):
                 given = self._allowed.setdefault(detail.kind, set())
                 given.update(detail.readings)
@@ -526,9 +559,13 @@ class AllowedDetails:
             return any(
                 ("month", day.year, day.month) in detail.readings for day in days if isinstance(day, date)
             )
+        if detail.kind == "time" and any(
+            isinstance(one, tuple) and one[0] == "near" and one[1] in allowed for one in detail.readings
+        ):
+            return True  # a rough time ("around quarter to ten") near one given
         if detail.kind == "time":  # a time inside a range the allowed texts give
             return self.within_ranges and any(
-                isinstance(span, tuple) and span[1] <= moment <= span[2]
+                isinstance(span, tuple) and span[0] == "span" and span[1] <= moment <= span[2]
                 for moment in detail.readings
                 if isinstance(moment, time)
                 for span in allowed
@@ -546,6 +583,8 @@ class AllowedDetails:
             same_currency = frozenset(amount[1] for amount in amounts if amount[0] == currency)
             if said_as_difference and value in _differences(same_currency):
                 return True  # "$40 less", "saves £6.50": what two given amounts differ by
+            if value in self._figures:
+                return True  # the facts give the figure without its currency ("a salary of 41,500")
             used = {amount[0] for amount in amounts}  # a sign the scenario never uses is a slip of the sign
             return currency not in used and any(amount[1] == value for amount in amounts)
         if detail.kind == "percent":  # "an 11% rise": what one given amount is of another, near enough

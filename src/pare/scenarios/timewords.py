@@ -394,6 +394,27 @@ def _next_nth(today: date, day: int) -> date | None:
     return None
 
 
+def _last_nth(today: date, day: int) -> date | None:
+    """The last ``day`` of a month before ``today``: this month's, or an earlier month's."""
+    month_start = today.replace(day=1)
+    for _ in range(3):
+        found = _safe_date(month_start.year, month_start.month, day)
+        if found is not None and found < today:
+            return found
+        month_start = (month_start - timedelta(days=1)).replace(day=1)
+    return None
+
+
+_PAST_ACT = re.compile(
+    r"\b(?:paid|was|were|arrived|sent|signed|received|bought|ordered|moved|came|went|happened|started|"
+    r"ended|left|got|did|had|collected|delivered|posted|emailed|called|rang|met|saw|dropped|cancelled|"
+    r"renewed|expired|took|gave|made|settled|transferred)\b[^.!?;]{0,30}$",
+    re.I,
+)
+"""A verb of a past act just before a day ("paid on the 11th", "signed it on the 24th"): the day may be
+one gone by."""
+
+
 def _endpoint(groups: tuple[str | Any, ...]) -> tuple[str, str | None, str | None]:
     """One end of a range as its pattern's groups found it: the hour, and the minutes and am/pm if given."""
     hour, minute, suffix = groups
@@ -487,6 +508,8 @@ class _Reading:
                 self.add(match.span(), [d for d in [_nth_of_month(today, day, match.group(2).lower())] if d])
                 continue
             readings = {d for d in [_next_nth(today, day)] if d} | self._month_before(match.start(), day)
+            if _PAST_ACT.search(self.text, max(0, match.start() - 60), match.start()):
+                readings |= {d for d in [_last_nth(today, day)] if d}  # "paid on the 11th": maybe last 11th
             self.add(match.span(), readings)
         for match in self.scan(_DOTTED_DATE):
             day, month, year = int(match.group(1)), int(match.group(2)), match.group(3)
