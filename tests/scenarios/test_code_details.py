@@ -57,3 +57,11 @@ def test_a_word_before_a_street_name_is_no_part_of_it() -> None:
 
 def test_facts_without_codes_or_streets_leave_them_alone() -> None:
     assert _stray(["Lunch is at 12:30."], "Order HX-1 to 3 Elm Road at 12:30") is None
+
+
+def test_a_number_given_for_a_street_wins_over_a_mention_without_one() -> None:
+    facts = ["The flat is at 22 Cedar Road.", "Oliver holds Cedar Road until Thursday."]
+    assert _stray(facts, "Cedar Road is held for you") is None
+    assert _stray(facts, "22 Cedar Road is held for you") is None
+    assert _stray(facts, "9 Cedar Road is held for you") == "9 Cedar Road"
+    assert _stray(["The bill is for 7 Birch Street."], "the bill for 3 Kiln Yard") == "3 Kiln Yard"

@@ -373,6 +373,14 @@ def test_symbols_written_inside_a_sentence_do_not_end_it() -> None:
         assert clauses(text) == [text]
 
 
+def test_a_number_after_no_or_a_rough_figure_does_not_end_a_sentence() -> None:
+    from pare.scenarios.meaning import sentences
+
+    assert sentences("We'll pass on no. 9 Poplar. Thanks!") == ["We'll pass on no. 9 Poplar", "Thanks"]
+    assert sentences("It is approx. 5 minutes away. See you.") == ["It is approx. 5 minutes away", "See you"]
+    assert sentences("There are no. Really none.") == ["There are no", "Really none"]
+
+
 def test_the_days_of_one_sentence_end_at_an_emoji() -> None:
     # two sentences, each with one day or one time: only as the text's only day and only time together
     assert mentions_moment("Thursday 🙂 18:15 then", THURSDAY_1815, START)

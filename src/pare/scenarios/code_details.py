@@ -25,7 +25,7 @@ from pare.scenarios.count_details import Found
 
 _STREET_KINDS = (r"Road|Rd|Way|Street|St|Lane|Ln|Close|Avenue|Ave|Drive|Dr|Place|Pl|Court|Terrace|Gardens|"
                  r"Crescent|Square|Sq|Row|Hill|Park|Grove|Mews|Walk|Parade|Quay|Wharf|Boulevard|"
-                 r"Embankment")  # fmt: skip
+                 r"Embankment|Yard|Green|Rise|Vale")  # fmt: skip
 _STREET = re.compile(
     r"(?<![\w:.])(?:(?P<number>\d{1,4}[A-Za-z]?)\s+)?"
     r"(?P<name>(?:[A-Z][a-z']+\s+){1,3}(?:" + _STREET_KINDS + r"))\b\.?"

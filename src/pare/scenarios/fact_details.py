@@ -615,11 +615,16 @@ class AllowedDetails:
         if detail.kind == "street":  # the same street, with the same number where both give one
             (reading,) = detail.readings
             name, number = cast("tuple[str, tuple[str, str]]", reading)[1]
-            return any(
-                isinstance(given, tuple) and given[0] == "street" and same_street(given[1][0], name)
-                and (not number or not given[1][1] or given[1][1] == number)
-                for given in allowed
-            )  # fmt: skip
+            numbers = {
+                given[1][1] for given in allowed
+                if isinstance(given, tuple) and given[0] == "street" and same_street(given[1][0], name)
+            }  # fmt: skip
+            if not numbers:
+                return False
+            # a number the texts give for the street is the one: "9 Cedar Road" is wrong where they give 22,
+            # even if another text names Cedar Road without one
+            numbered = numbers - {""}
+            return not number or not numbered or number in numbered
         if detail.kind == "phone":  # any grouping, with or without the country code
             return any(names_number(text, detail.shown) for text in self._texts)
         if detail.kind == "url":  # a link given without its query is the same link
