@@ -21,6 +21,8 @@ AT = datetime(2025, 3, 3, 9, 0, tzinfo=UTC)
         ("We have now frozen the card", ["frozen"]),
         ("I just booked a table for four", ["booked"]),
         ("I have gone ahead and ordered the lamp", ["ordered"]),
+        ("I've also sent over the extra $50", ["paid"]),  # money sent is paid
+        ("I've sent you the form", []),  # a message sends itself
         # not claims of a recent act
         ("Once I've paid I'll let you know", []),
         ("I've already paid this on the 3rd", []),

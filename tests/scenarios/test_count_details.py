@@ -33,6 +33,7 @@ def test_a_count_the_facts_give_is_allowed_in_words_or_digits(text: str) -> None
         ("Tom's size is twelve", "size is twelve"),
         ("It's on the fourth floor", "fourth floor"),
         ("a lovely one-bedroom flat", "one-bedroom"),
+        ("the second-floor one", "second-floor"),
     ],
 )
 def test_a_count_the_facts_do_not_give_fails(text: str, shown: str) -> None:

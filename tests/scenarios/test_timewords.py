@@ -61,6 +61,7 @@ def _days(text: str, anchor: datetime = JUNE_1) -> list[set[date]]:
         ("at five to midnight", [{"23:55"}]),
         ("quarter past noon", [{"12:15"}]),
         ("cab at half seven from the lobby", [{"07:30", "19:30"}]),
+        ("tickets for the half seven show", [{"07:30", "19:30"}]),
         ("twenty to two outside the office", [{"01:40", "13:40"}]),
     ],
 )

@@ -80,7 +80,9 @@ _VERBS: dict[str, str] = {
 _CLAIM = re.compile(
     r"(?<![\w'])(?:i|we)(?:'ve|\s+have)?\s+(?:just\s+|now\s+|also\s+|gone\s+ahead\s+and\s+)?"
     r"(?P<verb>" + "|".join(sorted((re.escape(verb).replace(r"\ ", r"\s+") for verb in _VERBS), key=len,
-                                   reverse=True)) + r")(?![\w'])",
+                                   reverse=True))
+    + r"|(?P<money>sent(?:\s+over)?(?=\s+(?:(?:you|her|him|them)\s+)?(?:the\s+)?(?:extra\s+)?"
+    r"(?:[£$€\d]|money|payment|deposit|balance|rent|fee))))(?![\w'])",
     re.I,
 )  # fmt: skip
 """A first-person claim of a recent act: "I've cancelled", "we have just paid", "I just booked"."""
@@ -116,7 +118,8 @@ def claims(text: str) -> Iterator[Claim]:
         if not ("'ve" in said or " have" in said or " just" in said):
             continue  # "I paid" alone is a past act the story may hold; only recent acts are read
         verb = " ".join(match.group("verb").lower().split())
-        yield Claim(_VERBS[verb], match.group(0), match.start(), match.end())
+        act = "paid" if match.group("money") else _VERBS[verb]  # "I've sent over the $50" pays
+        yield Claim(act, match.group(0), match.start(), match.end())
 
 
 def unbacked(found: Iterable[Claim], log: Sequence[LogEntry], carrier: LogEntry) -> list[Claim]:

@@ -65,7 +65,7 @@ _AFTER = (r"floors?|bed(?:room)?s?|people|persons?|guests?|adults?|children|kids
 """Labels written after their number ("4th floor", "three nights", "2 tickets")."""
 
 _LABEL_FIRST = re.compile(
-    rf"\b(?P<label>{_BEFORE})\s*(?:no\.?\s*|number\s+|#\s*|is\s+|:\s*|of\s+)?{_NUMBER}"
+    rf"(?<![\w-])(?P<label>{_BEFORE})\s*(?:no\.?\s*|number\s+|#\s*|is\s+|:\s*|of\s+)?{_NUMBER}"
     r"\b(?![.:,]\d)(?!\s*(?:am|pm)\b)",
     re.I,
 )

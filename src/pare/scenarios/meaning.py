@@ -215,9 +215,7 @@ _CLAUSE_BREAK = re.compile(
     r"apart from|other than|unlike)\b)|" + _PICTOGRAPH_RUN,
     re.IGNORECASE,
 )
-_SENTENCE_BREAK = re.compile(
-    r"[!?\n]|\.(?=\s|$)(?!(?<=\b[Nn]o\.)\s*\d)(?<!\bapprox\.)|" + _PICTOGRAPH_RUN
-)
+_SENTENCE_BREAK = re.compile(r"[!?\n]|\.(?=\s|$)(?!(?<=\b[Nn]o\.)\s*\d)(?<!\bapprox\.)|" + _PICTOGRAPH_RUN)
 """Where a sentence ends: not at "no. 9" (a number) or "approx."."""
 """Where a sentence ends: the days and times of one sentence are read together."""
 NEGATION_CUES: tuple[str, ...] = (

@@ -118,7 +118,8 @@ _COUNTED = (
     r"could|that|then|please|if|for|or|and|but|so|ok|okay|fine|sharp|latest|the|to|with|instead|thanks|thank|"
     r"see|cheers|as|we|i|you|anyway|anyhow|though|too|also|maybe|probably|hopefully|earliest|ish|yeah|yes|"
     r"tomorrow|sat|sun|mon|tue|wed|thu|fri|now|again|instead|slots?|appointments?|bookings?|trains?|bus|"
-    r"meetings?|sessions?|class|call|viewing|showing|one|option|start|kick-?off|from|outside|near|by|"
+    r"meetings?|sessions?|class|call|viewing|showing|shows?|performance|film|screening|flight|ferry|match|"
+    r"game|service|one|option|start|kick-?off|from|outside|near|by|"
     r"downstairs|upstairs|opposite|behind|round|before|after|until|till|via|when|where|pick-?up|arrival)\b)[a-z]"
 )
 """A word after a number that says the number counts something ("between 2 and 4 guests", "at one point"),
