@@ -21,7 +21,10 @@ AT = datetime(2025, 3, 3, 9, 0, tzinfo=UTC)
         ("We have now frozen the card", ["frozen"]),
         ("I just booked a table for four", ["booked"]),
         ("I have gone ahead and ordered the lamp", ["ordered"]),
-        ("I've also sent over the extra $50", ["paid"]),  # money sent is paid
+        ("I've also sent over the extra $50", ["sent money"]),  # a payment, not a standing order
+        ("I've updated the weekly reminder", ["changed"]),
+        ("I've changed my mind", []),
+        ("I've updated Tom", []),  # told him
         ("I've sent you the form", []),  # a message sends itself
         # not claims of a recent act
         ("Once I've paid I'll let you know", []),
@@ -50,3 +53,12 @@ def test_a_claim_is_backed_by_a_call_that_does_the_act_by_anyone_but_not_by_its_
     assert unbacked(said, [by_hand, message], message) == []
     disputed = list(claims("I've raised a dispute with the bank"))
     assert unbacked(disputed, [by_hand, message], message) == disputed  # a cancel is no dispute
+
+
+def test_money_sent_over_is_backed_by_a_payment_not_by_a_standing_order() -> None:
+    message = _entry(5, "assistant", "email__send_email", {"content": "I've sent over the extra $50"})
+    said = list(claims(message.args["content"]))
+    order = _entry(3, "assistant", "banking__create_standing_order")
+    assert unbacked(said, [order, message], message) == said
+    paid = _entry(4, "assistant", "banking__pay_payee")
+    assert unbacked(said, [order, paid, message], message) == []

@@ -373,6 +373,20 @@ def test_symbols_written_inside_a_sentence_do_not_end_it() -> None:
         assert clauses(text) == [text]
 
 
+def test_a_star_inside_a_piece_lets_that_word_go_on() -> None:
+    from pare.scenarios.meaning import has_word
+
+    assert has_word("Could you drop us at the door?", "drop* us")
+    assert has_word("dropping us off at six", "drop* us")
+    assert has_word("It didn't work", "didn*t work")
+    assert not has_word("a preview of it", "view*")
+    assert not has_word("drop them off", "drop* us")
+
+
+def test_a_comma_inside_a_figure_with_a_unit_is_no_clause_break() -> None:
+    assert clauses("rent is $2,150pcm, bills extra") == ["rent is $2,150pcm", "bills extra"]
+
+
 def test_a_number_after_no_or_a_rough_figure_does_not_end_a_sentence() -> None:
     from pare.scenarios.meaning import sentences
 

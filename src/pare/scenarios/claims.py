@@ -63,6 +63,26 @@ ACTS: dict[str, tuple[str, ...]] = {
     ),
     "paid": _PAYMENTS,
     "transferred": _PAYMENTS,
+    "sent money": ("banking__pay_payee", "banking__transfer_between_accounts", "shopping__checkout"),
+    "changed": (
+        "contacts__edit_contact",
+        "calendar__edit_calendar_event",
+        "reminder__update_reminder",
+        "notes__update_note",
+        "calendar__add_calendar_event",
+        "reminder__add_reminder",
+        "notes__create_note",
+        "contacts__add_new_contact",
+        "calendar__delete_calendar_event",
+        "reminder__delete_reminder",
+        "apartment__save_apartment",
+        "apartment__remove_saved_apartment",
+        "cab__order_ride",
+        "banking__create_standing_order",
+        "banking__cancel_standing_order",
+        "banking__set_up_direct_debit",
+        "banking__cancel_direct_debit",
+    ),
     "disputed": ("banking__dispute_transaction",),
     "frozen": ("banking__freeze_card",),
     "unfrozen": ("banking__unfreeze_card",),
@@ -81,7 +101,8 @@ _CLAIM = re.compile(
     r"(?<![\w'])(?:i|we)(?:'ve|\s+have)?\s+(?:just\s+|now\s+|also\s+|gone\s+ahead\s+and\s+)?"
     r"(?P<verb>" + "|".join(sorted((re.escape(verb).replace(r"\ ", r"\s+") for verb in _VERBS), key=len,
                                    reverse=True))
-    + r"|(?P<money>sent(?:\s+over)?(?=\s+(?:(?:you|her|him|them)\s+)?(?:the\s+)?(?:extra\s+)?"
+    + r"|(?P<edit>changed|updated|amended|edited)(?=\s+(?:the|your|his|her|their)\s)"
+    r"|(?P<money>sent(?:\s+over)?(?=\s+(?:(?:you|her|him|them)\s+)?(?:the\s+)?(?:extra\s+)?"
     r"(?:[£$€\d]|money|payment|deposit|balance|rent|fee))))(?![\w'])",
     re.I,
 )  # fmt: skip
@@ -118,7 +139,12 @@ def claims(text: str) -> Iterator[Claim]:
         if not ("'ve" in said or " have" in said or " just" in said):
             continue  # "I paid" alone is a past act the story may hold; only recent acts are read
         verb = " ".join(match.group("verb").lower().split())
-        act = "paid" if match.group("money") else _VERBS[verb]  # "I've sent over the $50" pays
+        if match.group("money"):
+            act = "sent money"  # "I've sent over the $50": a payment
+        elif match.group("edit"):
+            act = "changed"  # "I've updated the reminder", not "I've changed my mind" or "updated Tom"
+        else:
+            act = _VERBS[verb]
         yield Claim(act, match.group(0), match.start(), match.end())
 
 

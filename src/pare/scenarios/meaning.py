@@ -89,7 +89,7 @@ def word_pattern(piece: str) -> re.Pattern[str]:
         if part == "-"
         else re.escape(part[:-1])
         if _before_space(parts, at) and _after_stop(parts, at + 1)
-        else re.escape(part)
+        else re.escape(part).replace(r"\*", r"[\w']*")  # "drop* us", "didn*t": a word that goes on
         for at, part in enumerate(parts)
     )
     left = "" if open_start else _edge(core[0], before=True)
@@ -124,7 +124,7 @@ class WordFinder:
         parts = re.split(r"([ -]+)", core.lower())
         # an abbreviation's stop that may be left out ("no. 14" finds "no 14") is for the pattern to find
         abbreviated = any(word.endswith(".") and word[:-1].isalpha() for word in parts[:-1:2])
-        plain = core.isascii() and bool(parts[0]) and bool(parts[-1]) and not abbreviated
+        plain = core.isascii() and bool(parts[0]) and bool(parts[-1]) and not abbreviated and "*" not in core
         self.words: tuple[str, ...] | None = tuple(parts[::2]) if plain else None
         """The piece's words, lowercased, as sought in ASCII text; ``None`` when only the pattern finds it."""
         self.gaps = tuple(
@@ -207,7 +207,7 @@ tag characters): one sentence break, so no joiner is left behind as a clause of 
 _CLAUSE_BREAK = re.compile(
     # a comma breaks a clause, except inside a number written with thousands separators (44,200) or a
     # decimal comma (€25,70); a full stop breaks one too, except in "no. 22" (a number, not a refusal)
-    r"[;!?\n]|,(?!(?<=\d,)\d{2,3}\b)|(?<![Nn]o)\.(?=\s|$)|(?<=[Nn]o)\.(?=\s|$)(?!\s*\d)|"
+    r"[;!?\n]|,(?!(?<=\d,)\d{2,3}(?!\d))|(?<![Nn]o)\.(?=\s|$)|(?<=[Nn]o)\.(?=\s|$)(?!\s*\d)|"
     # a colon before a space ("Update: Thursday works", not 18:15) and a dash between words ("Not Friday -
     # Thursday works", "Friday—Thursday"), but not between two numbers (the range 2 - 4pm)
     r":(?=\s|$)|(?<=[^\d\s])\s+[-\u2013\u2014]+\s+|\s+[-\u2013\u2014]+\s+(?=[^\d\s])|(?<!\d)[\u2013\u2014](?!\d)|"

@@ -503,7 +503,8 @@ for _operator in (
         "contains",
         "a string or a list of strings",
         "contains the string, or every string of the list, as whole words, case-insensitively ('wed' is "
-        "not found in 'reviewed'; a '*' at a piece's end lets the word go on: 'view*'); of a list value, "
+        "not found in 'reviewed'; a '*' after a word lets that word go on: 'view*', 'drop* us'); of a list "
+        "value, "
         "some element does",
         _contains,
         partial(_pieces, "contains"),
