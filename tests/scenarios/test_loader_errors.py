@@ -636,3 +636,13 @@ def test_a_seed_record_dated_after_the_start_is_refused_at_load_with_its_line(
     assert problem.line is not None
     written = text.splitlines()[problem.line - 1]
     assert "timestamp:" in written and ("+1h" in written or "day+1 08:00" in written), written
+
+
+def test_a_judge_may_read_a_field_inside_an_edits_updates() -> None:
+    from pare.apps.registry import get_app_class
+    from pare.scenarios.validation import _reads_field
+
+    params = get_app_class("reminder").tools["update_reminder"].params
+    assert _reads_field(params, "description")  # inside `updates`
+    assert _reads_field(params, "reminder_id")
+    assert not _reads_field(params, "body")

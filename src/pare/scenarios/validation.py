@@ -10,9 +10,9 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, get_args
 
-from pydantic import ValidationError
+from pydantic import BaseModel, ValidationError
 
 from pare.apps.base import App
 from pare.apps.email import is_address
@@ -422,7 +422,7 @@ class _Validator:
                 "attachments",
             )
             for spec in [] if told else self._pattern_specs(check.judge.action):
-                if check.judge.field not in spec.params.model_fields:
+                if not _reads_field(spec.params, check.judge.field):
                     yield Problem(
                         (*where, "field"),
                         f"'{check.judge.field}' is not an argument of {spec.qualified_name} "
@@ -741,3 +741,16 @@ def _references_in(value: Any) -> list[tuple[str, str]]:
         return [found for item in value if (found := reference(item)) is not None]
     found = reference(value)
     return [] if found is None else [found]
+
+
+def _reads_field(params: type[BaseModel], field: str) -> bool:
+    """Whether a judge with ``field`` reads something of a call with these ``params``: an argument, or a
+    field inside an argument that is itself a set of fields (an edit's ``updates``: its ``description``).
+    """
+    if field in params.model_fields:
+        return True
+    for info in params.model_fields.values():
+        for kind in (info.annotation, *get_args(info.annotation)):
+            if isinstance(kind, type) and issubclass(kind, BaseModel) and field in kind.model_fields:
+                return True
+    return False
