@@ -102,6 +102,7 @@ def test_a_figure_the_facts_give_without_a_currency_is_that_amount() -> None:
     assert _stray(facts, "a salary of £41,500") is None
     assert _stray(facts, "pay the $86.40 invoice") is None
     assert _stray(facts, "a salary of £42,500") == "£42,500"
+    assert _stray(["Harbour's quote has an excess 350 and renews on 28 April."], "excess £350") is None
 
 
 def test_a_share_is_read_where_the_facts_give_one_and_may_be_worked_out_from_their_amounts() -> None:
