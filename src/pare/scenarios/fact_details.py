@@ -338,9 +338,6 @@ def _money_in_words(text: str) -> Iterable[Detail]:
         yield Detail("money", frozenset({(currency, value)}), match.group(0), *match.span())
 
 
-_MONEY_WORD = re.compile(
-    r"\b(?:excess|price|cost|fee|deposit|rent|fare|total|premium|balance|refund|charge|budget|limit)\s", re.I
-)
 _FIGURE = re.compile(
     r"(?<![\d.,])(?P<figure>\d{1,3}(?:,\d{3})+(?:\.\d{2})?|\d+\.\d{2})(?![\d.,]\d)"
     r"|\b(?:excess|price|cost|fee|deposit|rent|fare|total|premium|balance|refund|charge|budget|limit)\s+"
@@ -531,11 +528,10 @@ class AllowedDetails:
     def _add(self, texts: Iterable[str], anchor: datetime | None = None) -> None:
         for text in texts:
             self._texts.append(text)
-            if any(sign in text for sign in ",.") or _MONEY_WORD.search(text):
-                self._figures.update(
-                    Decimal((match.group("figure") or match.group("after_word")).replace(",", "")).normalize()
-                    for match in _FIGURE.finditer(text)
-                )
+            self._figures.update(
+                Decimal((match.group("figure") or match.group("after_word")).replace(",", "")).normalize()
+                for match in _FIGURE.finditer(text)
+            )
             for detail in details(text, anchor or self.start):
                 given = self._allowed.setdefault(detail.kind, set())
                 given.update(detail.readings)

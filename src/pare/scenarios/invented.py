@@ -46,12 +46,12 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from datetime import datetime
 from decimal import Decimal, InvalidOperation
 from typing import Any, Literal
 
-from pare.scenarios.claims import claims, unbacked
+from pare.scenarios.claims import Claim, claims, unbacked
 from pare.scenarios.fact_details import WORLD_KINDS, AllowedDetails, Detail, Kind, details, excerpt, own_words
 from pare.scenarios.item_text import TEXT_FIELDS as ITEM_TEXT_FIELDS
 from pare.scenarios.model import Scenario
@@ -271,11 +271,7 @@ def _false_claims(
     found: list[InventedDetail] = []
     for entry, field, text in written:
         words = own_words(text)
-        for claim in unbacked(claims(words), log, entry):
-            detail = Detail(
-                "count", frozenset(), claim.shown, claim.start, claim.end
-            )  # where it is, for the excerpt
-            found.append(replace(_invented(entry, field, detail, words), kind="act"))
+        found += [_invented(entry, field, claim, words) for claim in unbacked(claims(words), log, entry)]
     return found
 
 
@@ -358,8 +354,14 @@ def _story_details(scenario: Scenario) -> AllowedDetails | None:
 
 
 def _invented(
-    entry: LogEntry, field: str, detail: Detail, words: str, *, against_facts: bool = False
+    entry: LogEntry,
+    field: str,
+    detail: Detail | Claim,
+    words: str,
+    *,
+    against_facts: bool = False,
 ) -> InventedDetail:
+    """What the verdict says of ``detail``: a detail no source gives, or an act no call did (kind ``act``)."""
     target = next((entry.args[name] for name in _TARGET_FIELDS if entry.args.get(name)), "")
     shown_target = ", ".join(map(str, target)) if isinstance(target, list) else str(target)
     return InventedDetail(
@@ -367,7 +369,7 @@ def _invented(
         f"{entry.app}__{entry.tool}",
         shown_target,
         field,
-        detail.kind,
+        "act" if isinstance(detail, Claim) else detail.kind,
         detail.shown,
         excerpt(words, detail.start, detail.end),
         against_facts,
