@@ -206,6 +206,50 @@ def test_the_nth_after_a_past_act_may_be_the_last_one() -> None:
     assert _days("due on the 11th", june_20) == [{date(2025, 7, 11)}]
 
 
+def test_a_weekday_after_a_past_act_may_be_the_one_gone_by() -> None:
+    saturday = datetime(2025, 6, 14, 10, 0, tzinfo=UTC)
+    assert _days("the one I ordered on Thursday", saturday) == [{date(2025, 6, 12), date(2025, 6, 19)}]
+    assert _days("it arrived Thu, broken", saturday) == [{date(2025, 6, 12), date(2025, 6, 19)}]
+    assert _days("see you on Thursday", saturday) == [{date(2025, 6, 19)}]
+
+
+def test_a_day_span_gives_its_month_to_both_ends() -> None:
+    wednesday = datetime(2025, 9, 3, 10, 0, tzinfo=UTC)
+    assert _days("Friday 12 to Sunday 14 September", wednesday) == [{date(2025, 9, 12)}, {date(2025, 9, 14)}]
+    assert _days("Sat 13 and Sun 14 September", wednesday)[0] == {date(2025, 9, 13)}
+    assert _days("open 9 to 5 on 4 June", wednesday) == [{date(2025, 6, 4), date(2026, 6, 4)}]
+
+
+def test_the_day_after_follows_the_day_just_named() -> None:
+    wednesday = datetime(2025, 9, 3, 10, 0, tzinfo=UTC)
+    assert _days("closed tomorrow and the day after", wednesday) == [{date(2025, 9, 4)}, {date(2025, 9, 5)}]
+    assert _days("the day after the party", wednesday) == []
+
+
+def test_a_weekday_said_with_next_week_is_in_next_week() -> None:
+    monday = datetime(2025, 9, 15, 10, 0, tzinfo=UTC)
+    assert _days("can you cover my Tuesday run next week?", monday) == [{date(2025, 9, 23)}]
+    assert _days("next week on Friday", monday) == [{date(2025, 9, 26)}]
+    assert _days("see you Tuesday", monday) == [{date(2025, 9, 16)}]
+
+
+def test_the_end_of_a_month_is_its_last_day() -> None:
+    wednesday = datetime(2025, 9, 3, 10, 0, tzinfo=UTC)
+    assert _days("pay it by the end of the month", wednesday) == [{date(2025, 9, 30)}]
+    assert _days("by the end of next month", wednesday) == [{date(2025, 10, 31)}]
+    assert _days("until the end of June", wednesday) == [{date(2025, 6, 30), date(2026, 6, 30)}]
+
+
+def test_the_first_is_a_day_only_with_a_month_or_a_preposition() -> None:
+    wednesday = datetime(2025, 9, 3, 10, 0, tzinfo=UTC)
+    assert _days("I keep the first.", wednesday) == []
+    assert _days("the rent goes out on the first.", wednesday) == [{date(2025, 10, 1)}]
+
+
+def test_midnight_is_also_the_last_minute_of_the_day() -> None:
+    assert _times("submit it by midnight") == [{"00:00", "23:59"}]
+
+
 def test_half_an_hour_ago_is_not_an_hour_ago() -> None:
     assert _times("she ate it half an hour ago", datetime(2025, 6, 2, 8, 50, tzinfo=UTC)) == []
 

@@ -108,6 +108,32 @@ _THE_NTH = re.compile(
 )
 """"the 2nd" and "the 5th of this month" (or of next or last month, which say the month)."""
 _ISO_DATE = re.compile(r"(?<!\d)(\d{4})-(\d{2})-(\d{2})(?!\d)")
+_DAY_SPAN = re.compile(
+    r"(?<![\d:.,£$€])" + _ORDINAL + r"\s*(?:-|\u2013|\u2014|to|until|till|through|and|&)\s*"
+    r"(?:(?:"
+    + "|".join((*_WEEKDAYS, *_WEEKDAY_ABBREVIATIONS))
+    + r")\.?,?\s+)?(?:the\s+)?("
+    + _ORDINAL
+    + r"(?:\s+of)?\s+"
+    + _MONTH_WORD
+    + _WORD_END
+    + r"(?:\s+(\d{4}))?)",
+    re.I,
+)
+""""Friday 12 to Sunday 14 September", "3-5 June": the first day takes the month written after the second."""
+_DAY_AFTER = re.compile(
+    r"(?:\band|\bor|\bto|\bthrough|&|,)\s+the\s+day\s+after"
+    + _WORD_END
+    + r"(?!\s+(?:tomorrow|that|this|the|next|her|his|their|my|your|our)\b)",
+    re.I,
+)
+""""closed tomorrow and the day after": the day after the day just named."""
+_END_OF_MONTH = re.compile(
+    _WORD_START + r"(?:the\s+)?end\s+of\s+(?:(the|this|next)\s+month|" + _MONTH_WORD + r")" + _WORD_END, re.I
+)
+""""by the end of the month", "end of next month", "the end of June": the month's last day."""
+_NEXT_WEEK_NEAR = re.compile(r"^(?:\s+[\w']+){0,3}?\s+next\s+week\b|\bnext\s+week[\s,]+(?:on\s+)?$", re.I)
+""""Tuesday next week", "my Tuesday run next week", "next week, Tuesday": a weekday of next week."""
 _SLASH_DATE = re.compile(r"(?<![\d/])(\d{1,2})/(\d{1,2})(?:/(\d{2,4}))?(?![\d/])")
 _DOTTED_DATE = re.compile(r"(?<![\d.])(\d{1,2})\.(\d{1,2})\.(\d{4}|\d{2})(?![\d.]|\.\d)")
 """"5.7.2025" (day, month, year: with a year, so a time such as "5.30" is never read as a date)."""
@@ -426,6 +452,9 @@ _DIGIT = re.compile(r"\d")
 _DIGIT_NEEDED = "<a digit>"
 _HINTS: dict[re.Pattern[str], tuple[str, ...]] = {
     _ISO_DATE: (_DIGIT_NEEDED,),
+    _DAY_SPAN: (_DIGIT_NEEDED,),
+    _DAY_AFTER: ("day after",),
+    _END_OF_MONTH: ("end of",),
     _DAY_MONTH: (_DIGIT_NEEDED,),
     _MONTH_DAY: (_DIGIT_NEEDED,),
     _THE_NTH: (_DIGIT_NEEDED,),
@@ -497,6 +526,12 @@ class _Reading:
         today = self.today
         for match in self.scan(_ISO_DATE):
             self.add(match.span(), [d for d in [_safe_date(*(int(g) for g in match.groups()))] if d])
+        for match in self.scan(_DAY_SPAN):
+            first, last, month = int(match.group(1)), int(match.group(3)), _month_number(match.group(4))
+            if self.overlapping(*match.span()):
+                continue
+            self.add(match.span(1), _year_readings(today, month, first, match.group(5)))
+            self.add(match.span(2), _year_readings(today, month, last, match.group(5)))
         for match in self.scan(_DAY_MONTH):
             month, day = _month_number(match.group(2)), int(match.group(1))
             self.add(match.span(), _year_readings(today, month, day, match.group(3)))
@@ -562,7 +597,18 @@ class _Reading:
         for match, weekday in self._weekday_matches():
             position = dated(match)
             if position is None:
-                self.add(match.span(), _weekday_readings(today, weekday, match.group(1) or ""))
+                qualifier = (match.group(1) or "") if match.re is _FULL_WEEKDAY else ""
+                readings = _weekday_readings(today, weekday, qualifier)
+                if not qualifier and (
+                    _NEXT_WEEK_NEAR.match(text[match.end() : match.end() + 40])
+                    or _NEXT_WEEK_NEAR.search(text[max(0, match.start() - 16) : match.start()])
+                ):
+                    monday = today + timedelta(days=7 - today.weekday())
+                    readings = frozenset({monday + timedelta(days=weekday)})
+                if not qualifier and _PAST_ACT.search(text, max(0, match.start() - 60), match.start()):
+                    # "the one I ordered on Thursday": maybe the Thursday gone by
+                    readings |= _weekday_readings(today, weekday, "last")
+                self.add(match.span(), readings)
             else:
                 self._agree(position, weekday)
 
@@ -601,6 +647,32 @@ class _Reading:
             word = " ".join(match.group(1).lower().split())
             offset = _RELATIVE_OFFSETS.get(word, 0)
             self.add(match.span(), [self.today + timedelta(days=offset)])
+        for match in self.scan(_END_OF_MONTH):
+            which = (match.group(1) or "").lower()
+            if which:
+                first = _nth_of_month(self.today, 1, "next" if which == "next" else "this")
+                months = [first] if first else []
+            else:
+                month = _month_number(match.group(2))
+                months = [d for d in (_safe_date(self.today.year + k, month, 1) for k in (0, 1)) if d]
+            self.add(
+                match.span(),
+                [(start + timedelta(days=32)).replace(day=1) - timedelta(days=1) for start in months],
+            )
+
+    def add_day_after(self) -> None:
+        """The day after the latest day named before in the same sentence ("tomorrow and the day after")."""
+        for match in self.scan(_DAY_AFTER):
+            before = [
+                mention
+                for start, stop, mention in self.taken
+                if stop <= match.start()
+                and mention.days
+                and not _SENTENCE_END.search(self.text, stop, match.start())
+            ]
+            if before:
+                last = max(before, key=lambda mention: mention.start)
+                self.add(match.span(), [day + timedelta(days=1) for day in last.days])
 
     def add_ranges(self) -> None:
         for match in self.scan(_DASH_RANGE):
@@ -677,9 +749,9 @@ class _Reading:
             minutes = {"fifteen": 15, "thirty": 30}.get(said, 45)
             self.add(match.span(), times=_clock_readings(_hour_number(match.group(1)), minutes, None))
         for match in self.scan(_NAMED_TIME):
-            self.add(
-                match.span(), times=[time(0, 0) if match.group(1).lower() == "midnight" else time(12, 0)]
-            )
+            said = match.group(1).lower()
+            # midnight as a deadline is the last minute of the day as well: "by midnight" is "by 23:59"
+            self.add(match.span(), times=[time(0, 0), time(23, 59)] if said == "midnight" else [time(12, 0)])
 
 
 _DAY_ORDINAL_WORDS = ("first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth",
@@ -701,8 +773,21 @@ _WEEKDAY_ORDINAL = re.compile(
 """An ordinal after a weekday ("Saturday the tenth") is a day whatever follows."""
 
 
+_DAY_PREPOSITION = re.compile(
+    r"\b(?:on|by|until|till|from|before|after|since|starting|due|for)\s+the\s+$|day\s+the\s+$", re.I
+)
+"""What before "the first" makes it a day when no month follows: "paid on the first.", not "I keep the
+first."."""
+_OF_MONTH_AFTER = re.compile(r"\s+of\s+(?:jan|feb|mar|apr|may|jun|jul|aug|sep|oct|nov|dec)", re.I)
+
+
 def _day_in_digits(match: re.Match[str]) -> str:
     """An ordinal day in words as digits ("tenth" as "10th"), padded to its length so positions hold."""
+    text = match.string
+    if not _OF_MONTH_AFTER.match(text, match.end()) and not _DAY_PREPOSITION.search(
+        text, max(0, match.start() - 16), match.start()
+    ):
+        return match.group(0)  # "I keep the first." ranks; "due on the first." dates
     tens = {"twenty": 20, "thirty": 30}.get((match.group(1) or "").lower(), 0)
     number = tens + _DAY_ORDINALS[match.group(2).lower()]
     if number > 31:
@@ -725,6 +810,7 @@ def mentions(text: str, anchor: datetime) -> tuple[Mention, ...]:
     reading.add_times()  # before the relative days: "8 tonight" is 20:00, and tonight is still today
     reading.add_relative_days()
     reading.add_weekdays()
+    reading.add_day_after()
     if asks_library(text):
         _add_library_mentions(reading, anchor)
     return tuple(sorted(reading.found, key=lambda mention: mention.start))
