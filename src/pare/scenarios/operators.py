@@ -854,7 +854,12 @@ for _operator in (
     Operator(
         "not",
         "a matcher",
-        "does not match it",
+        "does not match it. A `regex`, `contains` or `contains_any` inside (or in an `any_of` inside) "
+        "does not count a match that begins in a clause negating or passing over what it names: "
+        "`{not: {contains: oat}}` holds for 'the barista one, not the regular oat drink'; a match that "
+        "covers the clause's own cue still counts (`{not: {regex: \"can't make\"}}` finds 'I can't make "
+        "it'). A `not` inside `in_a_clause`, `in_a_sentence` or an `any_of` option sets an exception "
+        "aside and counts its words anywhere",
         _not,
         compile_matcher,
         prepare=_not_check,
