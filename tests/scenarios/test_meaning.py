@@ -511,6 +511,14 @@ def test_cant_wait_is_eager_but_cant_wait_till_refuses_the_wait() -> None:
     assert not affirms("This can't wait for Monday", "monday")
 
 
+def test_what_is_set_aside_or_moved_from_is_not_affirmed() -> None:
+    assert not affirms("the GreenLoop ones can stay on the shelf", "greenloop")
+    assert not affirms("Talk moved from Thursday 14:00", "thursday")
+    assert affirms("Talk moved from Thursday to Friday", "friday")  # where it is now is named too
+    assert affirms("Saffron House (moved from Osteria Bruno)", "saffron")
+    assert not affirms("Saffron House (moved from Osteria Bruno)", "osteria")
+
+
 def test_an_aside_that_negates_negates_only_itself() -> None:
     assert affirms("Meadowbank Vets Hillcrest (not the main surgery)", "hillcrest")
     assert not affirms("Meadowbank Vets Hillcrest (not the main surgery)", "main surgery")

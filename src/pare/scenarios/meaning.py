@@ -214,7 +214,7 @@ _CLAUSE_BREAK = re.compile(
     r"\s(?=(?:but|however|although|though|whereas|except|instead of|rather than|if|unless|"
     r"apart from|other than|unlike)\b)|"
     # an aside that negates, negates only itself: "Hillcrest (not the main surgery)"
-    r"\s(?=\((?:not|no|never|rather than|instead of)\b)|" + _PICTOGRAPH_RUN,
+    r"\s(?=\((?:not|no|never|rather than|instead of|moved from)\b)|" + _PICTOGRAPH_RUN,
     re.IGNORECASE,
 )
 _SENTENCE_BREAK = re.compile(r"[!?\n]|\.(?=\s|$)(?!(?<=\b[Nn]o\.)\s*\d)(?<!\bapprox\.)|" + _PICTOGRAPH_RUN)
@@ -304,17 +304,23 @@ NEGATION_CUES: tuple[str, ...] = (
     "busy",
     "booked up",
     "fully booked",
+    # set aside, not chosen: "the GreenLoop ones can stay on the shelf"
+    "stay on the shelf",
+    "stays on the shelf",
 )
 """Words that keep a clause from affirming what it mentions."""
 
 _NEGATION_PATTERNS = re.compile(
     r"(?<![^\W\d_])(?:(?:went|gone|goes|going|shot|jumped)\s+up|(?:rose|risen|increased|jumped)\s+)"
-    r"(?:\s*(?:in price\s+)?to\s+)?(?:[$\u00a3\u20ac]\s?\d|\d[\d.,]*\s*(?:pounds|quid|dollars|euros)\b)",
+    r"(?:\s*(?:in price\s+)?to\s+)?(?:[$\u00a3\u20ac]\s?\d|\d[\d.,]*\s*(?:pounds|quid|dollars|euros)\b)|"
+    # where something was, not where it is: "Talk moved from Thursday 14:00" (but "moved from Thursday to
+    # Friday" names where it is too, so it stays affirmed)
+    r"(?<![^\W\d_])moved\s+from\b(?![^.,;:!?\n]*\bto\b)",
     re.IGNORECASE,
 )
-"""Negations that need more than a phrase: a price that went up ("the moon lamp went up to £42, so I went
-for the globe" passes the lamp over), told by the money amount after it ("I went up to the office" is no
-price)."""
+"""Negations that need more than a phrase: where something moved from, with no "to" after it; a price
+that went up ("the moon lamp went up to £42, so I went for the globe" passes the lamp over), told by the
+money amount after it ("I went up to the office" is no price)."""
 
 _DELIBERATION_CUES: tuple[str, ...] = (
     "thought about",
