@@ -418,10 +418,14 @@ def test_not_lets_a_text_turn_down_what_it_bans() -> None:
 
 
 def test_not_inside_a_part_or_an_option_reads_its_words_anywhere() -> None:
-    # in a clause already chosen, or in an option of any_of, a not excuses: its words count wherever they are
+    # in a clause already chosen, or as a whole any_of option, a not excuses: its words count anywhere
     claimed = {"in_a_clause": {"contains": "annecy", "not": {"contains_any": ["personal"]}}}
     assert not holds(claimed, "I'm not claiming the Annecy personal weekend")
     assert holds(claimed, "Annecy is on the claim")
     unmentioned = {"any_of": [{"not": {"contains": "porto"}}, {"equals": 1}]}
     assert not holds(unmentioned, "Skipped the box (Porto)")
     assert holds(unmentioned, "Skipped the box")
+    # beside other operators in an option, a not bans as it does outside
+    energy_not_bill = {"any_of": [{"contains": "energy", "not": {"contains": "bill"}}, {"equals": 1}]}
+    assert holds(energy_not_bill, "Energy readings are in, not the estimated bill")
+    assert not holds(energy_not_bill, "Energy bill is due")

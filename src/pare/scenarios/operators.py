@@ -184,11 +184,16 @@ def _part_test(matcher: Matcher) -> Test:
 
 
 def _options_tests(matchers: tuple[Matcher, ...]) -> tuple[Test, ...]:
-    """The tests ``any_of`` tries: each option's, with a ``not`` in it read literally (an option is one
-    way for the value to be so; only a ``not`` that a matcher holds itself bans a pattern, see
-    :func:`_not_check`).
+    """The tests ``any_of`` tries: each option's, but an option that is a ``not`` alone read literally.
+
+    Such an option is one way for the value to be so ("or it does not mention the trip"): the words of
+    its ``not`` count wherever they are. A ``not`` beside other operators in an option bans a pattern in
+    what they find ("names the energy company, not the bill"), as it does outside (see :func:`_not_check`).
     """
-    return tuple(_literal_test(matcher) for matcher in matchers)
+    return tuple(
+        _literal_test(matcher) if [name for name, _ in matcher.operators] == ["not"] else matcher.test
+        for matcher in matchers
+    )
 
 
 def _literal_test(matcher: Matcher) -> Test:
@@ -858,8 +863,8 @@ for _operator in (
         "does not count a match that begins in a clause negating or passing over what it names: "
         "`{not: {contains: oat}}` holds for 'the barista one, not the regular oat drink'; a match that "
         "covers the clause's own cue still counts (`{not: {regex: \"can't make\"}}` finds 'I can't make "
-        "it'). A `not` inside `in_a_clause`, `in_a_sentence` or an `any_of` option sets an exception "
-        "aside and counts its words anywhere",
+        "it'). A `not` inside `in_a_clause` or `in_a_sentence`, or that is a whole `any_of` option, sets "
+        "an exception aside and counts its words anywhere",
         _not,
         compile_matcher,
         prepare=_not_check,
