@@ -396,3 +396,36 @@ def test_negated_reads_a_clause_for_a_negation_cue() -> None:
     assert not holds(charged_again, "It was not charged again")
     assert holds({"negated": True}, "I can't make Thursday")
     assert not holds({"negated": True}, "No problem, Thursday works")
+
+
+def test_not_lets_a_text_turn_down_what_it_bans() -> None:
+    # a forbidden pattern does not fire on a clause that negates or passes over what it names
+    assert holds({"not": {"regex": "oat drink"}}, "Got the barista one, not the regular oat drink")
+    assert holds({"not": {"contains": "2kg"}}, "Ordered the 5kg bag rather than the 2kg bag")
+    assert holds({"not": {"contains_any": ["change", "move"]}}, "7:45 works, no need to change it")
+    assert not holds({"not": {"regex": "oat drink"}}, "Got the regular oat drink")
+    # a match in a negated clause that covers the clause's own cue still counts: the pattern seeks it
+    assert not holds({"not": {"regex": "can't make"}}, "Sorry, I can't make Friday")
+    assert not holds({"not": {"contains": "not sure"}}, "I'm not sure about Friday")
+    # a pattern spanning clauses is judged by the clause it begins in
+    assert not holds({"not": {"regex": r"ordered[^.]*toaster"}}, "I ordered the cups, and the toaster too")
+    assert holds({"not": {"regex": r"ordered[^.]*toaster"}}, "I haven't ordered yet, the toaster is gone")
+    # a later match in a clause that affirms still counts
+    assert not holds({"not": {"contains": "oat"}}, "Not the oat one. Actually, oat it is")
+    # options of an any_of under not are read the same way
+    assert holds({"not": {"any_of": [{"contains": "oat"}, {"equals": 3}]}}, "not the oat drink")
+    assert not holds({"not": {"any_of": [{"contains": "oat"}, {"equals": 3}]}}, 3)
+
+
+def test_not_inside_a_part_or_an_option_reads_its_words_anywhere() -> None:
+    # in a clause already chosen, or as a whole any_of option, a not excuses: its words count anywhere
+    claimed = {"in_a_clause": {"contains": "annecy", "not": {"contains_any": ["personal"]}}}
+    assert not holds(claimed, "I'm not claiming the Annecy personal weekend")
+    assert holds(claimed, "Annecy is on the claim")
+    unmentioned = {"any_of": [{"not": {"contains": "porto"}}, {"equals": 1}]}
+    assert not holds(unmentioned, "Skipped the box (Porto)")
+    assert holds(unmentioned, "Skipped the box")
+    # beside other operators in an option, a not bans as it does outside
+    energy_not_bill = {"any_of": [{"contains": "energy", "not": {"contains": "bill"}}, {"equals": 1}]}
+    assert holds(energy_not_bill, "Energy readings are in, not the estimated bill")
+    assert not holds(energy_not_bill, "Energy bill is due")

@@ -507,6 +507,53 @@ def test_cant_wait_is_eager_but_cant_wait_till_refuses_the_wait() -> None:
 
     assert affirms("Can't wait to see you on Thursday", "thursday")
     assert not affirms("It can't wait till February", "february")
+    assert affirms("Ella can't wait for the trip on Friday", "friday")
+    assert not affirms("This can't wait for Monday", "monday")
+
+
+def test_what_is_set_aside_or_moved_from_is_not_affirmed() -> None:
+    assert not affirms("the GreenLoop ones can stay on the shelf", "greenloop")
+    assert not affirms("Talk moved from Thursday 14:00", "thursday")
+    assert affirms("Talk moved from Thursday to Friday", "friday")  # where it is now is named too
+    assert affirms("Saffron House (moved from Osteria Bruno)", "saffron")
+    assert not affirms("Saffron House (moved from Osteria Bruno)", "osteria")
+
+
+def test_an_aside_that_negates_negates_only_itself() -> None:
+    assert affirms("Meadowbank Vets Hillcrest (not the main surgery)", "hillcrest")
+    assert not affirms("Meadowbank Vets Hillcrest (not the main surgery)", "main surgery")
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "Not the regular oat drink, the barista one",
+        "I thought about the 2-bed but it's over budget. Got the studio",
+        "No problem, see you Friday - can't do Thursday",
+        "Kept Beech Grove (3 bed) but removed Elm Court",
+        "  the 3rd not the 4th;  ",
+    ],
+)
+def test_clause_spans_place_the_clauses_and_say_which_affirm(text: str) -> None:
+    from pare.scenarios.meaning import affirmed_clauses, clause_spans
+
+    spans = clause_spans(text)
+    assert [text[span.start : span.end] for span in spans] == clauses(text)
+    assert [text[span.start : span.end] for span in spans if span.affirmed] == affirmed_clauses(text)
+    for span in spans:  # what keeps a clause from affirming is written inside it
+        assert span.affirmed is not bool(span.cues)
+        assert all(span.start <= begin < end <= span.end for begin, end in span.cues)
+
+
+def test_clause_spans_show_the_cue_a_match_may_cover() -> None:
+    from pare.scenarios.meaning import clause_spans
+
+    text = "Sorry, I can't make Friday"
+    negated = clause_spans(text)[1]
+    cue = text.index("can't")
+    assert not negated.affirmed and negated.holds(cue, cue + 10)
+    assert negated.covers_cue(cue, cue + 10)
+    assert not negated.covers_cue(text.index("Friday"), len(text))
 
 
 @pytest.mark.parametrize(

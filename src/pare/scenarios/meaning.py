@@ -212,7 +212,9 @@ _CLAUSE_BREAK = re.compile(
     # Thursday works", "Friday—Thursday"), but not between two numbers (the range 2 - 4pm)
     r":(?=\s|$)|(?<=[^\d\s])\s+[-\u2013\u2014]+\s+|\s+[-\u2013\u2014]+\s+(?=[^\d\s])|(?<!\d)[\u2013\u2014](?!\d)|"
     r"\s(?=(?:but|however|although|though|whereas|except|instead of|rather than|if|unless|"
-    r"apart from|other than|unlike)\b)|" + _PICTOGRAPH_RUN,
+    r"apart from|other than|unlike)\b)|"
+    # an aside that negates, negates only itself: "Hillcrest (not the main surgery)"
+    r"\s(?=\((?:not|no|never|rather than|instead of|moved from)\b)|" + _PICTOGRAPH_RUN,
     re.IGNORECASE,
 )
 _SENTENCE_BREAK = re.compile(r"[!?\n]|\.(?=\s|$)(?!(?<=\b[Nn]o\.)\s*\d)(?<!\bapprox\.)|" + _PICTOGRAPH_RUN)
@@ -302,17 +304,23 @@ NEGATION_CUES: tuple[str, ...] = (
     "busy",
     "booked up",
     "fully booked",
+    # set aside, not chosen: "the GreenLoop ones can stay on the shelf"
+    "stay on the shelf",
+    "stays on the shelf",
 )
 """Words that keep a clause from affirming what it mentions."""
 
 _NEGATION_PATTERNS = re.compile(
     r"(?<![^\W\d_])(?:(?:went|gone|goes|going|shot|jumped)\s+up|(?:rose|risen|increased|jumped)\s+)"
-    r"(?:\s*(?:in price\s+)?to\s+)?(?:[$\u00a3\u20ac]\s?\d|\d[\d.,]*\s*(?:pounds|quid|dollars|euros)\b)",
+    r"(?:\s*(?:in price\s+)?to\s+)?(?:[$\u00a3\u20ac]\s?\d|\d[\d.,]*\s*(?:pounds|quid|dollars|euros)\b)|"
+    # where something was, not where it is: "Talk moved from Thursday 14:00" (but "moved from Thursday to
+    # Friday" names where it is too, so it stays affirmed)
+    r"(?<![^\W\d_])moved\s+from\b(?![^.,;:!?\n]*\bto\b)",
     re.IGNORECASE,
 )
-"""Negations that need more than a phrase: a price that went up ("the moon lamp went up to £42, so I went
-for the globe" passes the lamp over), told by the money amount after it ("I went up to the office" is no
-price)."""
+"""Negations that need more than a phrase: where something moved from, with no "to" after it; a price
+that went up ("the moon lamp went up to £42, so I went for the globe" passes the lamp over), told by the
+money amount after it ("I went up to the office" is no price)."""
 
 _DELIBERATION_CUES: tuple[str, ...] = (
     "thought about",
@@ -441,8 +449,9 @@ the message then turns one option down and is not a refusal as a whole."""
 
 _FRIENDLY_IDIOMS = re.compile(
     r"(?<![^\W\d_])(no problem|no worries|not a problem|no trouble|no rush|no hurry|never mind|"
-    # eagerness, not a refusal ("can't wait to see you"); but "it can't wait till Friday" refuses the wait
-    r"(?:can't|cannot)\s+wait(?!\s+(?:till|until|til|for|any))|"
+    # eagerness, not a refusal ("can't wait to see you", "Ella can't wait for the trip"); but "it can't
+    # wait till Friday" and "this can't wait for Monday" refuse the wait
+    r"(?<!\bit\s)(?<!\bthis\s)(?<!\bthat\s)(?:can't|cannot)\s+wait(?!\s+(?:till|until|til|any))|"
     r"don't hesitate|no later than|not later than|no more than|no matter|not only|"
     # reminders that affirm what they remind of: "don't forget games night Thursday at 19:00"
     r"(?:don't|do not|dont)\s+(?:forget|be late)|"
@@ -550,6 +559,64 @@ def _affirmed(text: str) -> tuple[str, ...]:
         for clause, after in zip(parts, following, strict=False)  # one more following: the last has none
         if not is_negated(clause) and not _passed_over(clause, after)
     )
+
+
+@dataclass(frozen=True, slots=True)
+class ClauseSpan:
+    """Where one clause of a text lies, and whether it affirms what it mentions (:func:`clause_spans`)."""
+
+    start: int
+    """Where the clause begins in the text (its surrounding spaces left out)."""
+    end: int
+    """Where it ends."""
+    affirmed: bool
+    """Whether :func:`affirmed_clauses` keeps it: no negation cue, and no option weighed then turned from."""
+    cues: tuple[tuple[int, int], ...]
+    """Where, in the text, what keeps it from affirming is written: its negation cues, or for a clause
+    passed over the words that weigh the option ("thought about"); empty for an affirmed clause."""
+
+    def holds(self, begin: int, end: int) -> bool:
+        """Whether the span ``begin``-``end`` of the text begins in this clause."""
+        return self.start <= begin < self.end
+
+    def covers_cue(self, begin: int, end: int) -> bool:
+        """Whether the span ``begin``-``end`` of the text overlaps one of the clause's cues."""
+        return any(begin < cue_end and cue_start < end for cue_start, cue_end in self.cues)
+
+
+def clause_spans(text: str) -> tuple[ClauseSpan, ...]:
+    """The clauses of ``text`` as :func:`clauses` cuts them, with where each lies in ``text`` and whether it
+    affirms, so a match found in the whole text can be judged by the clause it lies in.
+    """
+    return _clause_spans(normalise_quotes(text))
+
+
+@lru_cache(maxsize=4096)
+def _clause_spans(text: str) -> tuple[ClauseSpan, ...]:
+    parts = _clauses(text)
+    following: list[str | None] = [*parts[1:], None]
+    spans: list[ClauseSpan] = []
+    at = 0
+    for clause, after in zip(parts, following, strict=False):
+        start = text.find(clause, at)  # clauses are stripped pieces of the text, in order, quotes unchanged
+        at = start + len(clause)
+        cues = _cue_spans(clause, start)
+        passed = not cues and _passed_over(clause, after)
+        if passed:
+            cues = tuple(
+                (start + found.start(), start + found.end())
+                for found in _any_cue(_DELIBERATION_CUES).finditer(clause)
+            )
+        spans.append(ClauseSpan(start, at, not cues and not passed, cues))
+    return tuple(spans)
+
+
+def _cue_spans(clause: str, offset: int) -> tuple[tuple[int, int], ...]:
+    """Where ``clause``'s negation cues are (shifted by ``offset``); empty when it is not negated."""
+    # friendly idioms ("no problem") blanked out letter for letter, so positions stay those of the clause
+    plain = _FRIENDLY_IDIOMS.sub(lambda found: " " * len(found.group(0)), clause)
+    found = [*_any_cue(NEGATION_CUES).finditer(plain), *_NEGATION_PATTERNS.finditer(plain)]
+    return tuple(sorted((offset + one.start(), offset + one.end()) for one in found))
 
 
 def affirmed_clauses(text: str) -> list[str]:

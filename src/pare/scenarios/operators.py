@@ -26,6 +26,7 @@ from pare.scenarios.matchers import (
     Matcher,
     MatcherError,
     Operator,
+    Test,
     compile_matcher,
     reading_moment,
     register_operator,
@@ -51,13 +52,154 @@ def _not(matcher: Matcher, value: Any, start: datetime) -> bool:
     return not matcher.test(value, start)
 
 
-def _in_some(split: Callable[[str], list[str]], matcher: Matcher, value: Any, start: datetime) -> bool:
-    """Whether one part of the value's text (a clause, a sentence) meets ``matcher`` on its own."""
-    return any(matcher.test(part, start) for item in _items(value) for part in split(_text(item)))
+def _not_check(matcher: Matcher) -> Chosen:
+    """``not``'s test: the matcher's text matches count only where the text puts them forward.
+
+    A forbidden pattern must not fire on a clause that negates or passes over what it names: "not the
+    regular oat drink" names the oat drink to turn it down. So under ``not``, a match of ``regex``,
+    ``contains`` or ``contains_any`` (also inside ``any_of``) that begins in a clause
+    :func:`~pare.scenarios.meaning.affirmed_clauses` drops does not count, unless it covers that clause's
+    negation cue (a pattern seeking "can't make" still finds it). ``in_a_clause``, ``in_a_sentence`` and a
+    ``not`` inside are their own readings, kept as they are.
+    """
+    affirmed = _affirmed_test(matcher)
+    return Chosen(_not, matcher) if affirmed is None else Chosen(_not_affirmed, affirmed)
 
 
-def _any_of(matchers: tuple[Matcher, ...], value: Any, start: datetime) -> bool:
-    return any(matcher.test(value, start) for matcher in matchers)
+def _not_affirmed(affirmed: Test, value: Any, start: datetime) -> bool:
+    return not affirmed(value, start)
+
+
+def _affirmed_test(matcher: Matcher) -> Test | None:
+    """``matcher``'s test counting only text matches in clauses that affirm (see :func:`_not_check`), or
+    ``None`` when it has no text match to judge so. A ``not`` inside is read literally: it is an excuse
+    that lifts the ban, whose words count wherever they are.
+    """
+    return _rebuilt_test(matcher, _affirmed_reader)
+
+
+def _affirmed_reader(name: str, kept: Any) -> tuple[Test, bool] | None:
+    reader = _AFFIRMED_READERS.get(name)
+    if reader is not None:
+        return partial(reader, kept), True
+    return _literal_reader(name, kept)
+
+
+def _literal_reader(name: str, kept: Any) -> tuple[Test, bool] | None:
+    return (partial(_not, kept), False) if name == "not" else None
+
+
+def _rebuilt_test(matcher: Matcher, reader: Callable[[str, Any], tuple[Test, bool] | None]) -> Test | None:
+    """``matcher``'s test with the operators ``reader`` gives a test for (and whether it refuses a missing
+    value) tested so, in it and in the options of its ``any_of``; ``None`` when there are none.
+    """
+    if matcher.fields:
+        return None
+    parts: list[tuple[Test, bool]] = []  # each operator's test, and whether it refuses a missing value
+    changed = False
+    for name, kept in matcher.operators:
+        replaced = reader(name, kept)
+        if replaced is not None:
+            parts.append(replaced)
+            changed = True
+        elif name == "any_of":
+            tests = [_rebuilt_test(option, reader) for option in kept]
+            changed = changed or any(test is not None for test in tests)
+            options = tuple(
+                option.test if test is None else test for option, test in zip(kept, tests, strict=True)
+            )
+            parts.append((partial(_any_test, options), False))
+        else:
+            parts.append((Matcher(operators=((name, kept),)).test, False))
+    if not changed:
+        return None
+
+    def test(value: Any, start: datetime) -> bool:
+        return all((value is not None or not refuses) and part(value, start) for part, refuses in parts)
+
+    return test
+
+
+def _any_test(tests: tuple[Test, ...], value: Any, start: datetime) -> bool:
+    return any(test(value, start) for test in tests)
+
+
+def _put_forward(pattern: re.Pattern[str], text: str) -> bool:
+    """Whether ``pattern`` matches ``text`` where the text puts it forward: a match beginning in a clause
+    that affirms, or covering the negation cue of the clause it begins in.
+    """
+    found = pattern.search(text)
+    if found is None:
+        return False
+    spans = meaning.clause_spans(text)
+    if all(span.affirmed for span in spans):  # the usual text: nothing negated, every match counts
+        return True
+    while found is not None:
+        begin, end = found.span()
+        clause = next((span for span in spans if span.holds(begin, end)), None)
+        if clause is None or clause.affirmed or clause.covers_cue(begin, end):
+            return True
+        found = pattern.search(text, begin + 1)  # a later match may begin in a clause that affirms
+    return False
+
+
+def _regex_affirmed(pattern: re.Pattern[str], value: Any, start: datetime) -> bool:
+    return any(_put_forward(pattern, _text(item)) for item in _items(value))
+
+
+def _word_put_forward(piece: str, text: str) -> bool:
+    return _put_forward(meaning.word_pattern(meaning.normalise_quotes(piece)), text)
+
+
+def _contains_affirmed(pieces: tuple[str, ...], value: Any, start: datetime) -> bool:
+    texts = _word_texts(value)
+    return all(any(_word_put_forward(piece, text) for text in texts) for piece in pieces)
+
+
+def _contains_any_affirmed(pieces: tuple[str, ...], value: Any, start: datetime) -> bool:
+    texts = _word_texts(value)
+    return any(_word_put_forward(piece, text) for piece in pieces for text in texts)
+
+
+_AFFIRMED_READERS: dict[str, Callable[[Any, Any, datetime], bool]] = {
+    "regex": _regex_affirmed,
+    "contains": _contains_affirmed,
+    "contains_any": _contains_any_affirmed,
+}
+"""The text operators whose matches ``not`` judges by the clause they begin in."""
+
+
+def _in_some(split: Callable[[str], list[str]], test: Test, value: Any, start: datetime) -> bool:
+    """Whether one part of the value's text (a clause, a sentence) meets the matcher's ``test`` on its own."""
+    return any(test(part, start) for item in _items(value) for part in split(_text(item)))
+
+
+def _part_test(matcher: Matcher) -> Test:
+    """The test ``in_a_clause`` and ``in_a_sentence`` give each part: the matcher's, with a ``not`` inside
+    read literally. A ``not`` there sets the part aside for a word it holds (``not: {contains_any:
+    [personal]}`` in "not claiming Annecy, that was personal"): the part is already chosen, so its words
+    count wherever they are.
+    """
+    return _literal_test(matcher)
+
+
+def _options_tests(matchers: tuple[Matcher, ...]) -> tuple[Test, ...]:
+    """The tests ``any_of`` tries: each option's, but an option that is a ``not`` alone read literally.
+
+    Such an option is one way for the value to be so ("or it does not mention the trip"): the words of
+    its ``not`` count wherever they are. A ``not`` beside other operators in an option bans a pattern in
+    what they find ("names the energy company, not the bill"), as it does outside (see :func:`_not_check`).
+    """
+    return tuple(
+        _literal_test(matcher) if [name for name, _ in matcher.operators] == ["not"] else matcher.test
+        for matcher in matchers
+    )
+
+
+def _literal_test(matcher: Matcher) -> Test:
+    """``matcher``'s test with a ``not`` in it (or in the options of its ``any_of``) read literally."""
+    literal = _rebuilt_test(matcher, _literal_reader)
+    return matcher.test if literal is None else literal
 
 
 def _present(wanted: bool, value: Any, start: datetime) -> bool:
@@ -717,9 +859,15 @@ for _operator in (
     Operator(
         "not",
         "a matcher",
-        "does not match it",
+        "does not match it. A `regex`, `contains` or `contains_any` inside (or in an `any_of` inside) "
+        "does not count a match that begins in a clause negating or passing over what it names: "
+        "`{not: {contains: oat}}` holds for 'the barista one, not the regular oat drink'; a match that "
+        "covers the clause's own cue still counts (`{not: {regex: \"can't make\"}}` finds 'I can't make "
+        "it'). A `not` inside `in_a_clause` or `in_a_sentence`, or that is a whole `any_of` option, sets "
+        "an exception aside and counts its words anywhere",
         _not,
         compile_matcher,
+        prepare=_not_check,
         reads="matchers",
         refuses_none=False,
         nested=_one,
@@ -735,6 +883,7 @@ for _operator in (
         "clauses are tested too, so put `affirms` inside for words that must not be negated",
         partial(_in_some, meaning.clauses),
         compile_matcher,
+        prepare=_part_test,
         reads="matchers",
         nested=_one,
         describe=lambda matcher: f"in_a_clause ({matcher.describe()})",
@@ -746,6 +895,7 @@ for _operator in (
         "day+3}}`: the promise and the day in one sentence)",
         partial(_in_some, meaning.sentences),
         compile_matcher,
+        prepare=_part_test,
         reads="matchers",
         nested=_one,
         describe=lambda matcher: f"in_a_sentence ({matcher.describe()})",
@@ -755,8 +905,9 @@ for _operator in (
         "a list of matchers",
         "matches at least one of them (`{any_of: [{present: false}, {equals: user-laura}]}`: missing or "
         "Laura)",
-        _any_of,
+        _any_test,
         _matchers,
+        prepare=_options_tests,
         reads="matchers",
         refuses_none=False,
         nested=_alternatives,
