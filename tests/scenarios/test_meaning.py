@@ -134,6 +134,9 @@ def test_declines(text: str, declined: bool) -> None:
         ("I'll be there if I can get away from work", False),
         ("I might make Thursday, fingers crossed", False),
         ("Yes, I'll be there. I'll try to bring the chairs", True),
+        ("It's Thursday at 19:30 if I'm not mistaken", False),
+        ("Figures attached, still awaiting Oliver's sign-off", False),
+        ("Here is the form; I'll send the final version later", False),
     ],
 )
 def test_a_hedge_is_no_answer_for_declines_false(text: str, answers: bool) -> None:

@@ -658,12 +658,18 @@ _HEDGE = re.compile(
     r"let you know(?! (?:if|when|whether|once|as soon|how|what|where|who)\b)|"
     r"i think (?:i|it|that|we|this)(?:'ll| will| should| might| could| can)|"
     r"(?:i|we) (?:might|may) be able|should be able to|(?:i'll|i will|we'll|we will|will) try (?:and|to)|"
-    r"if (?:i|we) can(?! help)|fingers crossed|all being well|with any luck|(?:i|we) might)(?![^\W\d_])",
+    r"if (?:i|we) can(?! help)|fingers crossed|all being well|with any luck|(?:i|we) might|"
+    r"if i'm not mistaken|if i remember (?:right|rightly|correctly)|unless i'm wrong|i believe|"
+    r"(?:still )?(?:awaiting|pending|waiting (?:on|for)) (?:\w+(?:'s)? ){0,2}(?:sign-?off|approval|confirmation)|"
+    r"(?:subject|still subject) to (?:change|confirmation|approval)|(?:treat|take) (?:it|them|these|those|the \w+) "
+    r"with (?:care|caution|a pinch of salt)|(?:final|updated|full) version (?:to follow|later|once)|"
+    r"(?:send|share) (?:you )?(?:the|an) (?:final|updated|full) version (?:later|once|when|after))(?![^\W\d_])",
     re.IGNORECASE,
 )
 """What keeps an answer from being one: "probably", "I'll confirm later", "can I let you know in the
-morning?", "I think it should be clear", "I'll try and get there", "if I can" (but not "I'll let you know
-when I'm on my way")."""
+morning?", "I think it should be clear", "I'll try and get there", "if I can", "if I'm not mistaken",
+"still awaiting Oliver's sign-off", "I'll send the final version later" (but not "I'll let you know when I'm
+on my way")."""
 _FIRM = re.compile(
     r"(?<![^\W\d_])(?:yes|yeah|yep|definitely|certainly|absolutely|count (?:me|us) in|i'm in|i am in|"
     r"confirmed|see you|works|sounds (?:good|great|perfect)|(?:that's|is) (?:fine|perfect|great)|perfect|"
