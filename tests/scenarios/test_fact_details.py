@@ -243,9 +243,10 @@ def test_a_value_bound_to_nothing_or_to_something_it_is_given_for_is_left_alone(
     assert _stray(WEDDING, "See you at the chapel at 3pm", more=["Chapel steps, 3pm: photos."]) is None
 
 
-def test_only_one_value_of_a_kind_binds_and_only_in_its_own_clause() -> None:
-    # a checked clause with two values of a kind binds neither
+def test_only_one_value_of_a_kind_binds_and_an_allowed_value_only_in_its_own_clause() -> None:
+    # a checked sentence with two values of a kind binds neither; the sentence binds, not only the clause
     assert _stray(WEDDING, "Chapel at 2pm and 3pm") is None
+    assert _stray(WEDDING, "The chapel, as you asked: 3pm") == "15:00"
     # an allowed clause listing several values binds none of them to its words
     facts = ["Harbour Dental offered Wednesday 08:30 or Friday 16:30.", "Board meeting on Wednesday."]
     assert _stray(facts, "I'd like the Harbour Dental slot on Friday at 16:30") is None

@@ -6,12 +6,13 @@ puts a true value on the wrong thing ("at the chapel at 3pm" where 3pm is the re
 binds a value to what it is given for, by co-occurrence, and conservatively: the allowed texts are cut into
 sentences, each remembered with the details it states and the content words it holds.
 
-A detail of the checked text is *misbound* when the content words of its clause (stop words, numbers, day
-and month names and the words of details left out) occur in allowed sentences that state a different value
-of the same kind, and none of them occurs in an allowed sentence that states this value: "the chapel at
-3pm" is misbound where "The ceremony is at the chapel at 2pm." and "Drinks at 3pm in the garden." are the
-facts. A clause whose words no allowed sentence holds, or that shares a word with a sentence stating this
-value, binds nothing and is left alone.
+A value is *given for* the content words of every allowed sentence that states it, and *bound to* the
+content words of an allowed clause that states it and no other value of its kind (content words: stop
+words, numbers, day and month names and the words of details left out). A detail of the checked text is
+*misbound* when a content word of its sentence is bound to a different value of its kind and no allowed
+sentence stating this value holds any of its sentence's words: "see you at the chapel at 3pm" is misbound
+where "The ceremony is at the chapel at 2pm." and "Drinks at 3pm in the garden." are the facts. A sentence
+that states two values of the kind, or whose words the allowed texts bind to nothing, is left alone.
 """
 
 from __future__ import annotations
@@ -56,7 +57,8 @@ _STOP_WORDS = _words(
     booked book booking told tell said say says confirm confirmed confirmation sent send message note
     reminder set added add expect expected expecting arrive arrives arriving arrival come comes coming
     start starts starting work works working meet meeting see seeing leave leaving collect collecting
-    collection pickup ready free available back home sure great good"""
+    collection pickup ready free available back home sure great good fine gone except suit suits regards
+    kind best cheers hope love wish wishes accept accepted"""
 )
 """Words that bind a value to nothing: function words, words of time, and the verbs any message about a
 detail uses (a detail is "booked" or "confirmed" whatever it is of)."""
@@ -166,16 +168,17 @@ class Bindings:
                             self._bound.append(_Binding(kind, _keyed(values[0]), values[0].shown, words))
 
     def misbound(self, detail: Detail, text: str, stated: Sequence[Detail]) -> Misbinding | None:
-        """Whether ``detail`` of ``text`` (which states ``stated``) is bound by its clause to a thing an
+        """Whether ``detail`` of ``text`` (which states ``stated``) is bound by its sentence to a thing an
         allowed clause gives a different value of its kind for, and to nothing an allowed sentence gives
-        this value for.
+        this value for (a sentence, not a clause: "Tom's train, the 8:10, ..." says what it is of before
+        the comma).
         """
         if detail.kind not in BOUND_KINDS:
             return None
-        begin, end = _clause_span(text, detail.start, detail.end)
+        begin, end = _sentence_span(text, detail.start, detail.end)
         if any(one.kind == detail.kind and one.readings != detail.readings and begin <= one.start < end
                for one in stated):  # fmt: skip
-            return None  # two values of a kind in one clause: which word goes with which is not read
+            return None  # two values of a kind in one sentence: which word goes with which is not read
         words = content_words(text[begin:end], _within(stated, begin, end))
         if not words:
             return None
@@ -184,7 +187,7 @@ class Bindings:
             if not words.isdisjoint(given) and any(
                 one.kind == detail.kind and not _keyed(one).isdisjoint(readings) for one in found
             ):
-                return None  # the clause names something this value is given for
+                return None  # the sentence names something this value is given for
         for bound in self._bound:
             if bound.kind == detail.kind and bound.readings.isdisjoint(readings):
                 shared = words & bound.words
@@ -211,19 +214,12 @@ def _clause_spans(text: str) -> list[tuple[int, int]]:
     return spans
 
 
-def clause_at(text: str, start: int, end: int) -> str:
-    """The clause of ``text`` (:func:`pare.scenarios.meaning.clauses`) that holds ``text[start:end]``."""
-    begin, stop = _clause_span(text, start, end)
-    return text[begin:stop]
-
-
-def _clause_span(text: str, start: int, end: int) -> tuple[int, int]:
-    cursor = 0
-    for clause in clauses(text):
-        found = text.find(clause, cursor)
-        if found < 0:
-            break
-        if found <= start and end <= found + len(clause) + 1:
-            return found, found + len(clause)
-        cursor = found + len(clause)
-    return start, end
+def _sentence_span(text: str, start: int, end: int) -> tuple[int, int]:
+    """Where the sentence of ``text`` that holds ``text[start:end]`` begins and ends."""
+    begin = 0
+    for match in _SENTENCE_BREAK.finditer(text):
+        if match.end() <= start:
+            begin = match.end()
+        elif match.start() >= end:
+            return begin, match.start()
+    return begin, len(text)
