@@ -11,8 +11,9 @@ the facts state details of that kind and none of the allowed texts states this o
   readings is one an allowed text names ("at 6" is 06:00 or 18:00: either will do).
 * ``date``: a day named by a weekday, an explicit date or "today"/"tomorrow", read relative to when the
   text was sent; allowed texts are read relative to the scenario's start. Allowed when it is the same day.
-* ``money``: an amount with its currency ("£14.99", "14.99 pounds", "GBP 14.99", "99p"), compared by
-  currency and value (``£15`` is ``£15.00``).
+* ``money``: an amount with its currency ("£14.99", "14.99 pounds", "GBP 14.99", "99p", "25 dollars and 70
+  cents"), compared by currency and value (``£15`` is ``£15.00``); a figure with two decimals after a word
+  of money ("Total: 87.00") is an amount in any currency, and a rough one ("about $59") may be 2 % off.
 * ``phone``: a number of 9 to 15 digits, compared digit by digit whatever the grouping and with or without
   a country code (:mod:`pare.scenarios.numbers`).
 * ``url`` and ``email``: compared without case, scheme, ``www.`` or a trailing slash; a link is also
@@ -27,6 +28,9 @@ take): those solutions are right by definition, so a detail they state is not in
 assistant's own words are read: a forwarded message (below the forward rule) and quoted lines of a reply
 (``>``) carry the original's details, which the assistant did not state. A check whose text legitimately
 states other details opts out with ``other_details: <why>``.
+
+A detail the allowed texts state still fails where the text says it of another thing than they give it
+for ("at the chapel at 3pm" where 3pm is the reception's): :mod:`pare.scenarios.fact_binding`.
 """
 
 from __future__ import annotations
