@@ -209,3 +209,61 @@ def test_a_held_out_probe_teaches_the_rule_nothing() -> None:
     held_out = parse(data)
     assert held_out.right_solutions() == [None]
     assert not evaluate(held_out, log, state).success
+
+
+def _why(facts: Sequence[str], text: str, more: Sequence[str] = ()) -> str | None:
+    """Why the facts rule rejects ``text`` (the reason after the detail), or ``None``."""
+    found = AllowedDetails.of(facts, START, lambda: more).stray(text, START)
+    return None if found is None else found.why
+
+
+WEDDING = ["The ceremony is at the chapel at 2pm.", "The reception starts at 3pm in the garden."]
+COFFEE = ["The house blend costs £28 a kilo.", "The decaf costs £34 a kilo."]
+
+
+def test_a_true_value_said_of_the_wrong_thing_fails_and_names_what_it_was_bound_to() -> None:
+    assert _stray(WEDDING, "See you at the chapel at 3pm") == "15:00"
+    assert _why(WEDDING, "See you at the chapel at 3pm") == (
+        "which the facts give for another thing: for 'chapel' they give 14:00"
+    )
+    assert _stray(COFFEE, "Ordered 1 kg of the house blend for £34") == "£34"
+    assert _stray(COFFEE, "Ordered 1 kg of the decaf for £34") is None
+    assert _stray(WEDDING, "The garden reception is at 3pm") is None
+    assert _stray(["The van comes on Friday.", "Bins go out on Tuesday."], "the van comes Tuesday") == (
+        "Tue 4 Mar"
+    )
+
+
+def test_a_value_bound_to_nothing_or_to_something_it_is_given_for_is_left_alone() -> None:
+    assert _stray(WEDDING, "See you at 3pm") is None  # no word of the clause binds it
+    assert _stray(WEDDING, "Lovely day, 3pm it is") is None
+    # a word the checked clause shares with a sentence giving this value clears it, however many others
+    assert _stray([*WEDDING, "Photos at the chapel door at 3pm."], "See you at the chapel at 3pm") is None
+    # the solutions' texts give what a value is for, too
+    assert _stray(WEDDING, "See you at the chapel at 3pm", more=["Chapel steps, 3pm: photos."]) is None
+
+
+def test_only_one_value_of_a_kind_binds_and_an_allowed_value_only_in_its_own_clause() -> None:
+    # a checked sentence with two values of a kind binds neither; the sentence binds, not only the clause
+    assert _stray(WEDDING, "Chapel at 2pm and 3pm") is None
+    assert _stray(WEDDING, "The chapel, as you asked: 3pm") == "15:00"
+    # an allowed clause listing several values binds none of them to its words
+    facts = ["Harbour Dental offered Wednesday 08:30 or Friday 16:30.", "Board meeting on Wednesday."]
+    assert _stray(facts, "I'd like the Harbour Dental slot on Friday at 16:30") is None
+    # a value is bound to the words of its clause, not of the whole sentence
+    facts = ["The ceremony is at the chapel, and the reception at 3pm.", "The chapel opens at 1pm."]
+    assert _stray(facts, "the chapel at 3pm") is None
+
+
+def test_rough_amounts_spoken_cents_and_bare_totals_are_money() -> None:
+    assert _stray(["The quote is $58.40."], "it comes to about $59") is None  # within 2 %
+    assert _stray(["The quote is $58.40."], "it comes to about $62") == "$62"
+    assert _stray(["The quote is $58.40."], "it comes to $59") == "$59"
+    assert _stray(["Half is $25.70."], "your half is 25 dollars and 70 cents") is None
+    assert _stray(["Half is $25.70."], "your half is 25 dollars and 75 cents") == "25 dollars and 75 cents"
+    assert _stray(["The order is £87.00."], "Total: 87.00") is None
+    assert _stray(["The order is £87.00."], "Total: 88.00") == "88.00"
+    # a bare figure is the given amount of its value for the binding too
+    assert _stray(["The full price is $13.50.", "With MULTI3 the total is $11.20."], "Order total 13.50") == (
+        "13.50"
+    )

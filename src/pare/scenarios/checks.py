@@ -922,8 +922,7 @@ class _JudgeRule(Rule):
         found = self.allowed.stray(text, sent, also=partial(self._given_elsewhere, context), read_at=read_at)
         if found is None:
             return None
-        detail, around = found
-        return f"{quote(around)} states {detail.shown}, which the facts do not give"
+        return f"{quote(found.around)} states {found.detail.shown}, {found.why}"
 
     def _stray_at(self, text: str, moments: tuple[datetime, ...], context: _Context) -> str | None:
         """Why the facts rule rejects ``text`` read as of each of ``moments`` (``None`` when one reading

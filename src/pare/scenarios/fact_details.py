@@ -11,8 +11,9 @@ the facts state details of that kind and none of the allowed texts states this o
   readings is one an allowed text names ("at 6" is 06:00 or 18:00: either will do).
 * ``date``: a day named by a weekday, an explicit date or "today"/"tomorrow", read relative to when the
   text was sent; allowed texts are read relative to the scenario's start. Allowed when it is the same day.
-* ``money``: an amount with its currency ("£14.99", "14.99 pounds", "GBP 14.99", "99p"), compared by
-  currency and value (``£15`` is ``£15.00``).
+* ``money``: an amount with its currency ("£14.99", "14.99 pounds", "GBP 14.99", "99p", "25 dollars and 70
+  cents"), compared by currency and value (``£15`` is ``£15.00``); a figure with two decimals after a word
+  of money ("Total: 87.00") is an amount in any currency, and a rough one ("about $59") may be 2 % off.
 * ``phone``: a number of 9 to 15 digits, compared digit by digit whatever the grouping and with or without
   a country code (:mod:`pare.scenarios.numbers`).
 * ``url`` and ``email``: compared without case, scheme, ``www.`` or a trailing slash; a link is also
@@ -27,6 +28,9 @@ take): those solutions are right by definition, so a detail they state is not in
 assistant's own words are read: a forwarded message (below the forward rule) and quoted lines of a reply
 (``>``) carry the original's details, which the assistant did not state. A check whose text legitimately
 states other details opts out with ``other_details: <why>``.
+
+A detail the allowed texts state still fails where the text says it of another thing than they give it
+for ("at the chapel at 3pm" where 3pm is the reception's): :mod:`pare.scenarios.fact_binding`.
 """
 
 from __future__ import annotations
@@ -37,7 +41,7 @@ from dataclasses import dataclass, field
 from datetime import date, datetime, time
 from decimal import Decimal, InvalidOperation
 from functools import lru_cache
-from typing import Literal, cast
+from typing import Literal, NamedTuple, cast
 
 from pare.scenarios.code_details import codes, same_code, same_street, streets
 from pare.scenarios.count_details import (
@@ -50,6 +54,7 @@ from pare.scenarios.count_details import (
     within,
     words_value,
 )
+from pare.scenarios.fact_binding import Bindings, Misbinding
 from pare.scenarios.model import Scenario
 from pare.scenarios.numbers import names_number
 from pare.scenarios.timewords import mentions
@@ -257,10 +262,15 @@ def _mention_end(text: str, start: int) -> int:
 
 
 def _money_details(text: str) -> Iterable[Detail]:
-    if not any(sign in text for sign in "£$€") and not re.search(r"\d\s?[a-zA-Z]", text):
+    if not any(sign in text for sign in "£$€") and not re.search(r"\d\s?[a-zA-Z]|\d\.\d\d", text):
         return
     for match in _MONEY.finditer(text):
         sign, code, whole, cents, thousands, whole2, cents2, word = match.groups()
+        end = match.end()
+        if word is not None and cents2 is None and word.lower() not in ("p", "pence"):
+            spoken = _CENTS_AFTER.match(text, end)  # "25 dollars and 70 cents" is $25.70
+            if spoken is not None:
+                cents2, end = spoken.group(1).rjust(2, "0"), spoken.end()
         if whole is not None:
             currency = _CURRENCY_SIGNS[sign] if sign else code.upper()
             value = _decimal(whole, cents) * (1000 if thousands else 1)
@@ -273,12 +283,42 @@ def _money_details(text: str) -> Iterable[Detail]:
             else:
                 currency, value = _CURRENCY_WORDS[lowered], _decimal(whole2, cents2)
         if value is not None:
-            shown = match.group(0).strip()
-            readings: set[object] = {(currency, value.normalize())}
-            before = text[max(0, match.start() - 24) : match.start()]
-            if _DIFFERENCE_AFTER.match(text, match.end()) or _DIFFERENCE_BEFORE.search(before):
-                readings.add(("difference", currency, value.normalize()))
-            yield Detail("money", frozenset(readings), shown, *match.span())
+            yield _amount(text, currency, value, match.start(), end)
+    for match in _BARE_AMOUNT.finditer(text):  # "Total: 87.00": money in all but its currency
+        value = Decimal(match.group("figure").replace(",", ""))
+        yield _amount(text, _ANY_CURRENCY, value, match.start("figure"), match.end("figure"))
+
+
+def _amount(text: str, currency: str, value: Decimal, start: int, end: int) -> Detail:
+    """The amount ``text[start:end]`` of ``value`` in ``currency``, with what the words around it say it is:
+    a difference of two amounts ("$40 less") or a rough one ("about $59").
+    """
+    value = value.normalize()
+    readings: set[object] = {(currency, value)}
+    before = text[max(0, start - 24) : start]
+    if _DIFFERENCE_AFTER.match(text, end) or _DIFFERENCE_BEFORE.search(before):
+        readings.add(("difference", currency, value))
+    if _ROUGH_AMOUNT.search(before):
+        readings.add(("about", currency, value))
+    return Detail("money", frozenset(readings), text[start:end].strip(), start, end)
+
+
+_ANY_CURRENCY = "?"
+"""The currency of an amount written without one ("Total: 87.00"): it matches a given amount in any."""
+_CENTS_AFTER = re.compile(r"\s+(?:and\s+)?(\d{1,2})\s?(?:cents?|c)\b", re.I)
+_BARE_AMOUNT = re.compile(
+    r"\b(?:total|subtotal|paid|pay|costs?|saves?|saving|price|balance|refund(?:ed)?|charged?)\b"
+    r"(?:\s+(?:of|is|was|will be|comes to|came to|you|us|me|her|him|them))*\s*[:=]?\s*"
+    r"(?P<figure>\d{1,3}(?:,\d{3})*\.\d{2}|\d+\.\d{2})(?![\d.,]*\d)(?!\s?(?:%|per\s?cent|[a-zA-Z£$€]))",
+    re.I,
+)
+"""A figure with two decimals after a word of money, with no currency ("Total: 87.00", "saves you
+175.20"): an amount the facts must give, whatever its currency."""
+_ROUGH_AMOUNT = re.compile(
+    r"(?:about|around|roughly|approximately|approx\.?|circa|nearly|almost|just\s+(?:under|over)|some|~)\s*$",
+    re.I,
+)
+"""A word that makes the amount after it a rough one: it stands for a given amount within 2 %."""
 
 
 _DIFFERENCE_AFTER = re.compile(
@@ -377,6 +417,10 @@ def _differences(amounts: frozenset[Decimal]) -> frozenset[Decimal]:
     return frozenset(found)
 
 
+_ROUGHLY_WITHIN = Decimal("0.02")
+"""How far a rough amount ("about $59") may be from the given one it stands for, as a share of it."""
+
+
 def _decimal(whole: str, cents: str | None) -> Decimal:
     try:
         return Decimal(whole.replace(",", "") + (f".{cents}" if cents else ""))
@@ -469,6 +513,14 @@ def details(text: str, anchor: datetime) -> tuple[Detail, ...]:
     return tuple(found)
 
 
+class Stray(NamedTuple):
+    """A detail the facts rule rejects, the words around it, and why ("which the facts do not give")."""
+
+    detail: Detail
+    around: str
+    why: str
+
+
 @dataclass(slots=True)
 class AllowedDetails:
     """The details a judge check's text may state: compiled once per check (on its compiled rule).
@@ -491,6 +543,8 @@ class AllowedDetails:
     where the facts count tickets)."""
     within_ranges: bool = True
     """Whether a time inside a range an allowed text gives is allowed ("between 9 and 10" allows 9:30)."""
+    _bindings: Bindings = field(default_factory=lambda: Bindings(details))
+    """The allowed texts' sentences: what each value is given for (:mod:`pare.scenarios.fact_binding`)."""
 
     @classmethod
     def of(cls, facts: Sequence[str], start: datetime, more: Callable[[], Sequence[str]]) -> AllowedDetails:
@@ -528,6 +582,7 @@ class AllowedDetails:
     def _add(self, texts: Iterable[str], anchor: datetime | None = None) -> None:
         for text in texts:
             self._texts.append(text)
+            self._bindings.add(text, anchor or self.start)
             self._figures.update(
                 Decimal((match.group("figure") or match.group("after_word")).replace(",", "")).normalize()
                 for match in _FIGURE.finditer(text)
@@ -586,9 +641,17 @@ class AllowedDetails:
             )
             amounts = [given for given in allowed if isinstance(given, tuple) and len(given) == 2]
             said_as_difference = ("difference", currency, value) in detail.readings
-            same_currency = frozenset(amount[1] for amount in amounts if amount[0] == currency)
+            same_currency = frozenset(
+                amount[1]
+                for amount in amounts
+                if amount[0] == currency or _ANY_CURRENCY in (currency, amount[0])
+            )
             if said_as_difference and value in _differences(same_currency):
                 return True  # "$40 less", "saves £6.50": what two given amounts differ by
+            if ("about", currency, value) in detail.readings and any(
+                abs(given - value) <= given * _ROUGHLY_WITHIN for given in same_currency
+            ):
+                return True  # "about $59" for $58.40
             if value in self._figures:
                 return True  # the facts give the figure without its currency ("a salary of 41,500")
             used = {amount[0] for amount in amounts}  # a sign the scenario never uses is a slip of the sign
@@ -652,24 +715,67 @@ class AllowedDetails:
         also: Callable[[Detail, datetime], bool] | None = None,
         *,
         read_at: datetime | None = None,
-    ) -> tuple[Detail, str] | None:
+    ) -> Stray | None:
         """The first detail of the assistant's own words in ``text`` (sent at ``sent``, its days read as of
         ``read_at``, default ``sent``: a reminder's as of when it fires) that no allowed text states (nor
-        ``also`` allows, when given), with the excerpt around it; ``None`` when every one is allowed.
+        ``also`` allows, when given), or that the allowed texts give for another thing than the one it is
+        said of (:mod:`pare.scenarios.fact_binding`), with the excerpt around it; ``None`` when every one
+        is allowed.
         """
         if not self.kinds:
             return None
         words = own_words(text)
-        for detail in sorted(details(words, read_at or sent), key=lambda found: found.start):
-            if not self.allows(detail, sent) and not (also is not None and also(detail, sent)):
-                return detail, excerpt(words, detail.start, detail.end)
+        stated = sorted(details(words, read_at or sent), key=lambda found: found.start)
+        for detail in stated:
+            if not self.allows(detail, sent):
+                if also is None or not also(detail, sent):
+                    return Stray(
+                        detail, excerpt(words, detail.start, detail.end), "which the facts do not give"
+                    )
+                continue
+            misbound = self._misbound(detail, words, stated)
+            if misbound is not None:
+                return Stray(
+                    detail,
+                    excerpt(words, detail.start, detail.end),
+                    f"which the facts give for another thing: for '{misbound.word}' they give "
+                    f"{misbound.other}",
+                )
         return None
+
+    def _misbound(self, detail: Detail, text: str, stated: Sequence[Detail]) -> Misbinding | None:
+        """Whether ``detail``, allowed by a direct reading, is said of a thing the allowed texts give a
+        different value of its kind for (and this value for nothing it is said of); read against every
+        allowed text before it is found so (the criterion and the solutions' too).
+        """
+        if detail.kind not in self.kinds or not _read_directly(detail, self._allowed.get(detail.kind, set())):
+            return None
+        found = self._bindings.misbound(detail, text, stated)
+        if found is not None and self._more is not None:
+            more, self._more = self._more, None
+            self._add(more())
+            found = self._bindings.misbound(detail, text, stated)
+        return found
 
     def allows_read(self, detail: Detail, sent: datetime) -> bool:
         """Whether ``detail`` is of a kind these details read and one they allow (a kind they do not read
         is not allowed by them, unlike :meth:`allows`).
         """
         return detail.kind in self.kinds and self.allows(detail, sent)
+
+
+def _read_directly(detail: Detail, allowed: set[object]) -> bool:
+    """Whether ``detail`` is one of ``allowed`` as it is written (an amount without its currency is any
+    given amount of its value), not by a reading worked out from them (a difference, a time in a range).
+    """
+    if not detail.readings.isdisjoint(allowed):
+        return True
+    bare = {
+        one[1]
+        for one in detail.readings
+        if isinstance(one, tuple) and len(one) == 2 and one[0] == _ANY_CURRENCY
+    }
+    return any(isinstance(one, tuple) and len(one) == 2 and one[1] in bare for one in allowed)
 
 
 def excerpt(text: str, start: int, end: int, margin: int = 24) -> str:
