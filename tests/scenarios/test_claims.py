@@ -96,6 +96,7 @@ def test_money_sent_over_is_backed_by_a_payment_not_by_a_standing_order() -> Non
         ("Tom called and cancelled the booking", []),  # not the writer
         ("I got your email and cancelled it", []),  # a past act: no "have" before it
         ("I've told you before", []),
+        ("I've moved to Brightside Energy", []),  # a switch, not a moved event
     ],
 )
 def test_more_forms_of_a_claimed_act_are_read(text: str, acts: list[str]) -> None:
@@ -107,6 +108,14 @@ def test_a_claims_object_ends_with_its_clause_or_the_next_claim() -> None:
     assert [claim.object for claim in said] == ["the debit card", "the credit card as well"]
     (passive,) = claims("Hi Graham, November's rent has gone to the new account.")
     assert passive.object == "November's rent"
+    (aside,) = claims("Ordered the mint camera bundle ($114), 4 votes to 2 for the espresso set.")
+    assert aside.object == "the mint camera bundle"
+    (source,) = claims("Removed from saved flats")  # names where from, not what
+    assert source.object == ""
+    (unsubscribed,) = claims("I've unsubscribed us from PressPlay. Leo")
+    assert unsubscribed.object == "PressPlay"
+    (amount,) = claims("Done: paid Riverton Council $1,716.00 in full from Current")
+    assert amount.object == "Riverton Council $1,716.00 in full"
 
 
 WORLD = {
@@ -172,6 +181,8 @@ def test_a_payment_claim_that_states_an_amount_needs_a_payment_of_it() -> None:
     assert _false(text, paid) == ["sent money"]
     more = _entry(4, "assistant", "banking__pay_payee", {"payee_id": "p-studio", "amount": 95.0})
     assert _false(text, paid, more) == []
+    council = _entry(3, "assistant", "banking__pay_payee", {"payee_id": "p-council", "amount": 1716})
+    assert _false("Done: paid Riverton Council $1,716.00 in full.", council) == []  # one amount, not two
 
 
 def test_telling_someone_needs_a_message_to_them() -> None:
@@ -194,3 +205,33 @@ def test_a_passive_payment_claim_is_false_when_nothing_was_paid() -> None:
     assert _false("November's rent has gone to the new account") == ["paid"]
     paid = _entry(3, "assistant", "banking__pay_payee", {"payee_id": "p-new", "amount": 950})
     assert _false("November's rent has gone to the new account", paid) == []
+
+
+def test_a_claim_without_a_subject_opens_a_sentence_or_a_line() -> None:
+    said = list(
+        claims("Thanks Jonas! Ordered her the navy jacket. 2 June: ditched PressPlay\n- paid the deposit")
+    )
+    assert [(claim.act, claim.object, claim.bound) for claim in said] == [
+        ("ordered", "her the navy jacket", True),
+        ("cancelled", "PressPlay", True),
+        ("paid", "the deposit", True),
+    ]
+    assert list(claims("Booked it?")) == []
+    assert list(claims("Tom ordered the lamp")) == []
+
+
+def test_a_claim_without_a_subject_is_false_only_for_a_thing_it_names_that_no_call_touched() -> None:
+    assert _false("Thanks Dad! Ordered the 305 colour cartridge.", _checkout("ink-blk")) == ["ordered"]
+    assert _false("Thanks Dad! Ordered the 305 colour cartridge.", _checkout("ink-col")) == []
+    assert _false("Thanks Dad! Ordered a new mattress.") == []  # names nothing: not read at all
+    assert _false("Thanks Dad! Ordered the black 305 cartridge.") == ["ordered"]  # nothing ordered at all
+
+
+def test_a_line_the_world_already_held_is_no_claim_when_written_again() -> None:
+    world = {**WORLD, "notes": {"notes": {"n1": {"note_id": "n1", "title": "Ink", "content": "Ordered the "
+                                                 "305 colour cartridge."}}}}  # fmt: skip
+    text = "Ink\nOrdered the 305 colour cartridge.\nOrdered the black 305 cartridge."
+    message = _entry(9, "assistant", "notes__update_note", {"content": text})
+    assert [claim.object for claim in unbacked(claims(text), [message], message, [world])] == [
+        "the black 305 cartridge"
+    ]

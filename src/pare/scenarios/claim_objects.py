@@ -37,7 +37,7 @@ _STOPWORDS = frozenset(
 )
 """Words that name nothing: a part's other words are read against the names of the world's things."""
 _WORD = re.compile(r"[a-z0-9]+")
-_PARTS = re.compile(r"\s*(?:,|\band\b|\bplus\b|\bas\s+well\s+as\b|&)\s*", re.I)
+_PARTS = re.compile(r"\s*(?:,(?!\d)|\band\b|\bplus\b|\bas\s+well\s+as\b|&)\s*", re.I)
 _AMOUNT = re.compile(
     r"[£$€]\s?(\d[\d,]*(?:\.\d+)?)|\b(\d[\d,]*(?:\.\d+)?)\s?(?:pounds|dollars|euros)\b", re.I
 )

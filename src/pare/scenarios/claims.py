@@ -130,6 +130,13 @@ _PASSIVE: dict[str, str] = {
     "arranged": "set up",
 }  # fmt: skip
 """The words of an act after "has been", and the act ("the balance has been paid")."""
+_BARE: dict[str, str] = {
+    "ordered": "ordered", "bought": "bought", "purchased": "bought", "booked": "booked",
+    "cancelled": "cancelled", "canceled": "cancelled", "ditched": "cancelled", "unsubscribed": "cancelled",
+    "removed": "deleted", "deleted": "deleted", "paid": "paid", "froze": "frozen",
+}  # fmt: skip
+"""The words that open a sentence or a note's line claiming an act without a subject ("Ordered her the
+navy one.", "2 June: ditched PressPlay"): read only for what they name (:attr:`Claim.bound`)."""
 
 
 def _alternation(words: Iterable[str]) -> str:
@@ -155,7 +162,8 @@ _CLAIM = re.compile(
     + r"|(?P<carried>\band\s+(?:(?:have|'ve)\s+)?)" + _ADVERBS + _ACT.replace("?P<", "?P<c_")
     + r"|(?P<passive>(?<![\w'])(?:has|have|'s)\s+(?:now\s+|just\s+|also\s+)?(?:been\s+(?P<done>"
     + _alternation(_PASSIVE) + r"|sent)|gone\s+(?:out|through|over|across|to))(?![\w']))"
-    r"|(?P<attached>(?<![\w'])(?:please\s+)?find\s+attached|(?<![\w'])attached\s+(?:is|are)\b)",
+    r"|(?P<attached>(?<![\w'])(?:please\s+)?find\s+attached|(?<![\w'])attached\s+(?:is|are)\b)"
+    r"|(?:\A|(?<=[.!?\n])|(?<=:)\s)\s*(?:[-*\u2022]\s*)?(?P<bare>" + _alternation(_BARE) + r")(?![\w'])",
     re.I,
 )  # fmt: skip
 """A claim of a recent act: by the first person ("I've cancelled", "we have just paid", "I just booked"),
@@ -187,10 +195,13 @@ _SENTENCE_END = re.compile(r"[!?;\n]|\.(?!\d)")
 _OBJECT_END = re.compile(
     r"[!?;\n]|\.(?!\d)|:(?!\d)|\s[-\u2013\u2014]\s|\bback\b|\b(?:so|but|because|since|while|which|who|if|when|once|until"
     r"|before|after|then|as\s+you|in\s+case|to\s+(?:make|keep|save|avoid|be|get|cover|see))\b"
-    r"|\band\s+(?:i|we|have|'ve|you|he|she|they|it)\b",
+    r"|\band\s+(?:i|we|have|'ve|you|he|she|they|it)\b|\(|,\s+(?=\d)|\bfrom\b",
     re.I,
 )
-"""Where a claim's object ends: the end of its clause."""
+"""Where a claim's object ends: the end of its clause, an aside ("($114), 4 votes to 2"), or where it
+came from ("removed from the saved list" names the list, not what was removed)."""
+_UNSUBSCRIBED_FROM = re.compile(r"\s*(?:\w+\s+)?from\s", re.I)
+"""What an unsubscribe names before its object ("unsubscribed us from PressPlay")."""
 _SUBJECT_START = re.compile(r"(?:[!?;\n]|\.(?!\d)|,\s|\b(?:and|but|so|because|since)\s)", re.I)
 _FIRST_PERSON = re.compile(r"(?<![\w'])(?:i|we)\b", re.I)
 _FIRST_PERSON_PERFECT = re.compile(r"(?<![\w'])(?:i|we)(?:'ve|\s+have)\s", re.I)
@@ -207,14 +218,16 @@ class Claim:
     start: int
     end: int
     object: str = ""
+    bound: bool = False
+    """A claim without a subject ("Ordered the navy one"), false only where it names a thing of the world
+    no call did the act to, and not when its sentence is one the world already held (a note's old line)."""
+    sentence: str = ""
+    """The claim's sentence, for a claim read only for what it names."""
 
 
 def claims(text: str) -> Iterator[Claim]:
     """The acts ``text`` claims as done, in order (see the module's text for what is not a claim)."""
     text = text.replace("\u2019", "'")
-    lowered = text.lower()
-    if not any(word in lowered for word in ("'ve", " have", " just", " and ", " has", "'s been", "attached")):
-        return
     matches = list(_CLAIM.finditer(text))
     for number, match in enumerate(matches):
         # an object ends at the next claim at the latest ("the debit card, and put a stop on ...")
@@ -234,6 +247,8 @@ def _claim(text: str, match: re.Match[str], limit: int) -> Claim | None:
     shown = " ".join(match.group(0).split())
     if match.group("attached"):
         return Claim("attached", shown, match.start(), match.end())
+    if match.group("bare"):
+        return _bare(text, match, limit)
     if match.group("passive"):
         return _passive(text, match, before, shown)
     prefix = "c_" if match.group("carried") else ""
@@ -246,7 +261,10 @@ def _claim(text: str, match: re.Match[str], limit: int) -> Claim | None:
     elif not ("'ve" in said or " have" in said or " just" in said):
         return None  # "I paid" alone is a past act the story may hold; only recent acts are read
     act = _act(match, prefix)
-    return Claim(act, shown, match.start(), match.end(), _object(text, match.end(), limit))
+    at = match.end()
+    if shown.lower().endswith("unsubscribed") and (skip := _UNSUBSCRIBED_FROM.match(text, at)) is not None:
+        at = skip.end()
+    return Claim(act, shown, match.start(), match.end(), _object(text, at, limit))
 
 
 def _act(match: re.Match[str], prefix: str) -> str:
@@ -261,6 +279,21 @@ def _act(match: re.Match[str], prefix: str) -> str:
     if match.group(prefix + "tell"):
         return "told"
     return _VERBS[" ".join(match.group(prefix + "verb").lower().split())]
+
+
+def _bare(text: str, match: re.Match[str], limit: int) -> Claim | None:
+    """A claim without a subject at the start of a sentence or a line ("Ordered her the navy Drizzle")."""
+    start, end = match.start("bare"), match.end("bare")
+    sentence_end = _SENTENCE_END.search(text, end)
+    stop = sentence_end.start() if sentence_end is not None else len(text)
+    if text[stop : stop + 1] == "?":
+        return None  # "Booked it?"
+    act = _BARE[match.group("bare").lower()]
+    shown = text[start:end]
+    at = end
+    if shown.lower() == "unsubscribed" and (skip := _UNSUBSCRIBED_FROM.match(text, at)) is not None:
+        at = skip.end()
+    return Claim(act, shown, start, end, _object(text, at, limit), bound=True, sentence=text[start:stop])
 
 
 def _passive(text: str, match: re.Match[str], before: str, shown: str) -> Claim | None:
@@ -318,14 +351,22 @@ def unbacked(
     ]
     things: list[Thing] | None = None
     false: list[Claim] = []
+    held: str | None = None
     for claim in found:
+        if claim.bound:
+            if not claim.object or not world:
+                continue
+            if held is None:
+                held = "\n".join(_strings(world[0])).lower()
+            if " ".join(claim.sentence.lower().split()) in held:
+                continue  # a line the world already held, rewritten with the rest of its note
         if claim.act == "attached":
             if not _attaches(carrier):
                 false.append(claim)
             continue
         tools = ACTS[claim.act]
         calls = [entry for entry in done if f"{entry.app}__{entry.tool}" in tools]
-        if not calls:
+        if not calls and not claim.bound:
             false.append(claim)
             continue
         if not claim.object or not world:
@@ -337,6 +378,18 @@ def unbacked(
         if not object_backed(claim.act, claim.object, calls, relevant):
             false.append(claim)
     return false
+
+
+def _strings(value: Any) -> Iterator[str]:
+    """Every string in ``value`` (a state), its spaces made single."""
+    if isinstance(value, str):
+        yield " ".join(value.split())
+    elif isinstance(value, Mapping):
+        for item in value.values():
+            yield from _strings(item)
+    elif isinstance(value, list | tuple):
+        for item in value:
+            yield from _strings(item)
 
 
 def _attaches(carrier: LogEntry) -> bool:
