@@ -235,3 +235,18 @@ def test_a_line_the_world_already_held_is_no_claim_when_written_again() -> None:
     assert [claim.object for claim in unbacked(claims(text), [message], message, [world])] == [
         "the black 305 cartridge"
     ]
+
+
+def test_a_list_line_marked_done_claims_the_act_for_what_it_lists() -> None:
+    text = (
+        "Needs:\n- black 305 cartridge - ordered 2 Oct\n- 305 colour cartridge (x2) - ordered 2 Oct\n- hooks"
+    )
+    said = list(claims(text))
+    assert [(claim.act, claim.object) for claim in said] == [
+        ("ordered", "black 305 cartridge"),
+        ("ordered", "305 colour cartridge (x2)"),
+    ]
+    note = _entry(9, "assistant", "notes__update_note", {"content": text})
+    assert [claim.object for claim in unbacked(said, [_checkout("ink-blk"), note], note, [WORLD])] == [
+        "305 colour cartridge (x2)"
+    ]

@@ -9,8 +9,10 @@ photo paper"), a call must have done the act to each of them (:mod:`pare.scenari
 
 Only firm claims of recent acts are read: "I've ordered", "I have just paid", "I just cancelled", "we've
 booked"; the subject carried over "and" ("I got your email and have cancelled it"); the passive ("the
-balance has been paid", "rent has gone to the new account"); and an attachment ("please find attached"),
-which only the carrying call's own files back. Not a condition ("once I've paid", "if I've booked", "check
+balance has been paid", "rent has gone to the new account"); an attachment ("please find attached"),
+which only the carrying call's own files back; and, read only for the things they name, a past tense
+without a subject opening a sentence or a line ("Ordered her the navy one") or marking a list's line
+done ("- bulbs (x2) - purchased 2 Oct"). Not a condition ("once I've paid", "if I've booked", "check
 the bill has gone out"), an earlier act the story may hold before the episode ("I've already paid", "the
 invoice, which I have paid"), a negation ("I haven't paid") or a question. Each verb names the calls that
 do it (:data:`ACTS`): generous where people do an act in several ways ("booked": a cab, a calendar entry,
@@ -163,7 +165,9 @@ _CLAIM = re.compile(
     + r"|(?P<passive>(?<![\w'])(?:has|have|'s)\s+(?:now\s+|just\s+|also\s+)?(?:been\s+(?P<done>"
     + _alternation(_PASSIVE) + r"|sent)|gone\s+(?:out|through|over|across|to))(?![\w']))"
     r"|(?P<attached>(?<![\w'])(?:please\s+)?find\s+attached|(?<![\w'])attached\s+(?:is|are)\b)"
-    r"|(?:\A|(?<=[.!?\n])|(?<=:)\s)\s*(?:[-*\u2022]\s*)?(?P<bare>" + _alternation(_BARE) + r")(?![\w'])",
+    r"|(?:\A|(?<=[.!?\n])|(?<=:)\s)\s*(?:[-*\u2022]\s*)?(?P<bare>" + _alternation(_BARE) + r")(?![\w'])"
+    r"|(?<=\S)[ \t]+[-\u2013\u2014(][ \t]*(?P<mark>" + _alternation(_BARE)
+    + r")(?![\w'])(?=[^\n.!?]*(?:\n|\Z))",
     re.I,
 )  # fmt: skip
 """A claim of a recent act: by the first person ("I've cancelled", "we have just paid", "I just booked"),
@@ -200,6 +204,8 @@ _OBJECT_END = re.compile(
 )
 """Where a claim's object ends: the end of its clause, an aside ("($114), 4 votes to 2"), or where it
 came from ("removed from the saved list" names the list, not what was removed)."""
+_BULLET = re.compile(r"^\s*(?:[-*\u2022]|\[[ x]\])\s*", re.I)
+"""A list line's bullet or tick box."""
 _UNSUBSCRIBED_FROM = re.compile(r"\s*(?:\w+\s+)?from\s", re.I)
 """What an unsubscribe names before its object ("unsubscribed us from PressPlay")."""
 _SUBJECT_START = re.compile(r"(?:[!?;\n]|\.(?!\d)|,\s|\b(?:and|but|so|because|since)\s)", re.I)
@@ -249,6 +255,8 @@ def _claim(text: str, match: re.Match[str], limit: int) -> Claim | None:
         return Claim("attached", shown, match.start(), match.end())
     if match.group("bare"):
         return _bare(text, match, limit)
+    if match.group("mark"):
+        return _marked(text, match)
     if match.group("passive"):
         return _passive(text, match, before, shown)
     prefix = "c_" if match.group("carried") else ""
@@ -294,6 +302,20 @@ def _bare(text: str, match: re.Match[str], limit: int) -> Claim | None:
     if shown.lower() == "unsubscribed" and (skip := _UNSUBSCRIBED_FROM.match(text, at)) is not None:
         at = skip.end()
     return Claim(act, shown, start, end, _object(text, at, limit), bound=True, sentence=text[start:stop])
+
+
+def _marked(text: str, match: re.Match[str]) -> Claim:
+    """A line of a list marked done at its end ("- light bulbs for the landing (x2) - purchased 2 Oct"),
+    the line before the mark read as its object.
+    """
+    line_start = text.rfind("\n", 0, match.start()) + 1
+    line_end = text.find("\n", match.end())
+    line = text[line_start : line_end if line_end >= 0 else len(text)]
+    start, end = match.start("mark"), match.end("mark")
+    obj = _BULLET.sub("", text[line_start : match.start()]).strip()
+    return Claim(
+        _BARE[match.group("mark").lower()], text[start:end], start, end, obj, bound=True, sentence=line
+    )
 
 
 def _passive(text: str, match: re.Match[str], before: str, shown: str) -> Claim | None:
