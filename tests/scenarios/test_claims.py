@@ -152,6 +152,9 @@ def test_each_part_of_an_order_claim_must_be_in_an_order() -> None:
     claim = "I've ordered your black 305 cartridge and a pack of photo paper"
     assert _false(claim, _checkout("ink-blk")) == ["ordered"]
     assert _false(claim, _checkout("ink-blk", "paper-50")) == []
+    message = _entry(9, "assistant", "messaging__send_message", {"content": claim})
+    (false,) = unbacked(claims(claim), [_checkout("ink-blk"), message], message, [WORLD])
+    assert false.shown == "I've ordered a pack of photo paper"  # the verdict names what was not ordered
     assert _false("I've ordered the 305 colour cartridge", _checkout("ink-blk")) == ["ordered"]
     assert _false("I've ordered the black 305 cartridge", _checkout("ink-blk")) == []
 

@@ -171,17 +171,17 @@ def _collect(value: Any, strings: set[str], numbers: set[Decimal]) -> None:
             _collect(item, strings, numbers)
 
 
-def object_backed(act: str, obj: str, calls: Sequence[LogEntry], things: Sequence[Thing]) -> bool:
-    """Whether every part of the claimed object ``obj`` of ``act`` is one some call of ``calls`` (those
-    doing the act) touched, a part that names nothing of the world counting as touched.
+def untouched_part(act: str, obj: str, calls: Sequence[LogEntry], things: Sequence[Thing]) -> str | None:
+    """The first part of the claimed object ``obj`` of ``act`` that no call of ``calls`` (those doing the
+    act) touched, or None when each was (a part that names nothing of the world counting as touched).
     """
     touched = [call_values(call) for call in calls]
     for part in parts(obj):
         if act in MONEY_ACTS and (stated := amounts(part)):
             if not any(stated & numbers for _, numbers in touched):
-                return False
+                return part
             continue
         meant = named(part, things, 1 if act in PEOPLE_ACTS else 2)
         if meant and not any(thing.keys & strings for thing in meant for strings, _ in touched):
-            return False
-    return True
+            return part
+    return None

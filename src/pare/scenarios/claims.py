@@ -23,10 +23,10 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Iterator, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
-from pare.scenarios.claim_objects import Thing, object_backed, world_things
+from pare.scenarios.claim_objects import Thing, untouched_part, world_things
 from pare.sim.log import LogEntry
 
 _SENDS = ("email__send_email", "email__reply_to_email", "email__forward_email", "messaging__send_message",
@@ -397,8 +397,10 @@ def unbacked(
             things = world_things(world)
         apps = {tool.partition("__")[0] for tool in tools} | ({"contacts"} if claim.act == "told" else set())
         relevant = [thing for thing in things if thing.app in apps]
-        if not object_backed(claim.act, claim.object, calls, relevant):
-            false.append(claim)
+        part = untouched_part(claim.act, claim.object, calls, relevant)
+        if part is not None:
+            # the verdict names what was not done: "I've ordered a pack of photo paper"
+            false.append(replace(claim, shown=f"{claim.shown} {part}"))
     return false
 
 
