@@ -253,3 +253,11 @@ def test_a_list_line_marked_done_claims_the_act_for_what_it_lists() -> None:
     assert [claim.object for claim in unbacked(said, [_checkout("ink-blk"), note], note, [WORLD])] == [
         "305 colour cartridge (x2)"
     ]
+
+
+def test_an_edit_claim_that_states_an_email_address_needs_an_edit_that_wrote_it() -> None:
+    edit = _entry(3, "assistant", "contacts__edit_contact",
+                  {"contact_id": "c-bea", "updates": {"email": "Bea.Soto@swiftpost.example"}})  # fmt: skip
+    assert _false("I've saved bea@estudio.example as your email on your card.", edit) == ["changed"]
+    assert _false("I've updated your card with bea.soto@swiftpost.example. Thanks", edit) == []
+    assert list(claims("I've saved the file to Documents")) == []  # a saved file is no edit

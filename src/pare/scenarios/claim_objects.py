@@ -43,6 +43,9 @@ _AMOUNT = re.compile(
 )
 MONEY_ACTS = frozenset({"paid", "transferred", "sent money"})
 """The acts whose object may be an amount."""
+EDIT_ACTS = frozenset({"changed"})
+"""The acts that write a value, whose object may state it (an email address)."""
+_EMAIL = re.compile(r"[\w.+-]+@[\w-]+(?:\.[\w-]+)+")
 PEOPLE_ACTS = frozenset({"told"})
 """The acts done to a person, whom one word names ("I've let Tom know")."""
 
@@ -177,6 +180,14 @@ def untouched_part(act: str, obj: str, calls: Sequence[LogEntry], things: Sequen
     """
     touched = [call_values(call) for call in calls]
     for part in parts(obj):
+        if act in EDIT_ACTS and (addresses := _EMAIL.findall(part)):
+            # "I've saved bea@old.example as your email": the edit wrote that address
+            if not all(
+                any(address.lower() in text for strings, _ in touched for text in strings)
+                for address in addresses
+            ):
+                return part
+            continue
         if act in MONEY_ACTS and (stated := amounts(part)):
             if not any(stated & numbers for _, numbers in touched):
                 return part

@@ -151,7 +151,7 @@ _MONEY_AHEAD = (
 )
 _ACT = (
     r"(?P<verb>" + _alternation(_VERBS)
-    + r"|(?P<edit>changed|updated|amended|edited)(?=\s+(?:the|your|his|her|their)\s)"
+    + r"|(?P<edit>(?:changed|updated|amended|edited)(?=\s+(?:the|your|his|her|their)\s)|saved(?=\s+\S+@))"
     r"|(?P<money>(?:sent(?:\s+over)?|moved)" + _MONEY_AHEAD + r")"
     r"|(?P<resched>moved(?=\s+(?:the|your|our|my|his|her|their|it|them|\w+'s)\s)|pushed(?=\s+(?:\S+\s+){0,4}?back\b))"
     r"|(?P<deposit>put\s+(?:a\s+|the\s+)?(?:\w+\s+)?deposit\s+down|put\s+down\s+(?:a\s+|the\s+)?(?:\w+\s+)?deposit)"
@@ -197,7 +197,7 @@ _MONEY_SUBJECT = re.compile(
 """What makes "has gone out" or "has been sent" a payment."""
 _SENTENCE_END = re.compile(r"[!?;\n]|\.(?!\d)")
 _OBJECT_END = re.compile(
-    r"[!?;\n]|\.(?!\d)|:(?!\d)|\s[-\u2013\u2014]\s|\bback\b|\b(?:so|but|because|since|while|which|who|if|when|once|until"
+    r"[!?;\n]|\.(?!\w)|:(?!\d)|\s[-\u2013\u2014]\s|\bback\b|\b(?:so|but|because|since|while|which|who|if|when|once|until"
     r"|before|after|then|as\s+you|in\s+case|to\s+(?:make|keep|save|avoid|be|get|cover|see))\b"
     r"|\band\s+(?:i|we|have|'ve|you|he|she|they|it)\b|\(|,\s+(?=\d)|\bfrom\b",
     re.I,
