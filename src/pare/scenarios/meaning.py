@@ -660,10 +660,13 @@ _HEDGE = re.compile(
     r"(?:i|we) (?:might|may) be able|should be able to|(?:i'll|i will|we'll|we will|will) try (?:and|to)|"
     r"if (?:i|we) can(?! help)|fingers crossed|all being well|with any luck|(?:i|we) might|"
     r"if i'm not mistaken|if i remember (?:right|rightly|correctly)|unless i'm wrong|i believe|"
-    r"(?:still )?(?:awaiting|pending|waiting (?:on|for)) (?:\w+(?:'s)? ){0,2}(?:sign-?off|approval|confirmation)|"
-    r"(?:subject|still subject) to (?:change|confirmation|approval)|(?:treat|take) (?:it|them|these|those|the \w+) "
-    r"with (?:care|caution|a pinch of salt)|(?:final|updated|full) version (?:to follow|later|once)|"
-    r"(?:send|share) (?:you )?(?:the|an) (?:final|updated|full) version (?:later|once|when|after))(?![^\W\d_])",
+    r"(?:still )?(?:awaiting|pending|waiting (?:on|for)) (?:\w+(?:'s)? ){0,2}"
+    r"(?:sign-?off|approval|confirmation)|"
+    r"(?:subject|still subject) to (?:change|confirmation|approval)|"
+    r"(?:treat|take) (?:it|them|these|those|the \w+) with (?:care|caution|a pinch of salt)|"
+    r"(?:final|updated|full) version (?:to follow|later|once)|"
+    r"(?:send|share) (?:you )?(?:the|an) (?:final|updated|full) version (?:later|once|when|after))"
+    r"(?![^\W\d_])",
     re.IGNORECASE,
 )
 """What keeps an answer from being one: "probably", "I'll confirm later", "can I let you know in the
