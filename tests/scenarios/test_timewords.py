@@ -233,11 +233,14 @@ def test_a_weekday_said_with_next_week_is_in_next_week() -> None:
     assert _days("see you Tuesday", monday) == [{date(2025, 9, 16)}]
 
 
-def test_the_end_of_a_month_is_its_last_day() -> None:
+def test_the_end_of_a_month_is_its_last_week() -> None:
     wednesday = datetime(2025, 9, 3, 10, 0, tzinfo=UTC)
-    assert _days("pay it by the end of the month", wednesday) == [{date(2025, 9, 30)}]
-    assert _days("by the end of next month", wednesday) == [{date(2025, 10, 31)}]
-    assert _days("until the end of June", wednesday) == [{date(2025, 6, 30), date(2026, 6, 30)}]
+    assert _days("pay it by the end of the month", wednesday) == [
+        {date(2025, 9, day) for day in range(24, 31)}
+    ]
+    assert max(_days("by the end of next month", wednesday)[0]) == date(2025, 10, 31)
+    (june,) = _days("until the end of June", wednesday)
+    assert {date(2025, 6, 28), date(2026, 6, 30)} <= june and date(2025, 6, 23) not in june
 
 
 def test_the_first_is_a_day_only_with_a_month_or_a_preposition() -> None:

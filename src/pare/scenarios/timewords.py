@@ -131,7 +131,7 @@ _DAY_AFTER = re.compile(
 _END_OF_MONTH = re.compile(
     _WORD_START + r"(?:the\s+)?end\s+of\s+(?:(the|this|next)\s+month|" + _MONTH_WORD + r")" + _WORD_END, re.I
 )
-""""by the end of the month", "end of next month", "the end of June": the month's last day."""
+""""by the end of the month", "end of next month", "the end of June": the month's last week."""
 _NEXT_WEEK_NEAR = re.compile(r"^(?:\s+[\w']+){0,3}?\s+next\s+week\b|\bnext\s+week[\s,]+(?:on\s+)?$", re.I)
 """"Tuesday next week", "my Tuesday run next week", "next week, Tuesday": a weekday of next week."""
 _SLASH_DATE = re.compile(r"(?<![\d/])(\d{1,2})/(\d{1,2})(?:/(\d{2,4}))?(?![\d/])")
@@ -655,10 +655,10 @@ class _Reading:
             else:
                 month = _month_number(match.group(2))
                 months = [d for d in (_safe_date(self.today.year + k, month, 1) for k in (0, 1)) if d]
-            self.add(
-                match.span(),
-                [(start + timedelta(days=32)).replace(day=1) - timedelta(days=1) for start in months],
-            )
+            # "the end of June" is rough: its last week ("runs to the end of June" for a course ending the
+            # 28th is right), the last day among them
+            ends = [(start + timedelta(days=32)).replace(day=1) - timedelta(days=1) for start in months]
+            self.add(match.span(), [end - timedelta(days=back) for end in ends for back in range(7)])
 
     def add_day_after(self) -> None:
         """The day after the latest day named before in the same sentence ("tomorrow and the day after")."""
