@@ -339,6 +339,9 @@ def test_only_days_reads_days_as_of_when_the_text_was_written(text: str, expecte
         ("It cost 26.99 pounds", False),
         ("not £26.99 but £14.99", True),
         ("$120 exactly", True),  # the value, whatever the sign: a story has one currency
+        ("about £15 in the end", True),  # a rough amount near a listed one (2 %)
+        ("£15 in the end", False),
+        ("about £16 in the end", False),
     ],
 )
 def test_only_amounts_allows_the_listed_amounts(text: str, expected: bool) -> None:

@@ -568,18 +568,28 @@ def _amounts(value: Any) -> tuple[Decimal, ...]:
         amounts = _amounts_in(f"£{text.lstrip('£$€')}") if text is not None else ()
         if len(amounts) != 1:
             raise MatcherError(f"'only_amounts' needs amounts such as '14.99' or '£14.99', got {item!r}")
-        found |= set(amounts)
+        found |= {amount for amount, _ in amounts}
     return tuple(sorted(found))
 
 
-def _amounts_in(text: str) -> list[Decimal]:
-    """The money amounts ``text`` states, by value (the currency is not compared: a story has one)."""
-    found: list[Decimal] = []
+def _amounts_in(text: str) -> list[tuple[Decimal, bool]]:
+    """The money amounts ``text`` states, by value (the currency is not compared: a story has one), each
+    with whether it is said to be rough ("about $59").
+    """
+    found: list[tuple[Decimal, bool]] = []
     for detail in fact_details.details(text, datetime(2000, 1, 1, tzinfo=UTC)):
         if detail.kind == "money":
             # an amount is (currency, value); ("difference", currency, value) says how it was put
-            found += [one[1] for one in detail.readings if isinstance(one, tuple) and len(one) == 2]
+            rough = any(isinstance(one, tuple) and one[0] == "about" for one in detail.readings)
+            found += [(one[1], rough) for one in detail.readings if isinstance(one, tuple) and len(one) == 2]
     return found
+
+
+def _allows_amount(amount: Decimal, rough: bool, allowed: frozenset[Decimal]) -> bool:
+    """Whether ``amount`` is one of ``allowed``, or near one (2 %) when said to be rough."""
+    if amount.normalize() in allowed:
+        return True
+    return rough and any(abs(amount - value) <= abs(value) * Decimal("0.02") for value in allowed)
 
 
 def _allowed_days(days: tuple[str | datetime, ...], start: datetime) -> frozenset[date]:
@@ -595,11 +605,12 @@ def _read_only_days(text: str, allowed: tuple[str | datetime, ...], start: datet
 
 
 def _stray_amounts(text: str, allowed: tuple[Decimal, ...]) -> list[Decimal]:
+    given = frozenset(value.normalize() for value in allowed)
     return [
         amount
         for clause in meaning.affirmed_clauses(text)
-        for amount in _amounts_in(clause)
-        if amount.normalize() not in {value.normalize() for value in allowed}
+        for amount, rough in _amounts_in(clause)
+        if not _allows_amount(amount, rough, given)
     ]
 
 
@@ -766,7 +777,7 @@ for _operator in (
         "only_amounts",
         "a list of amounts ('14.99', '120')",
         "states no money amount but these ('14.99 pounds', '$1,200', '1.2k'), by value, in clauses without "
-        "negation; a text stating none holds",
+        "negation ('about $59' may be up to 2 % off one); a text stating none holds",
         _reader(_read_only_amounts),
         _amounts,
         reads="text",
