@@ -13,6 +13,7 @@ from pare.bench import run_episode
 from pare.scenarios import OracleAssistant, OracleUser, evaluate
 from pare.scenarios.fact_details import AllowedDetails, own_words
 from pare.scenarios.loader import ScenarioError
+from pare.scenarios.person_details import NameFinder, known_names, owner_names
 from tests.scenarios.helpers import base, parse
 
 START = datetime(2025, 3, 3, 9, 0, tzinfo=UTC)  # a Monday
@@ -267,3 +268,35 @@ def test_rough_amounts_spoken_cents_and_bare_totals_are_money() -> None:
     assert _stray(["The full price is $13.50.", "With MULTI3 the total is $11.20."], "Order total 13.50") == (
         "13.50"
     )
+
+
+SEED = {
+    "contacts": {
+        "contacts": [
+            {"contact_id": "c-me", "first_name": "Olivia", "last_name": "Grant", "is_user": True},
+            {"contact_id": "c-ella", "first_name": "Ella", "last_name": "Moss"},
+            {"contact_id": "c-maya", "first_name": "Maya", "last_name": "Reid"},
+            {"contact_id": "c-sophie", "first_name": "Sophie", "last_name": "Hart"},
+            {"contact_id": "c-may", "first_name": "May", "last_name": "Lund"},
+            {"contact_id": "c-pub", "first_name": "The", "last_name": "Anchor"},
+        ]
+    }
+}
+
+
+def _stray_person(facts: Sequence[str], text: str) -> str | None:
+    allowed = AllowedDetails.of(facts, START, tuple)
+    allowed.know_people(NameFinder.of(known_names(SEED)), owner_names(SEED))
+    found = allowed.stray(text, START)
+    return None if found is None else found.detail.shown
+
+
+def test_a_person_of_the_world_the_facts_do_not_name_is_a_wrong_detail() -> None:
+    facts = ["Olivia's photo is of Ella and Maya at the beach."]
+    assert _stray_person(facts, "Lovely one of Ella and Sophie!") == "Sophie"
+    assert _stray_person(facts, "Ella and Maya at the beach. Love, Olivia") is None
+    assert _stray_person(facts, "ELLA and Maya, May 2025") is None  # capitals are a name; May is a month
+    assert _stray_person(facts, "Ella, Maya and Tilly") is None  # Tilly is nobody of this world
+    assert _stray_person(facts, "Ella and Maya, then the Anchor") is None  # a place kept as a contact
+    # facts that name nobody leave people alone
+    assert _stray_person(["The photo is from the beach."], "Lovely one of Sophie!") is None

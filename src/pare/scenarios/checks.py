@@ -52,6 +52,7 @@ from pare.scenarios.model import (
 )
 from pare.scenarios.occurrences import DUE_FIELD, occurrence_records
 from pare.scenarios.patterns import CompiledPattern
+from pare.scenarios.person_details import NameFinder, known_names, owner_names
 from pare.scenarios.read_moment import due_moment, fires_at
 from pare.scenarios.reading import CallReader
 from pare.scenarios.side_effects import Change
@@ -1003,10 +1004,13 @@ class CompiledGoals:
         self.goals = tuple(
             (goal, tuple(_rule(check, scenario.start) for check in goal.checks)) for goal in scenario.goals
         )
+        names, owner = NameFinder.of(known_names(scenario.seed)), owner_names(scenario.seed)
         for _, rules in self.goals:
             for rule in rules:
                 if isinstance(rule, _JudgeRule):  # read only when a text states a detail the facts lack
                     rule.solutions = partial(solution_texts, scenario, rule.judge.field)
+                    if rule.allowed is not None:  # a wrong person is a wrong detail where the facts name one
+                        rule.allowed.know_people(names, owner)
         self.cheapest_first = tuple(
             sorted((rule for _, rules in self.goals for rule in rules), key=lambda rule: rule.cost)
         )

@@ -57,6 +57,7 @@ from pare.scenarios.count_details import (
 from pare.scenarios.fact_binding import Bindings, Misbinding
 from pare.scenarios.model import Scenario
 from pare.scenarios.numbers import names_number
+from pare.scenarios.person_details import NameFinder
 from pare.scenarios.timewords import mentions
 
 Kind = Literal[
@@ -72,6 +73,7 @@ Kind = Literal[
     "street",
     "month",
     "percent",
+    "person",
 ]
 WORLD_KINDS: tuple[Kind, ...] = ("time", "date", "money", "phone", "url", "email")
 """The kinds read in everything the assistant writes (:mod:`pare.scenarios.invented`): a count or a part of
@@ -545,6 +547,8 @@ class AllowedDetails:
     """Whether a time inside a range an allowed text gives is allowed ("between 9 and 10" allows 9:30)."""
     _bindings: Bindings = field(default_factory=lambda: Bindings(details))
     """The allowed texts' sentences: what each value is given for (:mod:`pare.scenarios.fact_binding`)."""
+    _names: NameFinder = field(default_factory=lambda: NameFinder.of(()))
+    """The world's people, read as ``person`` details (:meth:`know_people`)."""
 
     @classmethod
     def of(cls, facts: Sequence[str], start: datetime, more: Callable[[], Sequence[str]]) -> AllowedDetails:
@@ -575,6 +579,20 @@ class AllowedDetails:
         """Allow the details ``texts`` state, their days read as of ``anchor`` (default: the start)."""
         self._add(texts, anchor)
 
+    def know_people(self, names: NameFinder, owner: Iterable[str]) -> None:
+        """Read the world's people (:mod:`pare.scenarios.person_details`) in the allowed texts and the
+        checked ones: checked where the facts name one of them, the phone's ``owner`` always allowed.
+        """
+        self._names = names
+        facts_name_someone = False
+        for text in self._texts:  # the facts, read before the world's people were known
+            found = [one.reading for one in names.find(text)]
+            self._allowed.setdefault("person", set()).update(found)
+            facts_name_someone = facts_name_someone or bool(found)
+        if facts_name_someone:
+            self._allowed["person"].update(("person", name) for name in owner)
+            self.kinds = self.kinds | {"person"}
+
     def add_readings(self, kind: Kind, readings: Iterable[object]) -> None:
         """Allow details of ``kind`` by their readings (a value a program wrote rather than a text)."""
         self._allowed.setdefault(kind, set()).update(readings)
@@ -587,6 +605,10 @@ class AllowedDetails:
                 Decimal((match.group("figure") or match.group("after_word")).replace(",", "")).normalize()
                 for match in _FIGURE.finditer(text)
             )
+            if self._names.pattern is not None:
+                self._allowed.setdefault("person", set()).update(
+                    one.reading for one in self._names.find(text)
+                )
             for detail in details(text, anchor or self.start):
                 given = self._allowed.setdefault(detail.kind, set())
                 given.update(detail.readings)
@@ -726,6 +748,12 @@ class AllowedDetails:
             return None
         words = own_words(text)
         stated = sorted(details(words, read_at or sent), key=lambda found: found.start)
+        if "person" in self.kinds:
+            people = (
+                Detail("person", one.readings, one.shown, one.start, one.end)
+                for one in self._names.find(words)
+            )
+            stated = sorted([*stated, *people], key=lambda found: found.start)
         for detail in stated:
             if not self.allows(detail, sent):
                 if also is None or not also(detail, sent):
