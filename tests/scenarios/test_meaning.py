@@ -522,6 +522,13 @@ def test_what_is_set_aside_or_moved_from_is_not_affirmed() -> None:
     assert not affirms("Saffron House (moved from Osteria Bruno)", "osteria")
 
 
+def test_but_after_any_or_every_means_except() -> None:
+    assert not affirms("Any day but Wednesday works for me", "wednesday")
+    assert not affirms("anything but the 2kg bag", "2kg")
+    assert affirms("I can do any day, but Wednesday is best", "wednesday")
+    assert affirms("Wednesday is fine but Thursday is better", "thursday")
+
+
 def test_an_aside_that_negates_negates_only_itself() -> None:
     assert affirms("Meadowbank Vets Hillcrest (not the main surgery)", "hillcrest")
     assert not affirms("Meadowbank Vets Hillcrest (not the main surgery)", "main surgery")

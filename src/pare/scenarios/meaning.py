@@ -211,7 +211,11 @@ _CLAUSE_BREAK = re.compile(
     # a colon before a space ("Update: Thursday works", not 18:15) and a dash between words ("Not Friday -
     # Thursday works", "Friday—Thursday"), but not between two numbers (the range 2 - 4pm)
     r":(?=\s|$)|(?<=[^\d\s])\s+[-\u2013\u2014]+\s+|\s+[-\u2013\u2014]+\s+(?=[^\d\s])|(?<!\d)[\u2013\u2014](?!\d)|"
-    r"\s(?=(?:but|however|although|though|whereas|except|instead of|rather than|if|unless|"
+    # "but" after "any day", "anything", "everyone"... means "except": the clause goes on ("any day but
+    # Wednesday works" turns Wednesday down, see _NEGATION_PATTERNS)
+    r"(?<!any day)(?<!anything)(?<!any time)(?<!anytime)(?<!anyone)(?<!every day)(?<!everything)"
+    r"(?<!everyone)(?<!\ball)\s(?=but\b)|"
+    r"\s(?=(?:however|although|though|whereas|except|instead of|rather than|if|unless|"
     r"apart from|other than|unlike)\b)|"
     # an aside that negates, negates only itself: "Hillcrest (not the main surgery)"
     r"\s(?=\((?:not|no|never|rather than|instead of|moved from)\b)|" + _PICTOGRAPH_RUN,
@@ -315,7 +319,9 @@ _NEGATION_PATTERNS = re.compile(
     r"(?:\s*(?:in price\s+)?to\s+)?(?:[$\u00a3\u20ac]\s?\d|\d[\d.,]*\s*(?:pounds|quid|dollars|euros)\b)|"
     # where something was, not where it is: "Talk moved from Thursday 14:00" (but "moved from Thursday to
     # Friday" names where it is too, so it stays affirmed)
-    r"(?<![^\W\d_])moved\s+from\b(?![^.,;:!?\n]*\bto\b)",
+    r"(?<![^\W\d_])moved\s+from\b(?![^.,;:!?\n]*\bto\b)|"
+    # "any day but Wednesday", "anything but the 2kg bag": but as except
+    r"(?<![^\W\d_])(?:any\s+day|anything|any\s*time|anyone|every\s+day|everything|everyone|all)\s+but\b",
     re.IGNORECASE,
 )
 """Negations that need more than a phrase: where something moved from, with no "to" after it; a price
