@@ -300,3 +300,17 @@ def test_a_person_of_the_world_the_facts_do_not_name_is_a_wrong_detail() -> None
     assert _stray_person(facts, "Ella and Maya, then the Anchor") is None  # a place kept as a contact
     # facts that name nobody leave people alone
     assert _stray_person(["The photo is from the beach."], "Lovely one of Sophie!") is None
+
+
+@pytest.mark.parametrize(
+    ("facts", "text", "stray"),
+    [
+        (["Sofia replies within 48 hours."], "She'll reply in two days", None),
+        (["The course runs for 4 weeks."], "It runs for a month", None),
+        (["The lease is for 12 months."], "It's a one-year lease", None),
+        (["The film is 90 minutes long."], "It's 2 hours long", "2 hours"),
+        (["Sofia replies within 48 hours."], "She'll reply in three days", "three days"),
+    ],
+)
+def test_a_length_of_time_may_be_said_in_another_unit(facts: list[str], text: str, stray: str | None) -> None:
+    assert _stray(facts, text) == stray

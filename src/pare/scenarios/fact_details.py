@@ -637,6 +637,13 @@ class AllowedDetails:
         allowed = self._allowed.get(detail.kind, set())
         if not detail.readings.isdisjoint(allowed):
             return True
+        if detail.kind == "count" and self._label(detail) in DURATIONS:  # "two days" for "48 hours"
+            return any(
+                _same_length(cast("tuple[str, tuple[str, str]]", one)[1], given[1])
+                for one in detail.readings
+                for given in allowed
+                if isinstance(given, tuple) and given[0] == "count"
+            )
         if detail.kind == "month":  # a day the allowed texts give gives its month
             days = self._allowed.get("date", set())
             return any(
@@ -790,6 +797,38 @@ class AllowedDetails:
         is not allowed by them, unlike :meth:`allows`).
         """
         return detail.kind in self.kinds and self.allows(detail, sent)
+
+
+_MINUTES = {"minute": 1, "hour": 60, "day": 1440, "night": 1440, "week": 10080}
+"""Lengths of time in minutes, where one unit is a fixed number of another."""
+_ROUGH_DAYS = {"month": (28, 31), "year": (365, 366)}
+"""Lengths of time in days, where one unit is a span of days: "a month" is 4 weeks or 30 days."""
+
+
+def _same_length(said: tuple[str, str], given: tuple[str, str]) -> bool:
+    """Whether two lengths of time, as ``(unit, number)``, are the same: "two days" and "48 hours", "a
+    month" and "4 weeks", "a year" and "12 months".
+    """
+    (unit, number), (given_unit, given_number) = said, given
+    try:
+        value, given_value = Decimal(number), Decimal(given_number)
+    except InvalidOperation:
+        return False
+    if unit in _MINUTES and given_unit in _MINUTES:
+        return value * _MINUTES[unit] == given_value * _MINUTES[given_unit]
+    if {unit, given_unit} == {"year", "month"}:
+        return (value * 12 if unit == "year" else value) == (
+            given_value * 12 if given_unit == "year" else given_value
+        )
+    for rough, fixed, rough_value, fixed_value in (
+        (unit, given_unit, value, given_value),
+        (given_unit, unit, given_value, value),
+    ):
+        if rough in _ROUGH_DAYS and fixed in _MINUTES and _MINUTES[fixed] >= 1440:
+            low, high = _ROUGH_DAYS[rough]
+            days = fixed_value * _MINUTES[fixed] / 1440
+            return rough_value * low <= days <= rough_value * high
+    return False
 
 
 def _read_directly(detail: Detail, allowed: set[object]) -> bool:
