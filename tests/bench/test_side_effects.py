@@ -124,6 +124,16 @@ PROBES = [
         "changed contacts.contacts contact-priya-raman: birthday",
         id="writes-a-field-no-solution-writes",
     ),
+    pytest.param(
+        "accountant_asks_for_last_three_payslips",
+        {
+            "tool": "email__save_draft",
+            "args": {"recipients": ["mum@family.example"], "subject": "Tax", "content": "Sorted the tax."},
+        },
+        None,
+        "new draft in email.emails: 'Tax'",  # saved, not sent: named as a draft, not as told to Mum
+        id="saves-a-draft-nobody-asked-for",
+    ),
 ]
 
 

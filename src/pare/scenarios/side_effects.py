@@ -603,6 +603,8 @@ class _Collection:
         if not isinstance(item, Mapping):  # a cart line, a saved apartment: which one is the change
             count = item if (app, field) == ("shopping", "cart") and isinstance(item, int) else 1
             yield replace(self.change("added", key, "", order), quantity=max(1, count))
+        elif (app, field) == ("email", "emails") and item.get("folder") == "DRAFT":
+            yield self.change("added", "draft", _label(item), order)  # saved, not sent: it tells nobody
         elif (app, field) == ("email", "emails"):
             yield from self.sent(email_addressees(item), _label(item), order)
         elif (app, field) == ("messaging", "conversations"):
