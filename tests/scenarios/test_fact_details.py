@@ -314,3 +314,17 @@ def test_a_person_of_the_world_the_facts_do_not_name_is_a_wrong_detail() -> None
 )
 def test_a_length_of_time_may_be_said_in_another_unit(facts: list[str], text: str, stray: str | None) -> None:
     assert _stray(facts, text) == stray
+
+
+@pytest.mark.parametrize(
+    ("text", "stray"),
+    [
+        ("City tax is 3.30 EUR a night", None),  # 9.90 for three nights
+        ("that's $27 each", None),  # the $54 bill split in two
+        ("your half is $27", None),
+        ("that's $25 each", "$25"),  # no even split of a given amount
+        ("the tax is 3.30 EUR", "3.30 EUR"),  # a share only where the words say so
+    ],
+)
+def test_an_even_share_of_a_given_amount_is_given(text: str, stray: str | None) -> None:
+    assert _stray(["City tax: 9.90 EUR for the 3 nights.", "Dinner came to $54."], text) == stray

@@ -302,6 +302,8 @@ def _amount(text: str, currency: str, value: Decimal, start: int, end: int) -> D
         readings.add(("difference", currency, value))
     if _ROUGH_AMOUNT.search(before):
         readings.add(("about", currency, value))
+    if _SHARE_AFTER.match(text, end) or _SHARE_BEFORE.search(before):
+        readings.add(("share", currency, value))
     return Detail("money", frozenset(readings), text[start:end].strip(), start, end)
 
 
@@ -335,6 +337,20 @@ _DIFFERENCE_BEFORE = re.compile(
 )
 """Words that say an amount is what two amounts differ by ("$40 less", "saves $6.50", "up by £70", "$44
 left")."""
+_SHARE_AFTER = re.compile(
+    r"\s*(?:each|apiece|a\s+head|per\s+(?:head|person|night|day|week|month|item|ticket|pair)|"
+    r"an?\s+(?:night|day|week|month|person|ticket))\b",
+    re.I,
+)
+_SHARE_BEFORE = re.compile(
+    r"(?:half(?:\s+is|\s+of\s+it)?|(?:your|his|her|their|my|our|each)\s+(?:half|share|part|bit)(?:\s+is|\s+comes\s+to)?|"
+    r"split\s+(?:\w+\s+)?(?:ways?|evenly)?,?\s*(?:so|that's|that\s+is)?)\s*$",
+    re.I,
+)
+"""Words that say an amount is a share of a given one: a rate ("3.30 EUR a night" of 9.90 for three nights),
+what each pays ("$27 each"), a half ("your half is $27")."""
+_MOST_SHARES = 31
+"""The most parts a share is worked out of (a month's nights)."""
 
 
 _MONEY_IN_WORDS = re.compile(
@@ -677,6 +693,10 @@ class AllowedDetails:
             )
             if said_as_difference and value in _differences(same_currency):
                 return True  # "$40 less", "saves £6.50": what two given amounts differ by
+            if ("share", currency, value) in detail.readings and any(
+                _shares_of(value, given) for given in same_currency
+            ):
+                return True  # "$27 each", "3.30 EUR a night": a given amount split evenly
             if ("about", currency, value) in detail.readings and any(
                 abs(given - value) <= given * _ROUGHLY_WITHIN for given in same_currency
             ):
@@ -797,6 +817,13 @@ class AllowedDetails:
         is not allowed by them, unlike :meth:`allows`).
         """
         return detail.kind in self.kinds and self.allows(detail, sent)
+
+
+def _shares_of(value: Decimal, given: Decimal) -> bool:
+    """Whether ``value`` is ``given`` split evenly into 2 to 31 parts, to the cent."""
+    return value > 0 and any(
+        abs(value * parts - given) < Decimal("0.01") * parts for parts in range(2, _MOST_SHARES + 1)
+    )
 
 
 _MINUTES = {"minute": 1, "hour": 60, "day": 1440, "night": 1440, "week": 10080}
