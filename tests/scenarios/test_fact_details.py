@@ -324,6 +324,7 @@ def test_a_length_of_time_may_be_said_in_another_unit(facts: list[str], text: st
         ("your half is $27", None),
         ("that's $25 each", "$25"),  # no even split of a given amount
         ("the tax is 3.30 EUR", "3.30 EUR"),  # a share only where the words say so
+        ("balance now $0.00", None),  # nothing left states no amount
     ],
 )
 def test_an_even_share_of_a_given_amount_is_given(text: str, stray: str | None) -> None:

@@ -693,6 +693,8 @@ class AllowedDetails:
             )
             if said_as_difference and value in _differences(same_currency):
                 return True  # "$40 less", "saves £6.50": what two given amounts differ by
+            if value == 0:
+                return True  # "balance now $0.00", "nothing left to pay": no amount is stated
             if ("share", currency, value) in detail.readings and any(
                 _shares_of(value, given) for given in same_currency
             ):
