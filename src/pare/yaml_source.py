@@ -45,6 +45,9 @@ _CHEAP_DEPTH_BOUND = 5_000
 
 # libyaml's parser when PyYAML was built with it (the wheels are), else the pure-Python one
 _Loader: Any = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+_SEXAGESIMAL_TAGS = frozenset({"tag:yaml.org,2002:int", "tag:yaml.org,2002:float"})
+"""The tags YAML 1.1 gives a plain scalar written in base 60 ("1:1" is 61, 9:30 is 570, 1:30.5 is 90.5)."""
+_STRING_TAG = "tag:yaml.org,2002:str"
 _OPENING = (yaml.MappingStartEvent, yaml.SequenceStartEvent)
 _CLOSING = (yaml.MappingEndEvent, yaml.SequenceEndEvent)
 
@@ -282,6 +285,8 @@ def _walk(root: yaml.Node, document: YamlDocument) -> None:
     while stack:
         node, path, line = stack.pop()
         document.lines[path] = line
+        if isinstance(node, yaml.ScalarNode) and node.tag in _SEXAGESIMAL_TAGS and ":" in node.value:
+            node.tag = _STRING_TAG  # "1:1" and 9:30 are text, as YAML 1.2 reads them, not 61 and 570
         children: list[tuple[yaml.Node, Path, int]] = []
         if isinstance(node, yaml.MappingNode):
             seen: set[str] = set()
