@@ -253,6 +253,13 @@ def test_midnight_is_also_the_last_minute_of_the_day() -> None:
     assert _times("submit it by midnight") == [{"00:00", "23:59"}]
 
 
+def test_a_dotted_date_with_its_year_ends_a_sentence() -> None:
+    may = datetime(2025, 5, 1, 9, 0, tzinfo=UTC)
+    assert _days("The warranty ends on 21.05.2026.", may) == [{date(2026, 5, 21)}]
+    assert _times("The warranty ends on 21.05.2026.", may) == []
+    assert _days("firmware v1.2.3.4", may) == []
+
+
 def test_half_an_hour_ago_is_not_an_hour_ago() -> None:
     assert _times("she ate it half an hour ago", datetime(2025, 6, 2, 8, 50, tzinfo=UTC)) == []
 

@@ -135,7 +135,8 @@ _END_OF_MONTH = re.compile(
 _NEXT_WEEK_NEAR = re.compile(r"^(?:\s+[\w']+){0,3}?\s+next\s+week\b|\bnext\s+week[\s,]+(?:on\s+)?$", re.I)
 """"Tuesday next week", "my Tuesday run next week", "next week, Tuesday": a weekday of next week."""
 _SLASH_DATE = re.compile(r"(?<![\d/])(\d{1,2})/(\d{1,2})(?:/(\d{2,4}))?(?![\d/])")
-_DOTTED_DATE = re.compile(r"(?<![\d.])(\d{1,2})\.(\d{1,2})\.(\d{4}|\d{2})(?![\d.]|\.\d)")
+_DOTTED_DATE = re.compile(r"(?<![\d.])(\d{1,2})\.(\d{1,2})\.(\d{4}|\d{2})(?!\d|\.\d)")
+"""A date with dots and its year ("21.05.2026", at a sentence's end too), not a version ("1.2.3.4")."""
 """"5.7.2025" (day, month, year: with a year, so a time such as "5.30" is never read as a date)."""
 
 _SUFFIX = r"(a\.?m\.?|p\.?m\.?)" + _WORD_END
