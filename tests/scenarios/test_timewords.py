@@ -260,6 +260,11 @@ def test_a_dotted_date_with_its_year_ends_a_sentence() -> None:
     assert _days("firmware v1.2.3.4", may) == []
 
 
+def test_an_h_between_clock_digits_needs_no_space_around_it() -> None:
+    assert _times("26x26x5 H13 filter") == []
+    assert _times("18h15") == [{"18:15"}]
+
+
 def test_half_an_hour_ago_is_not_an_hour_ago() -> None:
     assert _times("she ate it half an hour ago", datetime(2025, 6, 2, 8, 50, tzinfo=UTC)) == []
 
