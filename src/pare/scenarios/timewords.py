@@ -194,9 +194,7 @@ _HALF_HOUR = re.compile(
     _WORD_START + r"half\s+" + _HOUR + _WORD_END + r"(?![:.]\d|\s+(?:an?\s+)?(?:hours?|days?))", re.I
 )
 """"half nine": half past nine, as said in Britain."""
-_CLOCK = re.compile(
-    _NOT_A_PRICE + r"(\d{1,2})(?:\s?[:.]\s?|h)(\d{2})(?!\d)(?:\s?" + _SUFFIX + r")?", re.I
-)
+_CLOCK = re.compile(_NOT_A_PRICE + r"(\d{1,2})(?:\s?[:.]\s?|h)(\d{2})(?!\d)(?:\s?" + _SUFFIX + r")?", re.I)
 """A clock time: "18:15", "6.15 pm", "18h15" (the "h" between the digits, so "26x26x5 H13" is no time)."""
 _HOUR_SUFFIX = re.compile(
     _NOT_A_PRICE + _WORD_START + _HOUR + r"\s?(a\.?m\.?|p\.?m\.?|o'clock)" + _WORD_END, re.I
