@@ -265,6 +265,13 @@ def test_an_h_between_clock_digits_needs_no_space_around_it() -> None:
     assert _times("18h15") == [{"18:15"}]
 
 
+def test_chat_shorthand_for_tomorrow_and_the_evening_is_read() -> None:
+    may = datetime(2025, 5, 1, 9, 0, tzinfo=UTC)
+    assert _days("Tmrw eve, usual 6:30", may) == [{date(2025, 5, 2)}]
+    assert _times("Tmrw eve, usual 6:30", may) == [{"18:30"}]
+    assert _days("see you tmw", may) == [{date(2025, 5, 2)}]
+
+
 def test_half_an_hour_ago_is_not_an_hour_ago() -> None:
     assert _times("she ate it half an hour ago", datetime(2025, 6, 2, 8, 50, tzinfo=UTC)) == []
 

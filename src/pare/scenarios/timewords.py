@@ -80,12 +80,14 @@ _FULL_WEEKDAY = re.compile(
 _SHORT_WEEKDAY = re.compile(_WORD_START + r"(" + "|".join(_WEEKDAY_ABBREVIATIONS) + r")" + _WORD_END + r"\.?")
 _RELATIVE_DAY = re.compile(
     _WORD_START
-    + r"(the\s+day\s+after\s+tomorrow|the\s+day\s+before\s+yesterday|tomorrow|yesterday|last\s+night|today|"
+    + r"(the\s+day\s+after\s+tomorrow|the\s+day\s+before\s+yesterday|tomorrow|tmrw|tmw|2moro|tomoz|yesterday|"
+    + r"last\s+night|today|"
     + r"tonight|this\s+(?:morning|afternoon|evening))"
     + _WORD_END,
     re.I,
 )
-_RELATIVE_OFFSETS = {"the day after tomorrow": 2, "tomorrow": 1, "yesterday": -1, "last night": -1,
+_RELATIVE_OFFSETS = {"the day after tomorrow": 2, "tomorrow": 1, "tmrw": 1, "tmw": 1, "2moro": 1, "tomoz": 1,
+                     "yesterday": -1, "last night": -1,
                      "the day before yesterday": -2}  # fmt: skip
 """Days from the reference day that each relative word names (the others name that day itself)."""
 _DAY_MONTH = re.compile(
@@ -224,8 +226,8 @@ _PERIOD = (
 _PERIOD_AFTER = re.compile(_PERIOD, re.I)
 _PERIOD_BEFORE = re.compile(
     _WORD_START
-    + r"(morning|afternoon|evening|tonight|night)[\s,]+(?:(?:at|about|around|from|say|by|maybe|roughly|"
-    r"approximately|approx\.?|ish|-|\u2013)[\s,]+){0,2}$",
+    + r"(morning|afternoon|evening|eve|tonight|night)[\s,]+(?:(?:at|about|around|from|say|by|maybe|roughly|"
+    r"approximately|approx\.?|ish|usual|the\s+usual|-|\u2013)[\s,]+){0,2}$",
     re.I,
 )
 """The part of the day said just before a time ("this evening at 7", "Friday morning, about half nine"):
@@ -476,7 +478,18 @@ _HINTS: dict[re.Pattern[str], tuple[str, ...]] = {
     _WORD_CLOCK: ("fifteen", "thirty", "forty"),
     _FULL_WEEKDAY: ("day",),
     _SHORT_WEEKDAY: ("mon", "tue", "wed", "thu", "fri", "sat", "sun"),
-    _RELATIVE_DAY: ("tomorrow", "today", "tonight", "this", "yesterday", "last night"),
+    _RELATIVE_DAY: (
+        "tomorrow",
+        "today",
+        "tonight",
+        "this",
+        "yesterday",
+        "last night",
+        "tmrw",
+        "tmw",
+        "2moro",
+        "tomoz",
+    ),
 }
 """What a text must hold (in lower case) for each pattern to match in it, any one of them: most texts lack
 most, and a substring test costs far less than a search (the patterns are tried on every text read)."""
