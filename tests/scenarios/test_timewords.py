@@ -272,6 +272,12 @@ def test_chat_shorthand_for_tomorrow_and_the_evening_is_read() -> None:
     assert _days("see you tmw", may) == [{date(2025, 5, 2)}]
 
 
+def test_in_a_minute_is_soon_and_a_time_before_a_ride_is_a_time() -> None:
+    assert _times("my bio will follow in a minute", datetime(2025, 5, 1, 9, 12, tzinfo=UTC)) == []
+    assert _times("it was the five past ten cab") == [{"10:05", "22:05"}]
+    assert _times("five to ten people came") == []
+
+
 def test_half_an_hour_ago_is_not_an_hour_ago() -> None:
     assert _times("she ate it half an hour ago", datetime(2025, 6, 2, 8, 50, tzinfo=UTC)) == []
 

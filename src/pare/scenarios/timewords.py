@@ -149,7 +149,8 @@ _COUNTED = (
     r"tomorrow|sat|sun|mon|tue|wed|thu|fri|now|again|instead|slots?|appointments?|bookings?|trains?|bus|"
     r"meetings?|sessions?|class|call|viewing|showing|shows?|performance|film|screening|flight|ferry|match|"
     r"game|service|one|option|start|kick-?off|from|outside|near|by|"
-    r"downstairs|upstairs|opposite|behind|round|before|after|until|till|via|when|where|pick-?up|arrival)\b)[a-z]"
+    r"downstairs|upstairs|opposite|behind|round|before|after|until|till|via|when|where|pick-?up|arrival|"
+    r"cab|taxi|ride|car|coach|drop-?off|departure|reservation|table|slot)\b)[a-z]"
 )
 """A word after a number that says the number counts something ("between 2 and 4 guests", "at one point"),
 so it is not an hour."""
@@ -264,7 +265,7 @@ _UNIT = r"(?:minutes?|hours?|days?|weeks?|fortnight)"
 _COUNT = r"(?:an?|a\s+few|\d+|" + "|".join(_HOUR_WORDS) + r")"
 _LIBRARY_CUE = re.compile(
     _WORD_START
-    + r"(?:(?:in|within)\s+"
+    + r"(?:(?:in|within)\s+(?!an?\s+minute\b)"  # "in a minute" is soon, not a clock time
     + _COUNT
     + r"\s+"
     + _UNIT
@@ -279,7 +280,7 @@ _LIBRARY_CUE = re.compile(
     re.I,
 )
 """What the library reads and the rules do not: a count of units from now ("in two days", "3 days from
-now", "in an hour") or a month before "the" and its day ("June the 2nd"). Only a text with one is given to
+now", "in an hour", but not "in a minute", which says soon) or a month before "the" and its day ("June the 2nd"). Only a text with one is given to
 it, and only the stretch around it. "A week later" is not read: it counts from another moment than now
 ("the course starts a week later, Saturday the tenth")."""
 _RELATIVE_PHRASE = re.compile(
