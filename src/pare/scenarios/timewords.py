@@ -280,9 +280,9 @@ _LIBRARY_CUE = re.compile(
     re.I,
 )
 """What the library reads and the rules do not: a count of units from now ("in two days", "3 days from
-now", "in an hour", but not "in a minute", which says soon) or a month before "the" and its day ("June the 2nd"). Only a text with one is given to
-it, and only the stretch around it. "A week later" is not read: it counts from another moment than now
-("the course starts a week later, Saturday the tenth")."""
+now", "in an hour", but not "in a minute", which says soon) or a month before "the" and its day ("June the
+2nd"). Only a text with one is given to it, and only the stretch around it. "A week later" is not read: it
+counts from another moment than now ("the course starts a week later, Saturday the tenth")."""
 _RELATIVE_PHRASE = re.compile(
     r"^(?:in|within)\s|"
     + _WORD_START
