@@ -329,3 +329,10 @@ def test_a_length_of_time_may_be_said_in_another_unit(facts: list[str], text: st
 )
 def test_an_even_share_of_a_given_amount_is_given(text: str, stray: str | None) -> None:
     assert _stray(["City tax: 9.90 EUR for the 3 nights.", "Dinner came to $54."], text) == stray
+
+
+def test_a_time_counted_from_now_is_rough() -> None:
+    sent = START.replace(hour=10, minute=32)
+    allowed = AllowedDetails.of(["The call is at 11:30."], START, tuple)
+    assert allowed.stray("I'll phone Elm Park in an hour", sent) is None
+    assert allowed.stray("I'll phone Elm Park in two hours", sent) is not None

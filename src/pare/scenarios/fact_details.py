@@ -148,8 +148,11 @@ def _time_and_date_details(text: str, anchor: datetime) -> Iterable[Detail]:
                     if 0 < _minutes(last) - _minutes(first) < 12 * 60  # one reading of each end, not 9 to 22
                 }
                 readings |= {("span", first, last) for first, last in spans}
-            if _ROUGHLY.search(text, max(0, mention.start - 16), mention.start):
-                readings |= _near(mention.times)  # "around quarter to ten" for a cab due at 09:46
+            if _ROUGHLY.search(text, max(0, mention.start - 16), mention.start) or _FROM_NOW.match(
+                text, mention.start
+            ):
+                # "around quarter to ten" for a cab due at 09:46; "in an hour", sent at 10:32, for 11:30
+                readings |= _near(mention.times)
             yield Detail("time", readings, shown, mention.start, end)
         if mention.days:
             shown = " or ".join(f"{day:%a} {day.day} {day:%b}" for day in sorted(mention.days))
@@ -165,6 +168,9 @@ _ROUGHLY = re.compile(
     re.I,
 )
 """A word that makes the time after it a rough one."""
+_FROM_NOW = re.compile(r"(?:in|within)\s+(?:an?|\d+|[a-z]+)\s+(?:minutes?|mins?|hours?)\b", re.I)
+"""A time counted from when the text is sent ("in an hour", "in 20 minutes"): a rough one, since nobody
+counts to the minute."""
 
 
 def _near(times: Iterable[time]) -> frozenset[object]:
