@@ -522,6 +522,11 @@ def test_what_is_set_aside_or_moved_from_is_not_affirmed() -> None:
     assert not affirms("Saffron House (moved from Osteria Bruno)", "osteria")
 
 
+def test_nothing_but_affirms_what_follows() -> None:
+    assert affirms("he'll have nothing but the new kibble from now on", "kibble")
+    assert not affirms("nothing arrived", "arrived")
+
+
 def test_but_after_any_or_every_means_except() -> None:
     assert not affirms("Any day but Wednesday works for me", "wednesday")
     assert not affirms("anything but the 2kg bag", "2kg")

@@ -458,7 +458,7 @@ _FRIENDLY_IDIOMS = re.compile(
     # eagerness, not a refusal ("can't wait to see you", "Ella can't wait for the trip"); but "it can't
     # wait till Friday" and "this can't wait for Monday" refuse the wait
     r"(?<!\bit\s)(?<!\bthis\s)(?<!\bthat\s)(?:can't|cannot)\s+wait(?!\s+(?:till|until|til|any))|"
-    r"don't hesitate|no later than|not later than|no more than|no matter|not only|"
+    r"don't hesitate|no later than|not later than|no more than|no matter|not only|nothing but|"
     # reminders that affirm what they remind of: "don't forget games night Thursday at 19:00"
     r"(?:don't|do not|dont)\s+(?:forget|be late)|"
     # thanks, not a hedge: "not sure what I'd have done otherwise", "don't know what we would do without you"
