@@ -336,3 +336,10 @@ def test_a_time_counted_from_now_is_rough() -> None:
     allowed = AllowedDetails.of(["The call is at 11:30."], START, tuple)
     assert allowed.stray("I'll phone Elm Park in an hour", sent) is None
     assert allowed.stray("I'll phone Elm Park in two hours", sent) is not None
+
+
+def test_a_phone_number_is_bound_to_whose_it_is() -> None:
+    facts = ["Marek's mobile is 07700 900111.", "Lina's mobile is 07700 900222."]
+    assert _stray(facts, "Lina is on +44 7700 900111") == "+44 7700 900111"  # Marek's, said as Lina's
+    assert _stray(facts, "Lina is on +44 7700 900222") is None  # hers, with the country code
+    assert _stray(facts, "Lina 07700 900222, Marek 07700 900111") is None

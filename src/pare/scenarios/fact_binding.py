@@ -28,9 +28,9 @@ from pare.scenarios.meaning import clauses
 if TYPE_CHECKING:  # the facts rule reads details and binds them here: it imports this module
     from pare.scenarios.fact_details import Detail, Kind
 
-BOUND_KINDS: frozenset[Kind] = frozenset({"time", "date", "money", "count", "street"})
-"""The kinds of detail bound to what they are given for (a phone number, a link or an address is already
-one thing's)."""
+BOUND_KINDS: frozenset[Kind] = frozenset({"time", "date", "money", "count", "street", "phone"})
+"""The kinds of detail bound to what they are given for (a link or an email address is already one thing's;
+a phone number is bound too, since a message may give one person's number as another's)."""
 
 _SENTENCE_BREAK = re.compile(r"(?<=[.!?])\s+(?=[A-Z0-9\"'(])|\n+")
 
@@ -58,7 +58,8 @@ _STOP_WORDS = _words(
     reminder set added add expect expected expecting arrive arrives arriving arrival come comes coming
     start starts starting work works working meet meeting see seeing leave leaving collect collecting
     collection pickup ready free available back home sure great good fine gone except suit suits regards
-    kind best cheers hope love wish wishes accept accepted"""
+    kind best cheers hope love wish wishes accept accepted number phone mobile landline tel call ring text
+    whatsapp contact reach"""
 )
 """Words that bind a value to nothing: function words, words of time, and the verbs any message about a
 detail uses (a detail is "booked" or "confirmed" whatever it is of)."""
@@ -110,6 +111,8 @@ def _keyed(detail: Detail) -> frozenset[object]:
     """
     if detail.kind == "money":
         return frozenset(one[1] for one in detail.readings if isinstance(one, tuple) and len(one) == 2)
+    if detail.kind == "phone":  # with or without the country code: the same number by its last nine digits
+        return frozenset(str(one)[-9:] for one in detail.readings)
     if detail.kind != "date":
         return detail.readings
     return detail.readings | {("weekday", day.weekday()) for day in detail.readings if isinstance(day, date)}

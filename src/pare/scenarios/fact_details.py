@@ -872,6 +872,9 @@ def _read_directly(detail: Detail, allowed: set[object]) -> bool:
     """
     if not detail.readings.isdisjoint(allowed):
         return True
+    if detail.kind == "phone":  # with or without the country code
+        ends = {str(one)[-9:] for one in detail.readings}
+        return any(isinstance(one, str) and one[-9:] in ends for one in allowed)
     bare = {
         one[1]
         for one in detail.readings
