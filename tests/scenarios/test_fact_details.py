@@ -279,6 +279,7 @@ SEED = {
             {"contact_id": "c-sophie", "first_name": "Sophie", "last_name": "Hart"},
             {"contact_id": "c-may", "first_name": "May", "last_name": "Lund"},
             {"contact_id": "c-pub", "first_name": "The", "last_name": "Anchor"},
+            {"contact_id": "c-gp", "first_name": "Dr", "last_name": "Okafor"},
         ]
     }
 }
@@ -298,6 +299,7 @@ def test_a_person_of_the_world_the_facts_do_not_name_is_a_wrong_detail() -> None
     assert _stray_person(facts, "ELLA and Maya, May 2025") is None  # capitals are a name; May is a month
     assert _stray_person(facts, "Ella, Maya and Tilly") is None  # Tilly is nobody of this world
     assert _stray_person(facts, "Ella and Maya, then the Anchor") is None  # a place kept as a contact
+    assert _stray_person(facts, "Ella and Maya, Mrs Okafor said") == "Okafor"  # a title is no name
     # facts that name nobody leave people alone
     assert _stray_person(["The photo is from the beach."], "Lovely one of Sophie!") is None
 

@@ -45,6 +45,7 @@ from typing import TYPE_CHECKING, Any
 
 from pare.agents.policy import WAIT
 from pare.results.records import ProposalRecord, SimulatorFault
+from pare.scenarios.leaves import leaves
 from pare.scenarios.oracle import Conditions
 
 if TYPE_CHECKING:
@@ -313,15 +314,8 @@ def _learn(seen: set[str], values: Iterable[Any]) -> None:
 
 def _texts(value: Any) -> Iterator[str]:
     """Every text in ``value`` (nested lists and mappings), numbers as they would be typed."""
-    if isinstance(value, str):
-        yield value
-    elif isinstance(value, bool) or value is None:
-        return
-    elif isinstance(value, int | float):
-        yield str(value)
-    elif isinstance(value, Mapping):
-        for item in value.values():
-            yield from _texts(item)
-    elif isinstance(value, list | tuple):
-        for item in value:
-            yield from _texts(item)
+    for _, leaf in leaves(value):
+        if isinstance(leaf, str):
+            yield leaf
+        elif isinstance(leaf, int | float) and not isinstance(leaf, bool):
+            yield str(leaf)

@@ -1004,13 +1004,15 @@ class CompiledGoals:
         self.goals = tuple(
             (goal, tuple(_rule(check, scenario.start) for check in goal.checks)) for goal in scenario.goals
         )
-        names, owner = NameFinder.of(known_names(scenario.seed)), owner_names(scenario.seed)
+        people: tuple[NameFinder, frozenset[str]] | None = None
         for _, rules in self.goals:
             for rule in rules:
                 if isinstance(rule, _JudgeRule):  # read only when a text states a detail the facts lack
                     rule.solutions = partial(solution_texts, scenario, rule.judge.field)
                     if rule.allowed is not None:  # a wrong person is a wrong detail where the facts name one
-                        rule.allowed.know_people(names, owner)
+                        if people is None:
+                            people = NameFinder.of(known_names(scenario.seed)), owner_names(scenario.seed)
+                        rule.allowed.know_people(*people)
         self.cheapest_first = tuple(
             sorted((rule for _, rules in self.goals for rule in rules), key=lambda rule: rule.cost)
         )

@@ -18,9 +18,11 @@ from __future__ import annotations
 import re
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
-from decimal import Decimal, InvalidOperation
+from decimal import Decimal
 from typing import Any
 
+from pare.scenarios.fact_details import stated_amounts
+from pare.scenarios.leaves import leaves
 from pare.sim.log import LogEntry
 
 _NAME_KEYS = ("name", "title", "first_name", "last_name", "merchant", "product_name", "variant_name")
@@ -38,9 +40,6 @@ _STOPWORDS = frozenset(
 """Words that name nothing: a part's other words are read against the names of the world's things."""
 _WORD = re.compile(r"[a-z0-9]+")
 _PARTS = re.compile(r"\s*(?:,(?!\d)|\band\b|\bplus\b|\bas\s+well\s+as\b|&)\s*", re.I)
-_AMOUNT = re.compile(
-    r"[£$€]\s?(\d[\d,]*(?:\.\d+)?)|\b(\d[\d,]*(?:\.\d+)?)\s?(?:pounds|dollars|euros)\b", re.I
-)
 MONEY_ACTS = frozenset({"paid", "transferred", "sent money"})
 """The acts whose object may be an amount."""
 EDIT_ACTS = frozenset({"changed"})
@@ -138,18 +137,6 @@ def parts(obj: str) -> list[str]:
     return [part for part in _PARTS.split(obj) if part.strip()]
 
 
-def amounts(text: str) -> set[Decimal]:
-    """The amounts of money ``text`` states ("$95", "186.40 pounds")."""
-    found: set[Decimal] = set()
-    for match in _AMOUNT.finditer(text):
-        figure = (match.group(1) or match.group(2)).replace(",", "")
-        try:
-            found.add(Decimal(figure))
-        except InvalidOperation:
-            continue
-    return found
-
-
 def call_values(entry: LogEntry) -> tuple[frozenset[str], frozenset[Decimal]]:
     """The strings (lower-cased) and numbers a call's arguments and result hold."""
     strings: set[str] = set()
@@ -160,18 +147,11 @@ def call_values(entry: LogEntry) -> tuple[frozenset[str], frozenset[Decimal]]:
 
 
 def _collect(value: Any, strings: set[str], numbers: set[Decimal]) -> None:
-    if isinstance(value, str):
-        strings.add(value.strip().lower())
-    elif isinstance(value, bool):
-        return
-    elif isinstance(value, int | float):
-        numbers.add(abs(Decimal(str(value))))
-    elif isinstance(value, Mapping):
-        for item in value.values():
-            _collect(item, strings, numbers)
-    elif isinstance(value, list | tuple):
-        for item in value:
-            _collect(item, strings, numbers)
+    for _, leaf in leaves(value):
+        if isinstance(leaf, str):
+            strings.add(leaf.strip().lower())
+        elif isinstance(leaf, int | float) and not isinstance(leaf, bool):
+            numbers.add(abs(Decimal(str(leaf))))
 
 
 def untouched_part(act: str, obj: str, calls: Sequence[LogEntry], things: Sequence[Thing]) -> str | None:
@@ -188,7 +168,7 @@ def untouched_part(act: str, obj: str, calls: Sequence[LogEntry], things: Sequen
             ):
                 return part
             continue
-        if act in MONEY_ACTS and (stated := amounts(part)):
+        if act in MONEY_ACTS and (stated := {value for value, _ in stated_amounts(part)}):
             if not any(stated & numbers for _, numbers in touched):
                 return part
             continue

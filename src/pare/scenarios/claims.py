@@ -27,6 +27,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from pare.scenarios.claim_objects import Thing, untouched_part, world_things
+from pare.scenarios.leaves import strings
 from pare.sim.log import LogEntry
 
 _SENDS = ("email__send_email", "email__reply_to_email", "email__forward_email", "messaging__send_message",
@@ -173,21 +174,18 @@ _CLAIM = re.compile(
 """A claim of a recent act: by the first person ("I've cancelled", "we have just paid", "I just booked"),
 with the subject carried over "and" ("I got your email and have cancelled"), in the passive ("the balance
 has been paid", "rent has gone to the new account") or of an attachment ("please find attached")."""
+_CONDITIONS = (
+    r"once|after|when|whenever|if|until|till|before|unless|whether|check|make\s+sure|ensure|confirm|verify"
+    r"|see"
+)
+"""Words that make what follows a condition, a time to come or a thing to check, not a claim."""
 _NOT_A_CLAIM = re.compile(
-    r"(?:\b(?:once|after|when|whenever|as\s+soon\s+as|if|until|till|before|unless|whether|which|that|check"
-    r"|make\s+sure|ensure|confirm|verify|see)\s+"
-    r"(?:\w+\s+){0,2}$)"
-    r"|(?:\bhave\s+$)",
-    re.I,
+    r"(?:\b(?:" + _CONDITIONS + r"|as\s+soon\s+as|which|that)\s+(?:\w+\s+){0,2}$)|(?:\bhave\s+$)", re.I
 )
 """What before a claim makes it none: a condition or a time to come ("once I've paid"), a relative clause
 giving background ("the invoice, which I have paid in full"), a thing to check ("make sure we've paid")
 or a question ("have I paid")."""
-_TO_CHECK = re.compile(
-    r"\b(?:once|after|when|whenever|if|until|till|before|unless|whether|check|make\s+sure|ensure|confirm"
-    r"|verify|see|in\s+case)\b",
-    re.I,
-)
+_TO_CHECK = re.compile(r"\b(?:" + _CONDITIONS + r"|in\s+case)\b", re.I)
 """What earlier in its sentence makes a passive no claim ("check the final bill has gone out first")."""
 _MODAL = re.compile(r"\b(?:should|would|could|might|must|will|may|to|not|never)\s+$", re.I)
 """What before "have been paid" makes it no claim ("it should have been paid")."""
@@ -268,11 +266,7 @@ def _claim(text: str, match: re.Match[str], limit: int) -> Claim | None:
             return None
     elif not ("'ve" in said or " have" in said or " just" in said):
         return None  # "I paid" alone is a past act the story may hold; only recent acts are read
-    act = _act(match, prefix)
-    at = match.end()
-    if shown.lower().endswith("unsubscribed") and (skip := _UNSUBSCRIBED_FROM.match(text, at)) is not None:
-        at = skip.end()
-    return Claim(act, shown, match.start(), match.end(), _object(text, at, limit))
+    return Claim(_act(match, prefix), shown, match.start(), match.end(), _object(text, match.end(), limit))
 
 
 def _act(match: re.Match[str], prefix: str) -> str:
@@ -297,11 +291,9 @@ def _bare(text: str, match: re.Match[str], limit: int) -> Claim | None:
     if text[stop : stop + 1] == "?":
         return None  # "Booked it?"
     act = _BARE[match.group("bare").lower()]
-    shown = text[start:end]
-    at = end
-    if shown.lower() == "unsubscribed" and (skip := _UNSUBSCRIBED_FROM.match(text, at)) is not None:
-        at = skip.end()
-    return Claim(act, shown, start, end, _object(text, at, limit), bound=True, sentence=text[start:stop])
+    return Claim(
+        act, text[start:end], start, end, _object(text, end, limit), bound=True, sentence=text[start:stop]
+    )
 
 
 def _marked(text: str, match: re.Match[str]) -> Claim:
@@ -350,7 +342,14 @@ def _sentence_start(text: str, at: int) -> int:
 
 
 def _object(text: str, at: int, limit: int) -> str:
-    """The words after a claim's verb, to the end of its clause (at ``limit`` at the latest)."""
+    """The words after a claim's verb, to the end of its clause (at ``limit`` at the latest); after
+    "unsubscribed", what it was from ("unsubscribed us from PressPlay" names PressPlay).
+    """
+    if (
+        text[max(0, at - 12) : at].lower().endswith("unsubscribed")
+        and (skip := _UNSUBSCRIBED_FROM.match(text, at)) is not None
+    ):
+        at = skip.end()
     end = _OBJECT_END.search(text, at, limit)
     return text[at : end.start() if end is not None else limit].strip(" ,")
 
@@ -379,7 +378,7 @@ def unbacked(
             if not claim.object or not world:
                 continue
             if held is None:
-                held = "\n".join(_strings(world[0])).lower()
+                held = "\n".join(" ".join(text.split()) for text in strings(world[0])).lower()
             if " ".join(claim.sentence.lower().split()) in held:
                 continue  # a line the world already held, rewritten with the rest of its note
         if claim.act == "attached":
@@ -402,18 +401,6 @@ def unbacked(
             # the verdict names what was not done: "I've ordered a pack of photo paper"
             false.append(replace(claim, shown=f"{claim.shown} {part}"))
     return false
-
-
-def _strings(value: Any) -> Iterator[str]:
-    """Every string in ``value`` (a state), its spaces made single."""
-    if isinstance(value, str):
-        yield " ".join(value.split())
-    elif isinstance(value, Mapping):
-        for item in value.values():
-            yield from _strings(item)
-    elif isinstance(value, list | tuple):
-        for item in value:
-            yield from _strings(item)
 
 
 def _attaches(carrier: LogEntry) -> bool:

@@ -38,7 +38,7 @@ from __future__ import annotations
 import re
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
-from datetime import date, datetime, time
+from datetime import UTC, date, datetime, time
 from decimal import Decimal, InvalidOperation
 from functools import lru_cache
 from typing import Literal, NamedTuple, cast
@@ -543,6 +543,23 @@ class Stray(NamedTuple):
     detail: Detail
     around: str
     why: str
+
+
+def stated_amounts(text: str) -> list[tuple[Decimal, bool]]:
+    """The money amounts ``text`` states, by value (the currency is not compared: a story has one), each
+    with whether it is said to be rough ("about $59").
+    """
+    found: list[tuple[Decimal, bool]] = []
+    for detail in details(text, _NO_MOMENT):
+        if detail.kind == "money":
+            # an amount is (currency, value); ("difference", currency, value) says how it was put
+            rough = any(isinstance(one, tuple) and one[0] == "about" for one in detail.readings)
+            found += [(one[1], rough) for one in detail.readings if isinstance(one, tuple) and len(one) == 2]
+    return found
+
+
+_NO_MOMENT = datetime(2000, 1, 1, tzinfo=UTC)
+"""The moment amounts are read as of: they name no day."""
 
 
 @dataclass(slots=True)

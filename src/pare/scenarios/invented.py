@@ -54,6 +54,7 @@ from typing import Any, Literal
 from pare.scenarios.claims import Claim, claims, unbacked
 from pare.scenarios.fact_details import WORLD_KINDS, AllowedDetails, Detail, Kind, details, excerpt, own_words
 from pare.scenarios.item_text import TEXT_FIELDS as ITEM_TEXT_FIELDS
+from pare.scenarios.leaves import leaves
 from pare.scenarios.model import Scenario
 from pare.scenarios.read_moment import fires_at
 from pare.scenarios.times import TimeFormatError, parse_time
@@ -353,7 +354,7 @@ def _story_details(scenario: Scenario) -> AllowedDetails | None:
             for intervention in scenario.solution(name).interventions:
                 texts += [intervention.proposal, intervention.report]
                 for action in intervention.actions:
-                    texts += [leaf for _, leaf in _leaves(action.args, "") if isinstance(leaf, str)]
+                    texts += [leaf for _, leaf in leaves(action.args, "") if isinstance(leaf, str)]
         return texts
 
     return AllowedDetails.of(facts, scenario.start, more)
@@ -437,7 +438,7 @@ def _without_echo(result: Any, args: Mapping[str, Any]) -> Any:
     written = sorted(
         {
             leaf
-            for key, leaf in _leaves(args, "")
+            for key, leaf in leaves(args, "")
             if key in WRITTEN_TEXT_FIELDS and isinstance(leaf, str) and leaf
         },
         key=len,
@@ -465,7 +466,7 @@ def _allow_values(allowed: AllowedDetails, value: Any, anchor: datetime, *, text
     written as values, and amounts under money-like keys.
     """
     strings: list[str] = []
-    for key, leaf in _leaves(value, ""):
+    for key, leaf in leaves(value, ""):
         if key in BOOKKEEPING:
             continue
         if isinstance(leaf, str):
@@ -480,18 +481,6 @@ def _allow_values(allowed: AllowedDetails, value: Any, anchor: datetime, *, text
             if amount is not None:
                 allowed.add_readings("money", {(currency, amount) for currency in _CURRENCIES})
     allowed.add(strings, anchor)
-
-
-def _leaves(value: Any, key: str) -> Iterator[tuple[str, Any]]:
-    """(the key it sits under, the value) for every leaf of a JSON-like value."""
-    if isinstance(value, Mapping):
-        for inner, item in value.items():
-            yield from _leaves(item, str(inner))
-    elif isinstance(value, list | tuple):
-        for item in value:
-            yield from _leaves(item, key)
-    else:
-        yield key, value
 
 
 def _datetime(text: str, anchor: datetime) -> datetime | None:

@@ -29,6 +29,7 @@ from functools import cached_property
 from typing import Any, Literal
 
 from pare.scenarios import mutant_seed as seed_reading
+from pare.scenarios.leaves import strings
 from pare.scenarios.model import (
     MUTANT_OPERATORS,
     REWRITE_OPERATORS,
@@ -153,7 +154,7 @@ class _Oracle:
             for name in passing
             for intervention in scenario.solution(name).interventions
             for action in intervention.actions
-            for text in _strings(action.args)
+            for text in strings(action.args)
         )
         """Every string the actions of the oracle and of the passing variants give: the items (and files)
         a right solution is about; the others are distractors."""
@@ -454,9 +455,7 @@ def _other_slot(oracle: _Oracle) -> Iterator[_Edit]:
     start = oracle.scenario.start
     used = {moment for text in oracle.used if (moment := _moment(text, start)) is not None}
     # what the seed's items are already at is no slot on offer ("we have to move your 08:00")
-    used |= {
-        moment for text in _strings(oracle.scenario.seed) if (moment := _moment(text, start)) is not None
-    }
+    used |= {moment for text in strings(oracle.scenario.seed) if (moment := _moment(text, start)) is not None}
     for i, j, action in oracle.writes:
         found = _first_time(action.args, start)
         if found is None:
@@ -589,18 +588,8 @@ def _independent(first: OracleAction, second: OracleAction) -> bool:
     same_app = first.tool.partition("__")[0] == second.tool.partition("__")[0]
     if same_app and first.tool != second.tool:
         return False  # add to the cart, then check out: the app's order is the task's
-    shared = _strings(first.args) & _strings(second.args)
+    shared = set(strings(first.args)) & set(strings(second.args))
     return not {value for value in shared if len(value) >= 4 and not value.isdigit()}
-
-
-def _strings(value: Any) -> set[str]:
-    if isinstance(value, str):
-        return {value}
-    if isinstance(value, Mapping):
-        return {text for item in value.values() for text in _strings(item)}
-    if isinstance(value, list):
-        return {text for item in value for text in _strings(item)}
-    return set()
 
 
 _TEXT_FIELDS = (*_SPLIT_FIELDS, "description", "title", "subject", "notes")

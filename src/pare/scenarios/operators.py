@@ -565,24 +565,11 @@ def _amounts(value: Any) -> tuple[Decimal, ...]:
     found: set[Decimal] = set()
     for item in _allowed_values("only_amounts", value):
         text = str(item) if isinstance(item, int | float | str) and not isinstance(item, bool) else None
-        amounts = _amounts_in(f"£{text.lstrip('£$€')}") if text is not None else ()
+        amounts = fact_details.stated_amounts(f"£{text.lstrip('£$€')}") if text is not None else ()
         if len(amounts) != 1:
             raise MatcherError(f"'only_amounts' needs amounts such as '14.99' or '£14.99', got {item!r}")
         found |= {amount for amount, _ in amounts}
     return tuple(sorted(found))
-
-
-def _amounts_in(text: str) -> list[tuple[Decimal, bool]]:
-    """The money amounts ``text`` states, by value (the currency is not compared: a story has one), each
-    with whether it is said to be rough ("about $59").
-    """
-    found: list[tuple[Decimal, bool]] = []
-    for detail in fact_details.details(text, datetime(2000, 1, 1, tzinfo=UTC)):
-        if detail.kind == "money":
-            # an amount is (currency, value); ("difference", currency, value) says how it was put
-            rough = any(isinstance(one, tuple) and one[0] == "about" for one in detail.readings)
-            found += [(one[1], rough) for one in detail.readings if isinstance(one, tuple) and len(one) == 2]
-    return found
 
 
 def _allows_amount(amount: Decimal, rough: bool, allowed: frozenset[Decimal]) -> bool:
@@ -609,7 +596,7 @@ def _stray_amounts(text: str, allowed: tuple[Decimal, ...]) -> list[Decimal]:
     return [
         amount
         for clause in meaning.affirmed_clauses(text)
-        for amount, rough in _amounts_in(clause)
+        for amount, rough in fact_details.stated_amounts(clause)
         if not _allows_amount(amount, rough, given)
     ]
 

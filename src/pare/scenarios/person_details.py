@@ -33,8 +33,10 @@ _COMMON_WORDS = frozenset(("will", "bill", "mark", "rose", "grace", "hope", "daw
                            "sunny", "may", "art", "don", "guy", "ray", "pat", "sue", "jay", "eve",
                            "joy", "kit", "rob", "bob", "max", "sky"))  # fmt: skip
 """Names that are also everyday words, left out: the text may use the word, not the name."""
-_NOT_A_PERSON = frozenset({"the", "a", "an", "dr", "mr", "mrs", "ms"})
-"""A first word that makes a contact a business or a title: "The Anchor" is a pub."""
+_NOT_A_PERSON = frozenset({"the", "a", "an"})
+"""A first word that makes a contact a place or a business: "The Anchor" is a pub."""
+_TITLES = frozenset({"dr", "mr", "mrs", "ms", "miss", "prof", "rev"})
+"""Words before a name that are no name ("Dr Patel" is read as Patel)."""
 _MIN_LENGTH = 3
 """Names of fewer letters are left out: "Jo", "Al" and "Ed" are too often part of another word."""
 
@@ -45,12 +47,14 @@ def known_names(seed: Mapping[str, Any]) -> frozenset[str]:
     """
     names: set[str] = set()
     for found in _people(seed):
-        if found.split()[:1] and found.split()[0].lower() in _NOT_A_PERSON:
+        written = [word.strip(".,'\"()").lower() for word in found.split()]
+        if written and written[0] in _NOT_A_PERSON:
             continue  # "The Anchor": a place kept as a contact
-        for name in found.split():
-            name = name.strip(".,'\"()").lower()
-            if len(name) >= _MIN_LENGTH and name.isalpha() and name not in _COMMON_WORDS:
-                names.add(name)
+        names.update(
+            name
+            for name in written
+            if len(name) >= _MIN_LENGTH and name.isalpha() and name not in _COMMON_WORDS | _TITLES
+        )
     return frozenset(names)
 
 
